@@ -1,0 +1,22 @@
+#pragma once
+// One image from a camera or a file, with the time it was captured.
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+
+namespace bouncefit {
+
+enum class PixelFormat {
+  kBgr24,  // 8-bit BGR, CV_8UC3 (decoded video files, MJPEG cameras)
+  kYuyv,   // packed YUYV 4:2:2, CV_8UC2, as a V4L2 camera delivers it
+};
+
+struct Frame {
+  cv::Mat image;                       // may share memory with the source: copy to keep
+  PixelFormat format = PixelFormat::kBgr24;
+  int64_t utime = 0;                   // capture time, microseconds (stream or driver clock)
+  int64_t index = 0;                   // frames delivered so far by this source, from 0
+  int64_t sequence = 0;                // source's own sequence number; gaps are dropped frames
+};
+
+}  // namespace bouncefit

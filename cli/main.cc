@@ -1,0 +1,52 @@
+// bouncefit: the command-line entry point. Each subcommand is in cli/<name>_command.cc.
+#include <cstdio>
+#include <exception>
+
+#include "cli/commands.h"
+
+namespace bouncefit::cli {
+
+void NotYetAvailable(const std::string& command, int issue) {
+  throw std::runtime_error(command + " is not yet available (see issue " +
+                           std::to_string(issue) + ")");
+}
+
+}  // namespace bouncefit::cli
+
+int main(int argc, char** argv) {
+  using namespace bouncefit::cli;
+  CLI::App app{
+      "bouncefit: watch a ball bounce, measure its bounces, and fit the coefficients of a "
+      "Bullet soft-body ball to them.",
+      "bouncefit"};
+  app.require_subcommand(1);
+  app.fallthrough(false);
+  AddRunCommand(app);
+  AddCaptureCommand(app);
+  AddDetectCommand(app);
+  AddFitCommand(app);
+  AddWatchCommand(app);
+  AddReportCommand(app);
+  AddSynthCommand(app);
+  AddSimulateCommand(app);
+  AddReplayLogCommand(app);
+
+  std::string command = "bouncefit";
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "bouncefit: error: %s (try --help)\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    for (const auto* sub : app.get_subcommands()) command = "bouncefit " + sub->get_name();
+    std::fprintf(stderr, "%s: error: %s\n", command.c_str(), e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,53 @@
+// The command line as a user meets it: help everywhere, one-line errors, non-zero exits.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "tests/test_support.h"
+
+namespace bouncefit {
+namespace {
+
+using testing::BouncefitExe;
+using testing::RunCommand;
+
+const char* kSubcommands[] = {"run",    "capture", "detect",   "fit",       "watch",
+                              "report", "synth",   "simulate", "replay-log"};
+
+TEST(Cli, TopLevelHelpListsEverySubcommand) {
+  std::string out;
+  ASSERT_EQ(RunCommand(BouncefitExe() + " --help", &out), 0) << out;
+  for (const char* sub : kSubcommands) EXPECT_NE(out.find(sub), std::string::npos) << sub;
+}
+
+TEST(Cli, EverySubcommandHasHelp) {
+  for (const char* sub : kSubcommands) {
+    std::string out;
+    EXPECT_EQ(RunCommand(BouncefitExe() + " " + sub + " --help", &out), 0) << sub << out;
+    EXPECT_NE(out.find("Usage"), std::string::npos) << sub << out;
+  }
+}
+
+int LineCount(const std::string& s) {
+  return static_cast<int>(std::count(s.begin(), s.end(), '\n'));
+}
+
+TEST(Cli, WrongFlagIsOneLineErrorAndNonZero) {
+  for (const char* sub : kSubcommands) {
+    std::string out;
+    EXPECT_NE(RunCommand(BouncefitExe() + " " + sub + " --no-such-flag", &out), 0) << sub;
+    EXPECT_EQ(LineCount(out), 1) << sub << ": " << out;
+    EXPECT_NE(out.find("error"), std::string::npos) << out;
+  }
+}
+
+TEST(Cli, UnknownSubcommandAndNoSubcommandFail) {
+  std::string out;
+  EXPECT_NE(RunCommand(BouncefitExe() + " frobnicate", &out), 0);
+  EXPECT_EQ(LineCount(out), 1) << out;
+  EXPECT_NE(RunCommand(BouncefitExe(), &out), 0);
+  EXPECT_EQ(LineCount(out), 1) << out;
+}
+
+}  // namespace
+}  // namespace bouncefit

@@ -1,0 +1,45 @@
+#include "tests/test_support.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+
+namespace bouncefit::testing {
+
+std::filesystem::path ScratchDir(const std::string& name) {
+  auto dir = std::filesystem::current_path() / "scratch" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+int RunCommand(const std::string& command_line, std::string* output) {
+  const std::string full = command_line + " 2>&1";
+  FILE* pipe = ::popen(full.c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 4096> buf{};
+  std::string out;
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
+  const int status = ::pclose(pipe);
+  if (output) *output = out;
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return -1;
+}
+
+std::string BouncefitExe() { return std::string("'") + BOUNCEFIT_EXE + "'"; }
+
+std::filesystem::path RealClipsDir() {
+  std::filesystem::path dir = BOUNCEFIT_REAL_CLIPS_DIR;
+  return std::filesystem::exists(dir) ? dir : std::filesystem::path();
+}
+
+std::string UniqueUdpmUrl() {
+  const int port = 20000 + static_cast<int>(::getpid() % 20000);
+  return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
+}
+
+}  // namespace bouncefit::testing

@@ -1,0 +1,25 @@
+#pragma once
+// Helpers shared by the tests: paths, a scratch directory, running the CLI.
+#include <filesystem>
+#include <string>
+
+namespace bouncefit::testing {
+
+// A fresh, empty directory under the build tree for this test; kept after the test for
+// inspection, wiped at the start of the next run.
+std::filesystem::path ScratchDir(const std::string& name);
+
+// Runs a shell command line, captures stdout+stderr into *output; returns the exit status
+// (128+signal if killed by a signal).
+int RunCommand(const std::string& command_line, std::string* output);
+
+// The bouncefit executable under test, quoted for a shell.
+std::string BouncefitExe();
+
+// Directory of the shared real clips ("" when absent on this machine).
+std::filesystem::path RealClipsDir();
+
+// A UDP multicast URL with ttl=0 on a port unique to this process, so tests never collide.
+std::string UniqueUdpmUrl();
+
+}  // namespace bouncefit::testing
