@@ -1,0 +1,42 @@
+#pragma once
+// What `run` prints while it works: one readable line per event for a terminal or a log,
+// or one JSON object per line with --json. A progress line while replaying a file.
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <string>
+
+#include "bouncefit/bounce_peak_t.hpp"
+#include "bouncefit/calibration_t.hpp"
+#include "bouncefit/fit_update_t.hpp"
+
+namespace bouncefit::cli {
+
+enum class ConsoleMode { kHuman, kJson, kQuiet };
+
+class RunConsole {
+ public:
+  RunConsole(ConsoleMode mode, std::FILE* out);
+
+  void SetStreamStart(int64_t t0_utime) { t0_ = t0_utime; }
+  void Info(const std::string& line);  // human mode only
+  void OnCalibration(const calibration_t& m);
+  void OnPeak(const bounce_peak_t& m);
+  void OnFit(const fit_update_t& m);
+  // Stream position and total (total <= 0 when unknown). Rate-limited to ~2 lines/s of
+  // stream time; redrawn in place on a terminal.
+  void Progress(double stream_s, double total_s, int64_t frames, int64_t found);
+  void Summary(const std::string& human_text, const std::string& json_text);
+
+ private:
+  void Line(const std::string& text);  // ends an in-place progress line first
+  ConsoleMode mode_;
+  std::FILE* out_;
+  bool tty_;
+  bool progress_open_ = false;
+  double last_progress_s_ = -1;
+  int64_t t0_ = 0;
+  std::map<int, double> heights_;  // bounce -> height, for restitution so far
+};
+
+}  // namespace bouncefit::cli
