@@ -1,27 +1,108 @@
 #pragma once
 // Finds the ball in one frame. Owned by the tracker issue (#3); the capture node and the
 // run command use only this interface.
+//
+// Pipeline (the seed paper's, then better): Gaussian blur -> YCbCr (YUYV frames are read as
+// they are) -> optional ROI -> chroma threshold around the ball colour (picked pixel, given
+// colour, or chosen automatically: the saturated blob that moves) -> blobs with the paper's
+// min/max box -> the blob nearest the parabolic prediction -> sub-pixel centre from a robust
+// circle fit to the rim. Once locked it only looks in a window around the prediction; the
+// whole frame (at half resolution) is searched only to (re)acquire.
+#include <deque>
 #include <string>
+#include <vector>
 
 #include "capture/frame.h"
+#include "track/ball_centre.h"
 #include "track/ball_observation.h"
+#include "track/ball_segmenter.h"
+#include "track/color_model.h"
+#include "track/motion_predictor.h"
+#include "track/ycc_planes.h"
 
 namespace bouncefit {
 
 struct TrackerConfig {
-  // Filled in by issue #3 (colour pick, ROI, thresholds, ...).
+  // Ball colour: a pixel to pick on the first frame, or a colour, or neither (automatic).
+  bool has_pick = false;
+  double pick_x = 0, pick_y = 0;    // pixels
+  bool has_color = false;
+  double color_bgr[3] = {0, 0, 0};  // B, G, R 0-255
+  std::string color_name;           // how the user named it, for Describe()
+  // Region of interest, pixels; width or height 0 = whole frame.
+  int roi_x = 0, roi_y = 0, roi_w = 0, roi_h = 0;
+
+  double blur_sigma_px = 1.0;       // Gaussian blur before thresholding, pixels
+  ColorModelParams color;           // chroma tolerance
+  SegmenterParams segment;          // min/max box and shape limits
+  BallCentreParams centre;          // sub-pixel rim fit
+  MotionPredictorParams motion;     // parabolic prediction
+  double window_margin_px = 8;      // search window beyond radius + expected motion, pixels
+  double gate_px = 6;               // a blob may be this far beyond radius + motion from the prediction, pixels
+  double radius_change = 0.4;       // a blob whose radius differs more (relative) is not the ball
+  int lost_frames_keep = 30;        // frames the prediction still guides re-acquisition
+  // Threshold adaptation: each good frame moves the colour this much towards the ball's
+  // measured interior colour, never further than max_drift (relative to |colour|) from the
+  // initial one, and never when the surroundings look like the ball.
+  double adapt_rate = 0.02;
+  double adapt_max_drift = 0.3;
+  // Automatic choice: blob with chroma/luma >= auto_min_saturation whose luma changed by
+  // >= auto_motion_luma (0-255) against auto_motion_frames frames ago on >= 30% of it.
+  double auto_min_saturation = 0.22;
+  double auto_motion_luma = 12;
+  int auto_motion_frames = 3;
+
+  // False with a one-line reason if a value is out of range.
+  bool IsValid(std::string* error) const;
 };
 
 class Tracker {
  public:
+  // Throws std::invalid_argument for an invalid config.
   explicit Tracker(TrackerConfig config);
   // Frames must come in capture order; the tracker predicts the next position from them.
+  // Throws std::invalid_argument for a frame that does not match its PixelFormat or a pick
+  // point outside the first frame.
   BallObservation Track(const Frame& frame);
   // One line for the user: what colour it locked on and why.
   std::string Describe() const;
 
+  bool color_chosen() const { return color_.valid(); }
+  const ColorModel& color() const { return color_; }
+  int64_t acquisitions() const { return acquisitions_; }
+
  private:
+  struct Candidate {
+    Blob blob;
+    double score = 0;
+  };
+  struct Remembered {
+    cv::Point2f p;
+    float r;
+  };
+  bool ChooseColor(const Frame& frame);
+  bool AutoChoose(const Frame& frame);
+  bool TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
+                 BallObservation* obs);
+  bool Acquire(const Frame& frame, BallObservation* obs);
+  bool Refine(const Frame& frame, const Blob& blob, BallObservation* obs);
+  void Adapt(double cx, double cy, double r);
+
   TrackerConfig config_;
+  cv::Rect roi_;
+  cv::Size size_;
+  ColorModel color_, anchor_;
+  std::string how_;
+  MotionPredictor predictor_;
+  double radius_ = 0;        // tracked radius, pixels (0: unknown)
+  int64_t lost_ = 1 << 20;   // frames since last found
+  double last_t_ = 0;
+  int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;
+  std::vector<Remembered> distractors_;
+  std::vector<Blob> last_candidates_;
+  std::deque<cv::Mat> auto_luma_;
+  YccPlanes planes_, wide_;
+  cv::Mat mask_;
 };
 
 }  // namespace bouncefit

@@ -1,0 +1,37 @@
+#pragma once
+// Sub-pixel centre of a ball already found as a blob: rays from a rough centre, the rim located
+// on each ray where the linear chroma signal crosses halfway between its local inside and
+// outside levels (unbiased under blur and mixing, insensitive to how dark the rim is), then a
+// robust circle fit. Rays leaving the region (ball partly out of view or of the ROI) are
+// dropped.
+#include <vector>
+
+#include "track/circle_fit.h"
+#include "track/color_model.h"
+#include "track/ycc_planes.h"
+
+namespace bouncefit {
+
+struct BallCentreParams {
+  int rays = 64;
+  double edge_min_contrast = 6;   // inside-outside chroma step a rim point needs (0-255 units)
+  double radius_prior_weight = 2; // pull towards the tracked radius, in edge points
+  double min_valid_rays = 0.35;   // share of rays that must give a rim point
+  double max_rms_px = 1.5;        // worse inlier RMS means the blob is not a round ball
+};
+
+struct BallCentre {
+  bool ok = false;
+  double cx = 0, cy = 0, r = 0;
+  double valid_rays = 0;        // share of rays with a rim point
+  double inlier_fraction = 0;   // share of rim points the circle accepts
+  double rms = 0;               // pixels
+  bool cut = false;             // some rays left the region
+};
+
+// `planes` must be full resolution (step 1) and cover the ball with a margin; (cx, cy, r) is
+// the rough guess in frame pixels; radius_prior <= 0 means none.
+BallCentre FindBallCentre(const YccPlanes& planes, const ColorModel& color, double cx, double cy,
+                          double r, double radius_prior, const BallCentreParams& params);
+
+}  // namespace bouncefit

@@ -1,0 +1,85 @@
+#include "track/ball_segmenter.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+
+namespace bouncefit {
+
+std::vector<Blob> SegmentBlobs(const YccPlanes& planes, const ColorModel& color,
+                               const SegmenterParams& params, cv::Mat* mask) {
+  std::vector<Blob> blobs;
+  const int w = planes.y.cols, h = planes.y.rows;
+  mask->create(h, w, CV_8U);
+  if (w == 0 || h == 0) return blobs;
+  cv::Mat dist(h, w, CV_32F);
+  for (int j = 0; j < h; ++j) {
+    const float* py = planes.y.ptr<float>(j);
+    const float* pu = planes.u.ptr<float>(j);
+    const float* pv = planes.v.ptr<float>(j);
+    float* pd = dist.ptr<float>(j);
+    uint8_t* pm = mask->ptr<uint8_t>(j);
+    const float tol = static_cast<float>(color.tolerance());
+    for (int i = 0; i < w; ++i) {
+      pd[i] = color.Distance(py[i], pu[i], pv[i]);
+      pm[i] = pd[i] <= tol ? 255 : 0;
+    }
+  }
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(*mask, labels, stats, centroids, 8, CV_32S);
+  if (n <= 1) return blobs;
+  const float s = static_cast<float>(planes.step);
+  const float ox = static_cast<float>(planes.rect.x), oy = static_cast<float>(planes.rect.y);
+  std::vector<int> keep(n, -1);
+  for (int k = 1; k < n; ++k) {
+    const int bx = stats.at<int>(k, cv::CC_STAT_LEFT), by = stats.at<int>(k, cv::CC_STAT_TOP);
+    const int bw = stats.at<int>(k, cv::CC_STAT_WIDTH), bh = stats.at<int>(k, cv::CC_STAT_HEIGHT);
+    const int area = stats.at<int>(k, cv::CC_STAT_AREA);
+    const double side_min = std::min(bw, bh) * s, side_max = std::max(bw, bh) * s;
+    if (side_min < params.min_box_px || side_max > params.max_box_px) continue;
+    const bool edge = bx == 0 || by == 0 || bx + bw == w || by + bh == h;
+    const double fill = static_cast<double>(area) / (static_cast<double>(bw) * bh);
+    // Shape limits only for blobs seen whole: a ball cut by the border is neither.
+    if (!edge && (side_max / side_min > params.max_aspect || fill > params.max_fill ||
+                  fill < params.min_fill))
+      continue;
+    Blob b;
+    b.box = cv::Rect2f(ox + bx * s, oy + by * s, bw * s, bh * s);
+    b.centroid = cv::Point2f(ox + (static_cast<float>(centroids.at<double>(k, 0)) + 0.5f) * s - 0.5f,
+                             oy + (static_cast<float>(centroids.at<double>(k, 1)) + 0.5f) * s - 0.5f);
+    b.pixels = static_cast<int>(area * s * s);
+    b.touches_edge = edge;
+    b.fill = static_cast<float>(fill);
+    keep[k] = static_cast<int>(blobs.size());
+    blobs.push_back(b);
+  }
+  if (blobs.empty()) return blobs;
+  // Mean colour of each kept blob.
+  std::vector<double> sd(blobs.size(), 0), su(blobs.size(), 0), sv(blobs.size(), 0);
+  std::vector<int> cnt(blobs.size(), 0);
+  for (int j = 0; j < h; ++j) {
+    const int* pl = labels.ptr<int>(j);
+    const float* py = planes.y.ptr<float>(j);
+    const float* pu = planes.u.ptr<float>(j);
+    const float* pv = planes.v.ptr<float>(j);
+    const float* pd = dist.ptr<float>(j);
+    for (int i = 0; i < w; ++i) {
+      const int k = pl[i] > 0 ? keep[pl[i]] : -1;
+      if (k < 0) continue;
+      const float yy = std::max(py[i], static_cast<float>(color.params().luma_floor));
+      sd[k] += pd[i];
+      su[k] += pu[i] / yy;
+      sv[k] += pv[i] / yy;
+      ++cnt[k];
+    }
+  }
+  for (size_t k = 0; k < blobs.size(); ++k) {
+    const double c = std::max(cnt[k], 1);
+    blobs[k].mean_distance = static_cast<float>(sd[k] / c);
+    blobs[k].nu = static_cast<float>(su[k] / c);
+    blobs[k].nv = static_cast<float>(sv[k] / c);
+  }
+  return blobs;
+}
+
+}  // namespace bouncefit

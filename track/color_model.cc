@@ -1,0 +1,67 @@
+#include "track/color_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "track/ycc_planes.h"
+
+namespace bouncefit {
+
+ColorModel::ColorModel(double nu, double nv, ColorModelParams params)
+    : valid_(true), nu_(nu), nv_(nv), params_(params) {
+  Update();
+}
+
+ColorModel ColorModel::FromBgr(double b, double g, double r, ColorModelParams params) {
+  double y, u, v;
+  BgrToYuv(b, g, r, &y, &u, &v);
+  return FromYuv(y, u, v, params);
+}
+
+ColorModel ColorModel::FromYuv(double y, double u, double v, ColorModelParams params) {
+  const double d = std::max(y, params.luma_floor);
+  return ColorModel(u / d, v / d, params);
+}
+
+void ColorModel::Update() {
+  const double mag = std::hypot(nu_, nv_);
+  tol_ = std::max(params_.tolerance_rel * mag, params_.tolerance_min);
+  du_ = mag > 1e-9 ? nu_ / mag : 0;
+  dv_ = mag > 1e-9 ? nv_ / mag : 0;
+  fnu_ = static_cast<float>(nu_);
+  fnv_ = static_cast<float>(nv_);
+  ftol_ = static_cast<float>(tol_);
+  min_luma_ = static_cast<float>(params_.min_luma);
+  luma_floor_ = static_cast<float>(std::max(1.0, params_.luma_floor));
+}
+
+void ColorModel::AdaptTowards(double nu, double nv, double rate, const ColorModel& anchor,
+                              double max_drift) {
+  double a = nu_ + rate * (nu - nu_), b = nv_ + rate * (nv - nv_);
+  const double du = a - anchor.nu_, dv = b - anchor.nv_;
+  const double drift = std::hypot(du, dv);
+  if (drift > max_drift && drift > 0) {
+    a = anchor.nu_ + du * max_drift / drift;
+    b = anchor.nv_ + dv * max_drift / drift;
+  }
+  nu_ = a;
+  nv_ = b;
+  Update();
+}
+
+cv::Scalar ColorModel::ApproxBgr() const {
+  double b, g, r;
+  YuvToBgr(128, nu_ * 128, nv_ * 128, &b, &g, &r);
+  return cv::Scalar(b, g, r);
+}
+
+std::string ColorModel::ToString() const {
+  const cv::Scalar c = ApproxBgr();
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "chroma/luma (%.2f, %.2f) +- %.2f, about BGR %.0f,%.0f,%.0f",
+                nu_, nv_, tol_, c[0], c[1], c[2]);
+  return buf;
+}
+
+}  // namespace bouncefit

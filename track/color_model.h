@@ -1,0 +1,60 @@
+#pragma once
+// The ball's colour as a point in luma-normalised chroma: n = (Cb-128, Cr-128) / Y. Shading and
+// flicker scale Y and the chroma together, so n stays put on the ball's dark bottom and in
+// changing light, while white, grey and black surfaces sit near n = 0.
+#include <opencv2/core.hpp>
+
+#include <string>
+
+namespace bouncefit {
+
+struct ColorModelParams {
+  double tolerance_rel = 0.45;  // a pixel matches when |n - n0| <= tolerance_rel * |n0| ...
+  double tolerance_min = 0.08;  // ... but never tighter than this (chroma per luma, unitless)
+  double min_luma = 14;         // pixels darker than this (0-255) never match
+  double luma_floor = 24;       // Y below this is taken as this when normalising (noise)
+};
+
+class ColorModel {
+ public:
+  ColorModel() = default;
+  ColorModel(double nu, double nv, ColorModelParams params);
+  static ColorModel FromBgr(double b, double g, double r, ColorModelParams params);
+  static ColorModel FromYuv(double y, double u, double v, ColorModelParams params);
+
+  bool valid() const { return valid_; }
+  double nu() const { return nu_; }
+  double nv() const { return nv_; }
+  double tolerance() const { return tol_; }
+  // Unit vector of the chroma direction (for the linear edge signal u*dir_u + v*dir_v).
+  double dir_u() const { return du_; }
+  double dir_v() const { return dv_; }
+  const ColorModelParams& params() const { return params_; }
+
+  // Normalised chroma distance of one pixel (y, u, v as in YccPlanes) to the ball colour;
+  // +inf for pixels darker than min_luma.
+  float Distance(float y, float u, float v) const {
+    if (y < min_luma_) return 1e9f;
+    const float inv = 1.0f / (y > luma_floor_ ? y : luma_floor_);
+    const float a = u * inv - fnu_, b = v * inv - fnv_;
+    return std::sqrt(a * a + b * b);
+  }
+  bool Matches(float y, float u, float v) const { return Distance(y, u, v) <= ftol_; }
+
+  // Moves the colour towards (nu, nv) by `rate` (0-1), staying within `max_drift` of `anchor`.
+  void AdaptTowards(double nu, double nv, double rate, const ColorModel& anchor,
+                    double max_drift);
+
+  // A representative BGR colour (at luma 128) for messages.
+  cv::Scalar ApproxBgr() const;
+  std::string ToString() const;
+
+ private:
+  void Update();
+  bool valid_ = false;
+  double nu_ = 0, nv_ = 0, tol_ = 0, du_ = 0, dv_ = 0;
+  float fnu_ = 0, fnv_ = 0, ftol_ = 0, min_luma_ = 0, luma_floor_ = 1;
+  ColorModelParams params_;
+};
+
+}  // namespace bouncefit

@@ -1,0 +1,366 @@
+#include "track/tracker.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <stdexcept>
+
+namespace bouncefit {
+
+namespace {
+
+double EquivalentRadius(const Blob& b) {
+  return std::sqrt(std::max(b.pixels, 1) / std::numbers::pi);
+}
+
+double Median(std::vector<float>& v) {
+  if (v.empty()) return 0;
+  auto mid = v.begin() + static_cast<long>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+std::string Fmt(const char* fmt, double a, double b) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
+
+}  // namespace
+
+bool TrackerConfig::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (has_pick && has_color) return fail("give either a pick point or a colour, not both");
+  if (has_pick && (pick_x < 0 || pick_y < 0)) return fail("pick point must not be negative");
+  for (double c : color_bgr)
+    if (c < 0 || c > 255) return fail("colour components must be 0-255");
+  if (roi_x < 0 || roi_y < 0 || roi_w < 0 || roi_h < 0) return fail("ROI must not be negative");
+  if (blur_sigma_px < 0 || blur_sigma_px > 5) return fail("blur sigma must be 0-5 px");
+  if (color.tolerance_rel <= 0 || color.tolerance_rel > 2) return fail("colour tolerance must be in (0, 2]");
+  if (segment.min_box_px < 1 || segment.max_box_px <= segment.min_box_px)
+    return fail("box limits must satisfy 1 <= min < max");
+  if (centre.rays < 8 || centre.rays > 1024) return fail("rays must be 8-1024");
+  if (adapt_rate < 0 || adapt_rate > 1) return fail("adapt rate must be 0-1");
+  if (auto_motion_frames < 1 || auto_motion_frames > 30) return fail("auto motion frames must be 1-30");
+  return true;
+}
+
+Tracker::Tracker(TrackerConfig config) : config_(std::move(config)), predictor_(config_.motion) {
+  std::string error;
+  if (!config_.IsValid(&error)) throw std::invalid_argument("tracker: " + error);
+  how_ = "no colour chosen yet";
+}
+
+BallObservation Tracker::Track(const Frame& frame) {
+  BallObservation obs;
+  obs.utime = frame.utime;
+  obs.frame = frame.index;
+  if (frame.image.empty()) throw std::invalid_argument("tracker: empty frame");
+  if (frame.image.size() != size_) {
+    size_ = frame.image.size();
+    const cv::Rect full(0, 0, size_.width, size_.height);
+    roi_ = (config_.roi_w > 0 && config_.roi_h > 0)
+               ? cv::Rect(config_.roi_x, config_.roi_y, config_.roi_w, config_.roi_h) & full
+               : full;
+    if (roi_.width < 8 || roi_.height < 8)
+      throw std::invalid_argument("tracker: ROI lies outside the " + std::to_string(size_.width) +
+                                  "x" + std::to_string(size_.height) + " frame");
+  }
+  ++frames_;
+  if (!color_.valid() && !ChooseColor(frame)) {
+    ++lost_;
+    return obs;
+  }
+  const double t = static_cast<double>(frame.utime) * 1e-6;
+  bool ok = false;
+  double px, py, speed;
+  if (lost_ <= 2 && predictor_.Predict(t, &px, &py, &speed)) {
+    const double dt = std::clamp(t - last_t_, 1e-3, 0.1);
+    const double motion = speed * dt;
+    const double half = radius_ + std::max(radius_, config_.window_margin_px) + 2 * motion;
+    const double gate = radius_ + 2 * motion + config_.gate_px;
+    ok = TryWindow(frame, cv::Point2f(static_cast<float>(px), static_cast<float>(py)), half,
+                   gate, &obs);
+  }
+  if (!ok) ok = Acquire(frame, &obs);
+  if (ok) {
+    predictor_.Add(t, obs.cx, obs.cy);
+    radius_ = radius_ > 0 ? 0.8 * radius_ + 0.2 * obs.radius_px : obs.radius_px;
+    lost_ = 0;
+    last_t_ = t;
+    ++found_;
+  } else {
+    ++lost_;
+    if (lost_ > config_.lost_frames_keep) predictor_.Reset();
+  }
+  return obs;
+}
+
+bool Tracker::ChooseColor(const Frame& frame) {
+  const ColorModelParams& cp = config_.color;
+  if (config_.has_color) {
+    color_ = ColorModel::FromBgr(config_.color_bgr[0], config_.color_bgr[1],
+                                 config_.color_bgr[2], cp);
+    how_ = "colour " + (config_.color_name.empty() ? std::string("given") : config_.color_name);
+  } else if (config_.has_pick) {
+    const int x = static_cast<int>(std::lround(config_.pick_x));
+    const int y = static_cast<int>(std::lround(config_.pick_y));
+    if (x >= size_.width || y >= size_.height)
+      throw std::invalid_argument("tracker: pick point " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y) +
+                                  " is outside the frame");
+    YccPlanes p;
+    ExtractYcc(frame, cv::Rect(x - 5, y - 5, 11, 11), 1, config_.blur_sigma_px, &p);
+    std::vector<float> nu, nv;
+    const int cx = x - p.rect.x, cy = y - p.rect.y;
+    for (int j = std::max(0, cy - 2); j <= std::min(p.y.rows - 1, cy + 2); ++j)
+      for (int i = std::max(0, cx - 2); i <= std::min(p.y.cols - 1, cx + 2); ++i) {
+        const float yy = std::max(p.y.at<float>(j, i), static_cast<float>(cp.luma_floor));
+        nu.push_back(p.u.at<float>(j, i) / yy);
+        nv.push_back(p.v.at<float>(j, i) / yy);
+      }
+    color_ = ColorModel(Median(nu), Median(nv), cp);
+    if (std::hypot(color_.nu(), color_.nv()) < 0.06)
+      throw std::invalid_argument("tracker: the picked pixel " +
+                                  Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y) +
+                                  " is nearly grey; the tracker follows a coloured ball");
+    how_ = "picked pixel " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y);
+  } else if (!AutoChoose(frame)) {
+    return false;
+  }
+  anchor_ = color_;
+  how_ += ": " + color_.ToString();
+  return true;
+}
+
+bool Tracker::AutoChoose(const Frame& frame) {
+  ExtractYcc(frame, roi_, 2, 0.7, &wide_);
+  auto_luma_.push_back(wide_.y.clone());
+  if (static_cast<int>(auto_luma_.size()) > config_.auto_motion_frames + 1) auto_luma_.pop_front();
+  if (static_cast<int>(auto_luma_.size()) <= config_.auto_motion_frames) {
+    how_ = "automatic: waiting for a saturated blob that moves";
+    return false;
+  }
+  const cv::Mat& old = auto_luma_.front();
+  const int w = wide_.y.cols, h = wide_.y.rows;
+  const float floor = static_cast<float>(config_.color.luma_floor);
+  const float min_luma = static_cast<float>(config_.color.min_luma);
+  const float sat2 = static_cast<float>(config_.auto_min_saturation * config_.auto_min_saturation);
+  cv::Mat sat(h, w, CV_8U);
+  for (int j = 0; j < h; ++j) {
+    const float* py = wide_.y.ptr<float>(j);
+    const float* pu = wide_.u.ptr<float>(j);
+    const float* pv = wide_.v.ptr<float>(j);
+    uint8_t* ps = sat.ptr<uint8_t>(j);
+    for (int i = 0; i < w; ++i) {
+      const float inv = 1.0f / std::max(py[i], floor);
+      const float a = pu[i] * inv, b = pv[i] * inv;
+      ps[i] = (py[i] >= min_luma && a * a + b * b >= sat2) ? 255 : 0;
+    }
+  }
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(sat, labels, stats, centroids, 8, CV_32S);
+  const auto& sp = config_.segment;
+  int best = -1;
+  double best_score = 0;
+  std::vector<int> moving(n, 0);
+  for (int j = 0; j < h; ++j) {
+    const int* pl = labels.ptr<int>(j);
+    const float* py = wide_.y.ptr<float>(j);
+    const float* po = old.ptr<float>(j);
+    for (int i = 0; i < w; ++i)
+      if (pl[i] > 0 && std::abs(py[i] - po[i]) >= config_.auto_motion_luma) ++moving[pl[i]];
+  }
+  for (int k = 1; k < n; ++k) {
+    const int bw = stats.at<int>(k, cv::CC_STAT_WIDTH) * 2, bh = stats.at<int>(k, cv::CC_STAT_HEIGHT) * 2;
+    const int area = stats.at<int>(k, cv::CC_STAT_AREA);
+    if (std::min(bw, bh) < sp.min_box_px || std::max(bw, bh) > sp.max_box_px) continue;
+    if (std::max(bw, bh) > sp.max_aspect * std::min(bw, bh)) continue;
+    const double fill = 4.0 * area / (static_cast<double>(bw) * bh);
+    if (fill < sp.min_fill || fill > sp.max_fill) continue;
+    const double moved = static_cast<double>(moving[k]) / area;
+    if (moved < 0.3) continue;
+    const double score = area * moved;
+    if (score > best_score) best_score = score, best = k;
+  }
+  if (best < 0) {
+    how_ = "automatic: waiting for a saturated blob that moves";
+    return false;
+  }
+  std::vector<float> nu, nv;
+  for (int j = 0; j < h; ++j) {
+    const int* pl = labels.ptr<int>(j);
+    for (int i = 0; i < w; ++i) {
+      if (pl[i] != best) continue;
+      const float yy = std::max(wide_.y.at<float>(j, i), floor);
+      nu.push_back(wide_.u.at<float>(j, i) / yy);
+      nv.push_back(wide_.v.at<float>(j, i) / yy);
+    }
+  }
+  color_ = ColorModel(Median(nu), Median(nv), config_.color);
+  const double bx = wide_.rect.x + (centroids.at<double>(best, 0) + 0.5) * 2 - 0.5;
+  const double by = wide_.rect.y + (centroids.at<double>(best, 1) + 0.5) * 2 - 0.5;
+  how_ = "automatic: the saturated blob that moved, at " + Fmt("%.0f,%.0f", bx, by);
+  auto_luma_.clear();
+  return true;
+}
+
+bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
+                        BallObservation* obs) {
+  const int hw = static_cast<int>(std::ceil(half));
+  const cv::Rect rect = cv::Rect(static_cast<int>(std::lround(centre.x)) - hw,
+                                 static_cast<int>(std::lround(centre.y)) - hw, 2 * hw + 1,
+                                 2 * hw + 1) & roi_;
+  if (rect.width < 4 || rect.height < 4) return false;
+  ExtractYcc(frame, rect, 1, config_.blur_sigma_px, &planes_);
+  std::vector<Blob> blobs = SegmentBlobs(planes_, color_, config_.segment, &mask_);
+  const Blob* best = nullptr;
+  double best_d = 0;
+  for (const Blob& b : blobs) {
+    const double r = EquivalentRadius(b);
+    const double d = std::hypot(b.centroid.x - centre.x, b.centroid.y - centre.y);
+    if (d > gate + (b.touches_edge ? r : 0)) continue;
+    if (radius_ > 0 && !b.touches_edge &&
+        std::abs(r - radius_) > config_.radius_change * radius_ + 1.5)
+      continue;
+    if (!best || d < best_d) best = &b, best_d = d;
+  }
+  if (!best) return false;
+  const Blob chosen = *best;
+  return Refine(frame, chosen, obs);
+}
+
+bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
+  ++acquisitions_;
+  ExtractYcc(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
+  cv::Mat wide_mask;
+  std::vector<Blob> blobs = SegmentBlobs(wide_, color_, config_.segment, &wide_mask);
+  const double tol = color_.tolerance();
+  double px = 0, py = 0;
+  const bool have_pred = lost_ <= config_.lost_frames_keep && predictor_.Predict(
+      static_cast<double>(frame.utime) * 1e-6, &px, &py);
+  std::vector<std::pair<double, size_t>> order;
+  for (size_t k = 0; k < blobs.size(); ++k) {
+    const Blob& b = blobs[k];
+    const double r = EquivalentRadius(b);
+    double score = b.mean_distance / tol + 3 * std::abs(b.fill - 0.785);
+    if (radius_ > 0) score += std::abs(r - radius_) / radius_;
+    if (have_pred)
+      score += std::hypot(b.centroid.x - px, b.centroid.y - py) / (radius_ + 20);
+    for (const Remembered& m : distractors_)
+      if (std::hypot(b.centroid.x - m.p.x, b.centroid.y - m.p.y) < std::max(3.0, 0.3 * m.r))
+        score += 3;
+    bool moved = !last_candidates_.empty();
+    for (const Blob& o : last_candidates_)
+      if (std::hypot(b.centroid.x - o.centroid.x, b.centroid.y - o.centroid.y) < 1.5) moved = false;
+    if (moved) score -= 0.5;
+    order.emplace_back(score, k);
+  }
+  std::sort(order.begin(), order.end());
+  last_candidates_ = blobs;
+  // Try the best few: the half-resolution blob must hold up at full resolution.
+  for (size_t i = 0; i < order.size() && i < 3; ++i) {
+    const Blob& b = blobs[order[i].second];
+    const double r = EquivalentRadius(b);
+    if (TryWindow(frame, b.centroid, 1.6 * r + 10, r + 4, obs)) {
+      for (const auto& [s, k] : order) {
+        const Blob& o = blobs[k];
+        if (std::hypot(o.centroid.x - obs->cx, o.centroid.y - obs->cy) < 2 * obs->radius_px) continue;
+        bool known = false;
+        for (const Remembered& m : distractors_)
+          if (std::hypot(o.centroid.x - m.p.x, o.centroid.y - m.p.y) < 3) known = true;
+        if (!known && distractors_.size() < 16)
+          distractors_.push_back({o.centroid, static_cast<float>(EquivalentRadius(o))});
+      }
+      return true;
+    }
+  }
+  return false;
+}
+
+bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs) {
+  double r0 = EquivalentRadius(blob);
+  if (blob.touches_edge && radius_ > 0) r0 = radius_;
+  const double cx = blob.centroid.x, cy = blob.centroid.y;
+  const double reach = r0 + std::max(4.0, 0.6 * r0) + 2;
+  const cv::Rect need = cv::Rect(static_cast<int>(std::floor(cx - reach)) - 1,
+                                 static_cast<int>(std::floor(cy - reach)) - 1,
+                                 static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
+  if ((need & planes_.rect) != need) ExtractYcc(frame, need, 1, config_.blur_sigma_px, &planes_);
+  BallCentre bc = FindBallCentre(planes_, color_, cx, cy, r0, radius_, config_.centre);
+  float score;
+  if (bc.ok) {
+    if (radius_ > 0 && !bc.cut && std::abs(bc.r - radius_) > config_.radius_change * radius_ + 1.5)
+      return false;
+    score = static_cast<float>(bc.valid_rays * bc.inlier_fraction);
+  } else if (blob.touches_edge) {
+    // Ball cut by the frame or ROI border: the blob is all there is.
+    bc.cx = cx, bc.cy = cy, bc.r = r0;
+    score = 0.2f;
+  } else {
+    return false;
+  }
+  obs->found = true;
+  obs->x = blob.box.x;
+  obs->y = blob.box.y;
+  obs->w = blob.box.width;
+  obs->h = blob.box.height;
+  obs->cx = static_cast<float>(bc.cx);
+  obs->cy = static_cast<float>(bc.cy);
+  obs->radius_px = static_cast<float>(bc.r);
+  obs->pixel_count = blob.pixels;
+  obs->aspect_ratio = blob.box.height > 0 ? blob.box.width / blob.box.height : 0;
+  obs->score = std::clamp(score, 0.0f, 1.0f);
+  if (bc.ok && !bc.cut && bc.inlier_fraction > 0.8 && config_.adapt_rate > 0)
+    Adapt(bc.cx, bc.cy, bc.r);
+  return true;
+}
+
+void Tracker::Adapt(double cx, double cy, double r) {
+  const float floor = static_cast<float>(config_.color.luma_floor);
+  const float min_luma = static_cast<float>(config_.color.min_luma);
+  double in_u = 0, in_v = 0, out_u = 0, out_v = 0;
+  int in_n = 0, out_n = 0;
+  const double r_in2 = 0.6 * 0.6 * r * r, r_lo2 = 1.4 * 1.4 * r * r, r_hi2 = 1.9 * 1.9 * r * r;
+  for (int j = 0; j < planes_.y.rows; ++j) {
+    const double dy = planes_.rect.y + j - cy;
+    if (dy * dy > r_hi2) continue;
+    const float* py = planes_.y.ptr<float>(j);
+    const float* pu = planes_.u.ptr<float>(j);
+    const float* pv = planes_.v.ptr<float>(j);
+    for (int i = 0; i < planes_.y.cols; ++i) {
+      const double dx = planes_.rect.x + i - cx;
+      const double d2 = dx * dx + dy * dy;
+      if (py[i] < min_luma || (d2 > r_in2 && d2 < r_lo2) || d2 > r_hi2) continue;
+      const float inv = 1.0f / std::max(py[i], floor);
+      if (d2 <= r_in2) in_u += pu[i] * inv, in_v += pv[i] * inv, ++in_n;
+      else out_u += pu[i] * inv, out_v += pv[i] * inv, ++out_n;
+    }
+  }
+  if (in_n < 5) return;
+  in_u /= in_n, in_v /= in_n;
+  const double tol = color_.tolerance();
+  if (std::hypot(in_u - color_.nu(), in_v - color_.nv()) > tol) return;
+  if (out_n > 0) {
+    out_u /= out_n, out_v /= out_n;
+    // Surroundings that look like the ball: adapting now could drift onto them.
+    if (std::hypot(out_u - color_.nu(), out_v - color_.nv()) < 1.5 * tol) return;
+  }
+  color_.AdaptTowards(in_u, in_v, config_.adapt_rate, anchor_,
+                      config_.adapt_max_drift * std::hypot(anchor_.nu(), anchor_.nv()));
+}
+
+std::string Tracker::Describe() const {
+  char buf[120];
+  std::snprintf(buf, sizeof buf, "; found in %lld of %lld frames, %lld full-frame searches",
+                static_cast<long long>(found_), static_cast<long long>(frames_),
+                static_cast<long long>(acquisitions_));
+  return "tracker: " + how_ + buf;
+}
+
+}  // namespace bouncefit
