@@ -1,0 +1,64 @@
+#pragma once
+// One frame of the synth scene: a static camera looking at a wall and a floor, a shaded
+// coloured ball, its soft shadow on the floor, an optional distractor, the whole scene
+// rolled about the image centre. Motion blur is the average of sub-exposure renders; only
+// the ball's and the shadow's small patches are rendered per sub-exposure.
+//
+// "Scene" coordinates are the image before roll (px, origin at the top-left pixel's
+// centre, y down); image coordinates are after roll.
+#include <opencv2/core.hpp>
+
+#include <array>
+#include <vector>
+
+namespace bouncefit {
+
+using Bgr = std::array<double, 3>;  // colour, 0-255 per channel, B, G, R
+
+struct SynthSceneConfig {
+  int width = 640, height = 480;   // px
+  double roll_deg = 0;             // scene rotation, counter-clockwise on screen
+  double floor_y_px = 412;         // scene y where the ball bottom touches the floor
+  Bgr wall_bgr = {196, 202, 206};
+  Bgr floor_bgr = {112, 118, 124};
+  Bgr ball_bgr = {20, 120, 250};
+  bool distractor = false;         // a static sphere of similar hue resting on the floor
+  double distractor_x_px = 0;      // its centre's scene x
+  double distractor_radius_px = 10;
+};
+
+// The ball at one instant, in scene px.
+struct BallShape {
+  double x = 0, y = 0;        // centre
+  double a = 10, b = 10;      // horizontal and vertical semi-axes (a = b: round ball)
+};
+
+class SynthScene {
+ public:
+  explicit SynthScene(const SynthSceneConfig& config);
+
+  const SynthSceneConfig& config() const { return config_; }
+  cv::Point2d ToImage(cv::Point2d scene) const;
+  cv::Point2d ToScene(cv::Point2d image) const;
+  // The rendered static background (wall, floor, distractor), CV_8UC3.
+  const cv::Mat& background() const { return background_; }
+  // The ball (every pixel of it) lies inside the image.
+  bool FullyInView(const BallShape& ball) const;
+
+  // Renders into *out (CV_8UC3, the image size) the scene with the ball's exposure as the
+  // average of the given sub-exposure shapes (at least one). Thread-safe.
+  void Render(const std::vector<BallShape>& sub_exposures, cv::Mat* out) const;
+
+ private:
+  // Darkens *out by the exposure-averaged soft shadow of the shapes on the floor.
+  void RenderShadow(const std::vector<BallShape>& subs, cv::Mat* out) const;
+  // Composites the exposure-averaged shaded ball of the given colour over *out.
+  void RenderBall(const std::vector<BallShape>& subs, const Bgr& color, cv::Mat* out) const;
+
+  SynthSceneConfig config_;
+  double cos_ = 1, sin_ = 0;   // of the roll
+  cv::Point2d center_;         // rotation centre
+  cv::Mat background_;
+};
+
+}  // namespace bouncefit

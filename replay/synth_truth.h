@@ -1,0 +1,71 @@
+#pragma once
+// The ground truth of a `bouncefit synth` clip: written next to the clip as
+// <clip-stem>.truth.json (clip.avi -> clip.truth.json), read back by tests and benches.
+// The file format is documented in docs/FORMATS.md, "synth truth file".
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace bouncefit {
+
+struct SynthTruthFrame {
+  int index = 0;
+  double t_s = 0;            // index / fps: the centre of the frame's exposure
+  double cx = 0, cy = 0;     // true ball centre in the image, px (exposure average; origin at
+                             // the top-left pixel's centre, y down, after roll)
+  double height_m = 0;       // ball bottom above the floor, m (exposure average)
+  bool fully_in_view = false;  // the whole ball (every sub-exposure) lies inside the image
+};
+
+struct SynthTruth {
+  int version = 1;
+  std::string clip;          // file name of the clip (no directory)
+  double fps = 0;
+  int width = 0, height = 0; // px
+  int frame_count = 0;
+  double px_per_m = 0;       // image scale, px per metre (same along both axes)
+  double roll_deg = 0;       // scene rotation about the image centre, counter-clockwise on
+                             // screen; true down in the image = (sin roll, cos roll)
+  double down_x = 0, down_y = 1;  // that unit vector
+  double center_x = 0, center_y = 0;  // rotation centre, px ((width-1)/2, (height-1)/2)
+  // Floor line: where the ball bottom touches the floor.
+  double floor_y_unrolled_px = 0;  // image y of the floor at the centre column before roll
+  double floor_offset_px = 0;      // after roll: points p on the floor have p . down = this
+  double floor_point_x = 0, floor_point_y = 0;  // after roll: the floor point below the centre
+  double floor_dir_x = 1, floor_dir_y = 0;      // after roll: unit direction along the floor
+
+  std::string ball;          // preset name
+  double radius_m = 0, radius_px = 0;
+  double mass_kg = 0;
+  double restitution = 0, restitution_per_mps = 0, drag_coefficient = 0;
+  double ball_color_bgr[3] = {0, 0, 0};
+  double g_mps2 = 0;
+  double drop_height_m = 0;
+  std::string trajectory;    // "point-mass" or what rendered it ("bullet-softbody", ...)
+
+  double exposure_s = 0;
+  int blur_samples = 1;      // sub-exposures averaged per frame (0 = chosen per frame)
+  double noise_sigma = 0;    // grey levels
+  unsigned long long seed = 0;
+  bool distractor = false;
+
+  double release_t_s = 0;                  // end of the hold
+  std::vector<double> impact_times_s;
+  std::vector<double> apex_times_s;        // [0] = release
+  std::vector<double> apex_heights_m;      // [0] = drop height; ball bottom above the floor
+  bool comes_to_rest = false;
+  double rest_t_s = 0;                     // when comes_to_rest
+  std::vector<SynthTruthFrame> frames;
+};
+
+// clip.avi -> clip.truth.json (same directory).
+std::filesystem::path SynthTruthPathFor(const std::filesystem::path& clip);
+
+// Throws std::runtime_error with a one-line message when the file cannot be written.
+void WriteSynthTruth(const SynthTruth& truth, const std::filesystem::path& path);
+
+// Throws std::runtime_error with a one-line message ("<path>: ...") on a missing, unreadable
+// or malformed file.
+SynthTruth LoadSynthTruth(const std::filesystem::path& path);
+
+}  // namespace bouncefit
