@@ -1,0 +1,254 @@
+#include "fit/fit_objective.h"
+
+#include <algorithm>
+#include <cmath>
+#include <future>
+#include <stdexcept>
+#include <thread>
+
+namespace bouncefit {
+
+namespace {
+constexpr double kGravity = 9.81;
+constexpr double kCacheTolerance = 1e-12;
+}  // namespace
+
+double HeightObjective(const std::vector<double>& recorded, const std::vector<double>& simulated) {
+  double sum = 0;
+  for (size_t i = 0; i < recorded.size(); ++i) {
+    const double s = i < simulated.size() ? simulated[i] : 0.0;
+    sum += (recorded[i] - s) * (recorded[i] - s);
+  }
+  return sum;
+}
+
+double RmsResidual(const std::vector<double>& recorded, const std::vector<double>& simulated) {
+  if (recorded.empty()) return 0;
+  return std::sqrt(HeightObjective(recorded, simulated) / static_cast<double>(recorded.size()));
+}
+
+double FreeFallApexTime(double drop_height_m, const std::vector<double>& heights_m, int k) {
+  double t = std::sqrt(2 * std::max(drop_height_m, 0.0) / kGravity);
+  for (int i = 0; i < k && i < static_cast<int>(heights_m.size()); ++i) {
+    const double h = std::max(heights_m[i], 0.0);
+    t += std::sqrt(2 * h / kGravity) * (i + 1 < k ? 2 : 1);
+  }
+  return t;
+}
+
+int PaperPriority(const std::string& name) {
+  // Keyword rules, checked in order; the first that matches gives the rank.
+  struct Rule {
+    const char* keyword;
+    int rank;
+  };
+  static const Rule rules[] = {
+      {"linear", 0},      {"angular", 1},      {"volume_stiff", 2}, {"pressure", 3},
+      {"damping", 4},     {"drag", 5},         {"lift", 6},         {"rigid", 7},
+      {"kinetic", 8},     {"soft_soft", 9},    {"resolution", 10},  {"radius_edge", 11},
+      {"max_volume", 12}, {"volume_constr", 12}, {"restitution_per", 1}, {"restitution", 0},
+  };
+  for (const auto& r : rules)
+    if (name.find(r.keyword) != std::string::npos) return r.rank;
+  return 100;
+}
+
+FitObjective::FitObjective(FitProblem problem, SearchOptions options)
+    : problem_(std::move(problem)), options_(options) {
+  if (!problem_.model) throw std::invalid_argument("fit problem without a model");
+  if (problem_.recorded_m.empty()) throw std::invalid_argument("fit problem without heights");
+  for (const auto& spec : problem_.free)
+    if (!(spec.upper >= spec.lower))
+      throw std::invalid_argument("coefficient '" + spec.name + "' has empty bounds");
+  threads_ = options_.threads > 0 ? options_.threads
+                                   : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  // A failed simulation scores worse than any simulated heights between 0 and the drop.
+  double worst = 0;
+  for (double r : problem_.recorded_m) {
+    const double w = std::max(r, problem_.simulation.drop_height_m - r);
+    worst += w * w;
+  }
+  penalty_ = 2 * worst + 1e-3;
+}
+
+CoefficientValues FitObjective::ToValues(const std::vector<double>& x) const {
+  CoefficientValues v = problem_.fixed;
+  for (size_t j = 0; j < problem_.free.size(); ++j) {
+    const auto& s = problem_.free[j];
+    const double u = std::clamp(j < x.size() ? x[j] : 0.0, 0.0, 1.0);
+    double value = s.lower + u * (s.upper - s.lower);
+    if (s.discrete) value = std::clamp(std::round(value), std::ceil(s.lower), std::floor(s.upper));
+    v[s.name] = value;
+  }
+  return v;
+}
+
+std::vector<double> FitObjective::ToUnit(const CoefficientValues& values) const {
+  std::vector<double> x(problem_.free.size());
+  for (size_t j = 0; j < problem_.free.size(); ++j) {
+    const auto& s = problem_.free[j];
+    auto it = values.find(s.name);
+    const double value = it != values.end() ? it->second : s.default_value;
+    const double range = s.upper - s.lower;
+    x[j] = range > 0 ? std::clamp((value - s.lower) / range, 0.0, 1.0) : 0.0;
+  }
+  return x;
+}
+
+void FitObjective::Snap(std::vector<double>* x) const {
+  for (size_t j = 0; j < problem_.free.size() && j < x->size(); ++j) {
+    const auto& s = problem_.free[j];
+    const double range = s.upper - s.lower;
+    (*x)[j] = std::clamp((*x)[j], 0.0, 1.0);
+    if (s.discrete && range > 0) {
+      const double value = std::clamp(std::round(s.lower + (*x)[j] * range), std::ceil(s.lower),
+                                      std::floor(s.upper));
+      (*x)[j] = (value - s.lower) / range;
+    }
+  }
+}
+
+bool FitObjective::cancelled() const { return options_.cancel && options_.cancel->cancelled(); }
+
+bool FitObjective::stopped() const {
+  if (cancelled()) return true;
+  if (reserved_.load() >= options_.max_evaluations) return true;
+  if (options_.target_rms_m > 0) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double target =
+        options_.target_rms_m * options_.target_rms_m * problem_.recorded_m.size();
+    if (have_best_ && best_.ok && best_.objective <= target) return true;
+  }
+  return false;
+}
+
+bool FitObjective::Lookup(const std::vector<double>& x, Evaluation* out) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& [cx, e] : cache_) {
+    bool same = cx.size() == x.size();
+    for (size_t j = 0; same && j < x.size(); ++j) same = std::abs(cx[j] - x[j]) <= kCacheTolerance;
+    if (same) {
+      *out = e;
+      return true;
+    }
+  }
+  return false;
+}
+
+void FitObjective::Record(const std::vector<double>& x, const Evaluation& e) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  cache_.emplace_back(x, e);
+  if (!have_best_ || e.objective < best_.objective) {
+    best_ = e;
+    best_x_ = x;
+    have_best_ = true;
+  }
+  history_.push_back(best_.objective);
+}
+
+Evaluation FitObjective::Run(const std::vector<double>& x_in) {
+  std::vector<double> x = x_in;
+  Snap(&x);
+  Evaluation e;
+  if (Lookup(x, &e)) return e;
+  if (cancelled() || reserved_.fetch_add(1) >= options_.max_evaluations) {
+    e.skipped = true;
+    e.objective = penalty_;
+    e.failure = cancelled() ? "cancelled" : "evaluation budget used";
+    return e;
+  }
+  SimulationResult sim;
+  try {
+    sim = problem_.model->Simulate(ToValues(x), problem_.simulation);
+  } catch (const std::exception& ex) {
+    sim.ok = false;
+    sim.failure = ex.what();
+  }
+  ++evaluations_;
+  e.ok = sim.ok;
+  if (sim.ok) {
+    e.simulated_m.assign(problem_.recorded_m.size(), 0.0);
+    for (size_t i = 0; i < e.simulated_m.size() && i < sim.bounce_heights_m.size(); ++i)
+      e.simulated_m[i] = sim.bounce_heights_m[i];
+    e.objective = HeightObjective(problem_.recorded_m, e.simulated_m);
+    if (!std::isfinite(e.objective)) {
+      e.ok = false;
+      e.failure = "non-finite heights";
+    }
+  } else {
+    e.failure = sim.failure.empty() ? "simulation failed" : sim.failure;
+  }
+  if (!e.ok) e.objective = penalty_;
+  Record(x, e);
+  return e;
+}
+
+Evaluation FitObjective::Evaluate(const std::vector<double>& x) {
+  if (stopped()) {
+    Evaluation e;
+    std::vector<double> snapped = x;
+    Snap(&snapped);
+    if (Lookup(snapped, &e)) return e;
+    e.skipped = true;
+    e.objective = penalty_;
+    e.failure = cancelled() ? "cancelled" : "stopped";
+    return e;
+  }
+  return Run(x);
+}
+
+std::vector<Evaluation> FitObjective::EvaluateBatch(const std::vector<std::vector<double>>& xs) {
+  std::vector<Evaluation> out(xs.size());
+  const int workers = std::min<int>(threads_, static_cast<int>(xs.size()));
+  if (workers <= 1) {
+    for (size_t i = 0; i < xs.size(); ++i) out[i] = Evaluate(xs[i]);
+    return out;
+  }
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t i = next++; i < xs.size(); i = next++) out[i] = Evaluate(xs[i]);
+  };
+  std::vector<std::future<void>> futures;
+  for (int w = 1; w < workers; ++w) futures.push_back(std::async(std::launch::async, work));
+  work();
+  for (auto& f : futures) f.get();
+  return out;
+}
+
+std::vector<double> FitObjective::best_x() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return best_x_;
+}
+
+Evaluation FitObjective::best() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return best_;
+}
+
+std::vector<double> FitObjective::best_history() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return history_;
+}
+
+SearchResult FitObjective::MakeResult(const std::string& method, double wall_time_s) const {
+  SearchResult r;
+  r.method = method;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (have_best_) {
+    r.values = ToValues(best_x_);
+    r.simulated_m = best_.simulated_m;
+    r.objective = best_.objective;
+  } else {
+    r.values = ToValues(std::vector<double>(problem_.free.size(), 0.0));
+    r.objective = penalty_;
+  }
+  r.simulated_m.resize(problem_.recorded_m.size(), 0.0);
+  r.rms_m = std::sqrt(r.objective / static_cast<double>(problem_.recorded_m.size()));
+  r.evaluations = evaluations_.load();
+  r.wall_time_s = wall_time_s;
+  r.cancelled = options_.cancel && options_.cancel->cancelled();
+  r.best_history = history_;
+  return r;
+}
+
+}  // namespace bouncefit

@@ -1,0 +1,137 @@
+#pragma once
+// The paper's objective, sum_i (r_i - s_i)^2 over recorded vs simulated bounce heights, as
+// a function of the free coefficients normalised to [0, 1] inside their bounds.
+//
+// Shared by the searches: counts simulations, caches points already evaluated (so a search
+// that revisits a point, or evaluates in parallel what another step asks for next, pays
+// once), keeps the best point seen, records the best-so-far residual after every
+// simulation (for benchmarks), and stops on a cancellation token or an evaluation budget.
+// Evaluations are checked for cancellation between simulations, never inside one.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "fit/ball_model.h"
+
+namespace bouncefit {
+
+// Cooperative cancellation: set by whoever supersedes a fit, polled between simulations.
+class CancelToken {
+ public:
+  void Cancel() { cancelled_.store(true); }
+  bool cancelled() const { return cancelled_.load(); }
+
+ private:
+  std::atomic<bool> cancelled_{false};
+};
+
+// What a search works on: a model, the coefficients it may change (with their bounds), the
+// values of all others, how to simulate, and the recorded heights r_1..r_k.
+struct FitProblem {
+  const BallModel* model = nullptr;
+  std::vector<CoefficientSpec> free;  // searched, in priority order
+  CoefficientValues fixed;            // every other coefficient (defaults when missing)
+  SimulationOptions simulation;
+  std::vector<double> recorded_m;     // r_1..r_k, metres
+};
+
+struct SearchOptions {
+  int max_evaluations = 200;       // simulations, at most
+  int threads = 0;                 // parallel simulations; 0 = all cores
+  const CancelToken* cancel = nullptr;
+  double target_rms_m = 0;         // stop once the RMS residual is at or below this
+};
+
+struct Evaluation {
+  bool ok = false;           // the simulation ran (not diverged, not skipped)
+  bool skipped = false;      // not run: cancelled or out of budget
+  double objective = 0;      // sum (r_i - s_i)^2, or the failure penalty
+  std::vector<double> simulated_m;  // s_1..s_k (0 where the ball made fewer bounces)
+  std::string failure;
+};
+
+struct SearchResult {
+  std::string method;                 // "paper", "nlopt-bobyqa", ...
+  CoefficientValues values;           // best point: free and fixed coefficients
+  std::vector<double> simulated_m;
+  double objective = 0;
+  double rms_m = 0;
+  int evaluations = 0;                // simulations run
+  double wall_time_s = 0;
+  bool cancelled = false;
+  // Best-so-far objective after each simulation, in the order they finished.
+  std::vector<double> best_history;
+  // Heights Jacobian d s_i / d x_j in normalised units, at `jacobian_at`, if the search
+  // computed one (rows: bounces, columns: free coefficients); empty otherwise.
+  std::vector<std::vector<double>> jacobian;
+  CoefficientValues jacobian_at;
+  std::vector<std::string> inactive;  // free coefficients the search found to have no effect
+};
+
+class FitObjective {
+ public:
+  FitObjective(FitProblem problem, SearchOptions options);
+
+  const FitProblem& problem() const { return problem_; }
+  int dimension() const { return static_cast<int>(problem_.free.size()); }
+  int threads() const { return threads_; }
+
+  // Normalised x (clamped to [0, 1]) <-> coefficient values; discrete ones are rounded.
+  CoefficientValues ToValues(const std::vector<double>& x) const;
+  std::vector<double> ToUnit(const CoefficientValues& values) const;
+  // Rounds discrete coordinates of x to their representable values (in place).
+  void Snap(std::vector<double>* x) const;
+
+  // One simulation (or a cache hit). Skipped, with the penalty, once stopped().
+  Evaluation Evaluate(const std::vector<double>& x);
+  // Several at once on the thread pool; results in input order.
+  std::vector<Evaluation> EvaluateBatch(const std::vector<std::vector<double>>& xs);
+
+  bool stopped() const;  // cancelled, budget used, or target reached
+  bool cancelled() const;
+  int evaluations() const { return evaluations_.load(); }
+  double penalty() const { return penalty_; }
+
+  std::vector<double> best_x() const;
+  Evaluation best() const;
+  std::vector<double> best_history() const;
+
+  // Fills the common fields of a result from the best point.
+  SearchResult MakeResult(const std::string& method, double wall_time_s) const;
+
+ private:
+  Evaluation Run(const std::vector<double>& x);
+  bool Lookup(const std::vector<double>& x, Evaluation* out) const;
+  void Record(const std::vector<double>& x, const Evaluation& e);
+
+  FitProblem problem_;
+  SearchOptions options_;
+  int threads_ = 1;
+  double penalty_ = 1;
+  std::atomic<int> evaluations_{0};
+  std::atomic<int> reserved_{0};  // budget slots taken by simulations started
+  mutable std::mutex mutex_;
+  std::vector<std::pair<std::vector<double>, Evaluation>> cache_;
+  std::vector<double> best_x_;
+  Evaluation best_;
+  bool have_best_ = false;
+  std::vector<double> history_;
+};
+
+// sum (r_i - s_i)^2 with s_i = 0 for bounces the simulation did not make.
+double HeightObjective(const std::vector<double>& recorded, const std::vector<double>& simulated);
+double RmsResidual(const std::vector<double>& recorded, const std::vector<double>& simulated);
+
+// Release-to-apex time of bounce k for a drag-free ball with these apex heights (h_0 the
+// drop height): how long a simulation must run to see bounce k.
+double FreeFallApexTime(double drop_height_m, const std::vector<double>& heights_m, int k);
+
+// Ranks a coefficient name in the paper's priority order (linear, angular, volume stiffness,
+// pressure, damping, drag, lift, the three impulse splits, mesh resolution, radius/edge,
+// volume constraint); unknown names rank after all of them.
+int PaperPriority(const std::string& name);
+
+}  // namespace bouncefit

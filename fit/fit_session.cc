@@ -1,0 +1,281 @@
+#include "fit/fit_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+#include "fit/least_squares_search.h"
+#include "fit/nlopt_search.h"
+#include "fit/paper_search.h"
+
+namespace bouncefit {
+
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool Contains(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+}  // namespace
+
+double TimeStepOf(const CoefficientValues& values) {
+  for (const auto& [name, v] : values)
+    if (name.find("time_step") != std::string::npos) return v;
+  return 0;
+}
+
+int IterationsOf(const CoefficientValues& values) {
+  for (const auto& [name, v] : values)
+    if (name.find("iterations") != std::string::npos) return static_cast<int>(std::lround(v));
+  return 0;
+}
+
+FitSession::FitSession(const BallModel& model, const BallModel* quick_model,
+                       FitSessionConfig config)
+    : model_(model), quick_model_(quick_model), config_(std::move(config)) {
+  if (config_.method != "nlopt" && config_.method != "paper")
+    throw std::invalid_argument("unknown fit method '" + config_.method +
+                                "' (known: nlopt, paper)");
+  const auto specs = model_.Coefficients();
+  for (const auto& name : config_.free) {
+    bool found = false;
+    for (const auto& s : specs) found = found || s.name == name;
+    if (!found)
+      throw std::invalid_argument("model '" + model_.name() + "' has no coefficient '" + name +
+                                  "'");
+  }
+  for (const auto& s : specs) current_[s.name] = s.default_value;
+  for (const auto& [name, v] : config_.start) {
+    bool found = false;
+    for (const auto& s : specs) found = found || s.name == name;
+    if (found) current_[name] = v;
+  }
+  if (quick_model_)
+    for (const auto& s : quick_model_->Coefficients()) quick_current_[s.name] = s.default_value;
+  for (const auto& s : FreeSpecs()) live_order_.push_back(s.name);
+}
+
+void FitSession::Reset(int sequence) {
+  sequence_ = sequence;
+  drop_height_m_ = 0;
+  heights_.clear();
+  sigmas_.clear();
+}
+
+bool FitSession::AddPeak(const PeakInput& p) {
+  if (p.sequence != sequence_) return false;
+  if (!std::isfinite(p.height_m) || p.bounce < 0) return true;  // nothing usable
+  last_utime_ = p.utime;
+  if (p.bounce == 0) {
+    drop_height_m_ = p.height_m;
+    return true;
+  }
+  const size_t i = static_cast<size_t>(p.bounce - 1);
+  if (heights_.size() <= i) {
+    heights_.resize(i + 1, std::numeric_limits<double>::quiet_NaN());
+    sigmas_.resize(i + 1, 0.0);
+  }
+  heights_[i] = p.height_m;
+  sigmas_[i] = p.sigma_m;
+  return true;
+}
+
+std::vector<double> FitSession::FittedHeights() const {
+  std::vector<double> r;
+  for (double h : heights_) {
+    if (!std::isfinite(h) || h < config_.min_bounce_height_m) break;
+    r.push_back(h);
+  }
+  return r;
+}
+
+double FitSession::MeasurementSigma() const {
+  double sum = 0;
+  int n = 0;
+  for (size_t i = 0; i < FittedHeights().size(); ++i)
+    if (sigmas_[i] > 0) sum += sigmas_[i] * sigmas_[i], ++n;
+  return n ? std::sqrt(sum / n) : config_.default_sigma_m;
+}
+
+std::vector<CoefficientSpec> FitSession::FreeSpecs() const {
+  std::vector<CoefficientSpec> free;
+  for (const auto& s : model_.Coefficients()) {
+    if (!config_.free.empty()) {
+      if (Contains(config_.free, s.name)) free.push_back(s);
+      continue;
+    }
+    if (!(s.upper > s.lower)) continue;
+    bool never = s.name == "radius";
+    for (const auto& pattern : config_.never_fit)
+      never = never || s.name.find(pattern) != std::string::npos;
+    if (!never) free.push_back(s);
+  }
+  std::stable_sort(free.begin(), free.end(), [](const auto& a, const auto& b) {
+    return PaperPriority(a.name) < PaperPriority(b.name);
+  });
+  return free;
+}
+
+FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
+                                   const CoefficientValues& at) const {
+  FitProblem p;
+  p.model = &model_;
+  p.free = free;
+  p.fixed = at;
+  p.recorded_m = FittedHeights();
+  if (p.recorded_m.empty()) throw std::logic_error("no bounce to fit yet");
+  const int k = static_cast<int>(p.recorded_m.size());
+  p.simulation.drop_height_m = drop_height_m_;
+  p.simulation.duration_s =
+      config_.duration_margin * FreeFallApexTime(drop_height_m_, p.recorded_m, k) + 0.2;
+  const double lowest = *std::min_element(p.recorded_m.begin(), p.recorded_m.end());
+  p.simulation.min_bounce_height_m = 0.5 * std::min(config_.min_bounce_height_m, lowest);
+  return p;
+}
+
+FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, bool final,
+                             const std::vector<std::vector<double>>& jacobian, int extra_evals,
+                             double wall_s, const BallModel& model) {
+  FitUpdate u;
+  u.utime = last_utime_;
+  u.sequence = sequence_;
+  u.after_bounce = static_cast<int>(problem.recorded_m.size());
+  u.final = final;
+  u.cancelled = r.cancelled;
+  u.model = model.name();
+  u.method = r.method;
+  u.values = r.values;
+  u.drop_height_m = drop_height_m_;
+  u.recorded_m = problem.recorded_m;
+  u.simulated_m = r.simulated_m;
+  u.residual_m = RmsResidual(problem.recorded_m, r.simulated_m);
+  u.evaluations = r.evaluations + extra_evals;
+  u.wall_time_s = wall_s;
+  u.time_step_s = TimeStepOf(r.values);
+  u.iterations = IterationsOf(r.values);
+  u.no_effect = r.inactive;
+
+  std::vector<CoefficientEstimate> est;
+  if (!jacobian.empty())
+    est = EstimateUncertainty(problem.free, r.values, jacobian, u.residual_m, MeasurementSigma());
+  // Every coefficient the session may fit is reported; those not searched in this update
+  // keep their value, without an uncertainty.
+  const auto all = (&model == &model_) ? FreeSpecs() : model.Coefficients();
+  for (const auto& s : all) {
+    CoefficientEstimate e;
+    auto it = std::find_if(est.begin(), est.end(), [&](const auto& x) { return x.name == s.name; });
+    if (it != est.end()) {
+      e = *it;
+    } else {
+      e.name = s.name;
+      e.unit = s.unit;
+      auto v = r.values.find(s.name);
+      e.value = v != r.values.end() ? v->second : s.default_value;
+      e.sigma = std::numeric_limits<double>::quiet_NaN();
+      e.note = jacobian.empty() ? "no sensitivity computed" : "held fixed in this update";
+      bool searched = false;
+      for (const auto& f : problem.free) searched = searched || f.name == s.name;
+      if (searched) e.note = "no sensitivity computed";
+    }
+    if (Contains(r.inactive, s.name)) e.note = "no effect on the heights";
+    if (!e.identifiable && e.note != "held fixed in this update") u.unidentified.push_back(e.name);
+    if (e.note == "no effect on the heights" && !Contains(u.no_effect, e.name))
+      u.no_effect.push_back(e.name);
+    u.coefficients.push_back(e);
+  }
+  return u;
+}
+
+FitUpdate FitSession::QuickUpdate() {
+  if (!quick_model_) throw std::logic_error("no quick model for this session");
+  const auto t0 = std::chrono::steady_clock::now();
+  FitProblem p = MakeProblem(quick_model_->Coefficients(), quick_current_);
+  p.model = quick_model_;
+  SearchOptions o;
+  o.max_evaluations = 600;
+  o.threads = 1;  // each point-mass run takes about a millisecond
+  const SearchResult r = LeastSquaresSearch(p, quick_current_, o);
+  // The next quick fit starts from here; missing heights make no sense to carry over.
+  for (const auto& s : p.free) quick_current_[s.name] = r.values.at(s.name);
+  return Finish(p, r, false, r.jacobian, 0, Seconds(t0), *quick_model_);
+}
+
+FitUpdate FitSession::Update(const CancelToken* cancel) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int k = static_cast<int>(FittedHeights().size());
+  // The most sensitive coefficients (at most one per bounce): what k heights can tell.
+  const auto specs = FreeSpecs();
+  std::vector<CoefficientSpec> live;
+  const int want = std::max(1, std::min(config_.live_coefficients, k));
+  for (const auto& name : live_order_) {
+    if (static_cast<int>(live.size()) >= want) break;
+    for (const auto& s : specs)
+      if (s.name == name) live.push_back(s);
+  }
+  FitProblem p = MakeProblem(live, current_);
+  SearchOptions o;
+  o.max_evaluations = config_.max_evaluations_per_bounce;
+  o.threads = config_.threads;
+  o.cancel = cancel;
+  if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
+  SearchResult r = config_.method == "paper" ? PaperSearch(p, current_, o)
+                                             : NloptSearch(p, current_, o);
+  if (r.evaluations > 0) current_ = r.values;
+  // Coefficients with no effect go to the back of the live order.
+  for (const auto& name : r.inactive) {
+    auto it = std::find(live_order_.begin(), live_order_.end(), name);
+    if (it != live_order_.end()) {
+      live_order_.erase(it);
+      live_order_.push_back(name);
+    }
+  }
+  return Finish(p, r, false, r.jacobian, 0, Seconds(t0), model_);
+}
+
+FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FitProblem p = MakeProblem(FreeSpecs(), current_);
+  SearchOptions o;
+  o.max_evaluations = config_.max_evaluations_final;
+  o.threads = config_.threads;
+  o.cancel = cancel;
+  if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
+  SearchResult r = config_.method == "paper" ? PaperSearch(p, current_, o)
+                                             : NloptSearch(p, current_, o);
+  if (r.evaluations > 0) current_ = r.values;
+  // Uncertainty from the Jacobian at the answer (its own budget: 2 runs per coefficient).
+  std::vector<std::vector<double>> jac;
+  int extra = 0;
+  if (!r.cancelled && !(cancel && cancel->cancelled())) {
+    SearchOptions jo = o;
+    jo.max_evaluations = 2 * static_cast<int>(p.free.size()) + 2;
+    jo.target_rms_m = 0;
+    FitObjective jf(p, jo);
+    jac = HeightsJacobian(jf, r.values);
+    extra = jf.evaluations();
+    if (jf.cancelled()) jac.clear();
+  }
+  if (jac.empty()) jac = r.jacobian;
+  // Live updates try the most sensitive coefficients first.
+  if (!jac.empty()) {
+    std::vector<std::pair<double, std::string>> effect;
+    for (size_t j = 0; j < p.free.size(); ++j) {
+      double e = 0;
+      for (const auto& row : jac) e = std::max(e, std::abs(row[j]));
+      effect.emplace_back(-e, p.free[j].name);
+    }
+    std::stable_sort(effect.begin(), effect.end());
+    live_order_.clear();
+    for (const auto& [e, name] : effect) live_order_.push_back(name);
+  }
+  return Finish(p, r, true, jac, extra, Seconds(t0), model_);
+}
+
+}  // namespace bouncefit

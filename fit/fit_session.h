@@ -1,0 +1,130 @@
+#pragma once
+// A fit that follows a drop bounce by bounce.
+//
+// Bounce 0 (the release) sets the simulated drop height; after bounce k, Update() refines
+// the coefficients so that the simulated s_1..s_k match the recorded r_1..r_k (objective
+// sum (r_i - s_i)^2 inside the coefficients' bounds), warm-started from the previous
+// answer. QuickUpdate() is the point-mass estimate (restitution, its speed dependence and
+// drag), milliseconds. FinalUpdate() is the thorough fit at the end of a drop: every free
+// coefficient, a larger budget, and uncertainties from the heights Jacobian at the answer.
+// Updates take a cancellation token checked between simulations: a cancelled update
+// returns with `cancelled` set and its best point kept as the next warm start.
+//
+// Synchronous and single-threaded from the caller's view (simulations inside run on a
+// thread pool); FitWorker runs it on a thread with supersede semantics.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fit/ball_model.h"
+#include "fit/fit_objective.h"
+#include "fit/sensitivity.h"
+
+namespace bouncefit {
+
+struct PeakInput {
+  int sequence = 0;
+  int bounce = 0;             // 0: release height; 1, 2, ...: rebound apexes
+  double height_m = 0;        // ball bottom above the floor, metres
+  double sigma_m = 0;         // standard uncertainty of the height (0: unknown)
+  int64_t utime = 0;          // capture time that triggered it (copied to the update)
+};
+
+struct FitUpdate {
+  int64_t utime = 0;
+  int sequence = 0;
+  int after_bounce = 0;       // uses bounces 1..after_bounce
+  bool final = false;
+  bool cancelled = false;     // superseded before it finished (best point so far)
+  std::string model;          // "point-mass", "bullet-softbody", ...
+  std::string method;         // "least-squares", "nlopt-bobyqa", "paper"
+  std::vector<CoefficientEstimate> coefficients;  // the fitted ones, with uncertainty
+  CoefficientValues values;   // every coefficient the model was run with
+  double drop_height_m = 0;
+  std::vector<double> recorded_m;   // r_1..r_k (bounces above the minimum height)
+  std::vector<double> simulated_m;  // s_1..s_k
+  double residual_m = 0;      // RMS of s_i - r_i
+  int evaluations = 0;        // simulations run
+  double wall_time_s = 0;
+  double time_step_s = 0;     // simulation step the coefficients hold for (0: n/a)
+  int iterations = 0;         // solver iterations they hold for (0: n/a)
+  std::vector<std::string> no_effect;      // coefficients found to change no height
+  std::vector<std::string> unidentified;   // coefficients the data cannot determine
+};
+
+struct FitSessionConfig {
+  std::string method = "nlopt";     // "nlopt" (default) or "paper"
+  int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
+  int max_evaluations_final = 160;      // final fit budget, plus the Jacobian
+  int live_coefficients = 3;        // per-bounce: at most this many (and <= bounces)
+  int threads = 0;                  // parallel simulations; 0 = all cores
+  double min_bounce_height_m = 0.01;  // bounces lower than this are not fitted
+  double default_sigma_m = 0.002;   // height uncertainty when a peak gives none
+  double duration_margin = 1.5;     // simulate this x the free-fall time to bounce k (+0.2 s)
+  double target_rms_fraction = 0;   // stop early at RMS <= this x drop height (0: never)
+  // Coefficients searched (empty: every model coefficient with bounds, minus the
+  // never-fitted ones below). The model's other coefficients stay at `start`/defaults.
+  std::vector<std::string> free;
+  // Never fitted: mass, radius/diameter, time step, iterations, ... (substring match).
+  std::vector<std::string> never_fit = {"mass", "radius_m", "diameter", "time_step",
+                                        "iterations", "substeps", "floor_", "gravity"};
+  CoefficientValues start;          // warm start of the first fit (e.g. a preset table)
+  bool quick_fit = true;            // QuickUpdate() available (needs a quick model)
+};
+
+class FitSession {
+ public:
+  // `model` is fitted; `quick_model` (may be null) gives QuickUpdate(). Both must outlive
+  // the session.
+  FitSession(const BallModel& model, const BallModel* quick_model, FitSessionConfig config);
+
+  // Starts a new drop (forgets heights; keeps the warm start).
+  void Reset(int sequence);
+  // Records a peak. Bounce 0 sets the drop height; bounce k sets r_k. Returns false (and
+  // records nothing) for a peak of another sequence: call Reset() first.
+  bool AddPeak(const PeakInput& peak);
+
+  int sequence() const { return sequence_; }
+  bool has_drop_height() const { return drop_height_m_ > 0; }
+  double drop_height_m() const { return drop_height_m_; }
+  int bounces() const { return static_cast<int>(heights_.size()); }  // highest bounce index seen
+  std::vector<double> FittedHeights() const;  // r_1.. above the minimum height
+  bool CanFit() const { return has_drop_height() && !FittedHeights().empty(); }
+
+  FitUpdate QuickUpdate();
+  FitUpdate Update(const CancelToken* cancel = nullptr);
+  FitUpdate FinalUpdate(const CancelToken* cancel = nullptr);
+
+  const CoefficientValues& warm_start() const { return current_; }
+  const FitSessionConfig& config() const { return config_; }
+  const BallModel& model() const { return model_; }
+
+ private:
+  std::vector<CoefficientSpec> FreeSpecs() const;
+  FitProblem MakeProblem(const std::vector<CoefficientSpec>& free,
+                         const CoefficientValues& at) const;
+  double MeasurementSigma() const;
+  FitUpdate Finish(const FitProblem& problem, const SearchResult& r, bool final,
+                   const std::vector<std::vector<double>>& jacobian, int extra_evals,
+                   double wall_s, const BallModel& model);
+
+  const BallModel& model_;
+  const BallModel* quick_model_;
+  FitSessionConfig config_;
+  int sequence_ = 0;
+  double drop_height_m_ = 0;
+  std::vector<double> heights_;   // index i: bounce i+1 (NaN until seen)
+  std::vector<double> sigmas_;
+  int64_t last_utime_ = 0;
+  CoefficientValues current_;     // warm start of the model
+  CoefficientValues quick_current_;
+  std::vector<std::string> live_order_;  // free coefficients, most sensitive first
+};
+
+// Where the coefficients of a model hold: time step and solver iterations, read from
+// coefficient values whose names contain "time_step" / "iterations" (0 when absent).
+double TimeStepOf(const CoefficientValues& values);
+int IterationsOf(const CoefficientValues& values);
+
+}  // namespace bouncefit

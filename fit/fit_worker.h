@@ -1,0 +1,68 @@
+#pragma once
+// Runs a FitSession on a thread of its own, so whoever feeds it peaks never waits.
+//
+// Supersede, never queue: every peak is recorded, but only the newest bounce is fitted.
+// A peak that arrives while an update is running cancels it (the token is checked between
+// simulations); the cancelled update is not delivered and the next one starts from its
+// best point. After each rebound peak the point-mass estimate is delivered first
+// (milliseconds), then the model's update. A peak of a new sequence, or Finish(), runs the
+// final, thorough fit of the drop (delivered even when a later peak cuts it short, marked
+// cancelled, since it is the drop's last word).
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "fit/fit_session.h"
+
+namespace bouncefit {
+
+class FitWorker {
+ public:
+  using Callback = std::function<void(const FitUpdate&)>;
+
+  // The session's models must outlive the worker. The callback runs on the worker thread.
+  FitWorker(std::unique_ptr<FitSession> session, Callback on_update);
+  ~FitWorker();  // Stop()
+  FitWorker(const FitWorker&) = delete;
+  FitWorker& operator=(const FitWorker&) = delete;
+
+  void Start();
+  // Never blocks on a fit: records the peak and cancels the running update.
+  void Submit(const PeakInput& peak);
+  // Asks for the final fit of the current drop (end of stream, or the drop is over).
+  void Finish();
+  // Blocks until nothing is pending or running (for offline use and tests).
+  void WaitIdle();
+  // Cancels what runs, drops what is pending, joins the thread.
+  void Stop();
+
+  struct Stats {
+    int peaks = 0;
+    int updates_delivered = 0;
+    int superseded = 0;  // updates cancelled by a newer peak
+    int finals = 0;
+  };
+  Stats stats() const;
+
+ private:
+  void Loop();
+  void Deliver(const FitUpdate& u);
+
+  std::unique_ptr<FitSession> session_;
+  Callback on_update_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::condition_variable idle_;
+  std::vector<PeakInput> pending_;
+  bool finish_requested_ = false;
+  bool stop_ = false;
+  bool busy_ = false;
+  std::shared_ptr<CancelToken> running_;
+  std::thread thread_;
+  Stats stats_;
+};
+
+}  // namespace bouncefit

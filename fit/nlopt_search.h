@@ -1,0 +1,31 @@
+#pragma once
+// The default search: a bounded derivative-free quadratic-model method (NLopt BOBYQA) over
+// the continuous coefficients that matter, normalised to [0, 1].
+//
+// 1. Screening, in parallel on all cores: the start point and +-step along every free
+//    coefficient (discrete mesh coefficients: +-one level, meshes cached by the model).
+//    These are exactly BOBYQA's 2n+1 initial interpolation points, so they are paid once,
+//    concurrently; they also give the heights Jacobian (uncertainty, identifiability) and
+//    name the coefficients with no effect, which are left out of the search.
+// 2. BOBYQA (COBYLA for a single coefficient) from the best screening point, serially.
+// 3. Discrete coefficients: neighbouring levels tried in parallel at the optimum; a better
+//    level gets one more, shorter continuous round.
+#include <string>
+
+#include "fit/fit_objective.h"
+
+namespace bouncefit {
+
+struct NloptSearchOptions {
+  double initial_step = 0.05;   // BOBYQA's initial trust radius, fraction of each range
+  double xtol = 2e-3;           // stop when steps are below this (fraction of range)
+  double ftol_rel = 1e-6;       // or the objective changes by less than this fraction
+  double min_effect_m = 1e-6;   // +-step changing no height by more than this: no effect
+  int max_active = 0;           // search only the n most sensitive coefficients; 0 = all
+  bool search_discrete = true;  // try neighbouring levels of discrete coefficients
+};
+
+SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& start,
+                         const SearchOptions& options, const NloptSearchOptions& nlopt = {});
+
+}  // namespace bouncefit
