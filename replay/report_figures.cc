@@ -178,47 +178,67 @@ ReportFigure TrajectoryFigure(const ReportRunData& run, FigureWriter& w, bool ha
 
 ReportFigure BouncesFigure(const ReportRunData& run, FigureWriter& w) {
   const ReportFit* fit = run.FinalFit();
-  std::ostringstream rec;
+  std::map<int, double> simulated;  // bounce -> simulated apex height, m
+  if (fit) {
+    for (size_t i = 0; i < fit->simulated_m.size(); ++i) {
+      if (std::isfinite(fit->simulated_m[i])) simulated[static_cast<int>(i + 1)] = fit->simulated_m[i];
+    }
+  }
+  std::ostringstream rec, diff;
   rec << "# bounce height_m sigma_m\n";
+  diff << "# bounce simulated_minus_recorded_mm sigma_mm\n";
   int max_bounce = 0;
   for (const auto& p : run.peaks) {
     if (!std::isfinite(p.height_m)) continue;
     double sigma = p.height_sigma_m;
     if (!std::isfinite(sigma) && run.calibration) sigma = ApexHeightSigmaM(p.height_m, *run.calibration);
-    rec << Num(p.bounce - 0.08) << " " << Num(p.height_m) << " " << Num(std::isfinite(sigma) ? sigma : 0)
-        << "\n";
+    if (!std::isfinite(sigma)) sigma = 0;
+    rec << Num(p.bounce - 0.08) << " " << Num(p.height_m) << " " << Num(sigma) << "\n";
+    auto it = simulated.find(p.bounce);
+    if (it != simulated.end()) {
+      diff << Num(p.bounce) << " " << Num((it->second - p.height_m) * 1000) << " "
+           << Num(sigma * 1000) << "\n";
+    }
     max_bounce = std::max(max_bounce, p.bounce);
   }
   w.Data("bounces_recorded.dat", rec.str());
+  w.Data("bounces_difference.dat", diff.str());
   std::ostringstream sim;
   sim << "# bounce simulated_m\n";
-  int simulated = 0;
-  if (fit) {
-    for (size_t i = 0; i < fit->simulated_m.size(); ++i) {
-      if (!std::isfinite(fit->simulated_m[i])) continue;
-      sim << Num(static_cast<double>(i + 1) + 0.08) << " " << Num(fit->simulated_m[i]) << "\n";
-      max_bounce = std::max(max_bounce, static_cast<int>(i + 1));
-      ++simulated;
-    }
+  for (const auto& [bounce, h] : simulated) {
+    sim << Num(bounce + 0.08) << " " << Num(h) << "\n";
+    max_bounce = std::max(max_bounce, bounce);
   }
   w.Data("bounces_simulated.dat", sim.str());
+  const bool compare = !simulated.empty() && diff.str().find('\n') != diff.str().rfind('\n');
   std::ostringstream gp;
-  gp << "set title 'Bounce heights: recorded vs simulated'\n"
-     << "set xlabel 'bounce (0 = release)'\n"
+  if (compare) {
+    gp << "set multiplot layout 2,1 title 'Bounce heights: recorded vs simulated' font ',13'\n"
+       << "set lmargin 12\n";
+  } else {
+    gp << "set title 'Bounce heights: recorded'\n";
+  }
+  gp << "set xlabel 'bounce (0 = release)'\n"
      << "set ylabel 'apex height, ball bottom (m)'\n"
      << "set xrange [-0.5:" << max_bounce + 0.5 << "]\n"
-     << "set xtics 1\nset yrange [0:*]\nset style fill solid 0.25\n"
+     << "set xtics 1\nset yrange [0:*]\n"
      << "plot 'bounces_recorded.dat' using 1:2:3 with yerrorbars pt 7 ps 1.3 lw 1.5 "
         "lc rgb '#1f77b4' title 'recorded (±1 sigma)'";
-  if (simulated > 0) {
+  if (compare) {
     gp << ", \\\n  'bounces_simulated.dat' using 1:2 with points pt 5 ps 1.3 lc rgb '#ff7f0e' "
-          "title 'simulated (final fit)'";
+          "title 'simulated (final fit)'\n"
+       << "set ylabel 'simulated - recorded (mm)'\nset yrange [*:*]\n"
+       << "plot 'bounces_difference.dat' using 1:2:3 with yerrorbars pt 5 ps 1.2 lw 1.5 "
+          "lc rgb '#ff7f0e' title 'simulated - recorded, bars: ±1 sigma of the recorded height', "
+          "0 with lines dt 2 lc rgb '#888888' notitle\n"
+       << "unset multiplot";
   }
   gp << "\n";
   return w.Draw("bounces", "Bounce heights, recorded vs simulated",
-                "Apex height of each bounce (m): recorded (peaks.csv) with error bars of one "
-                "standard uncertainty, and simulated by the final fit (fit.jsonl).",
-                gp.str());
+                "Top: apex height of each bounce (m), recorded (peaks.csv) with error bars of "
+                "one standard uncertainty, and simulated by the final fit (fit.jsonl). Bottom: "
+                "simulated minus recorded (mm) against the recorded uncertainty.",
+                gp.str(), compare ? 640 : 0);
 }
 
 ReportFigure CoefficientsFigure(const ReportRunData& run, FigureWriter& w) {
