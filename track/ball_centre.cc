@@ -10,54 +10,72 @@ namespace {
 
 struct Sampler {
   const YccPlanes& p;
-  float du, dv;
-  // Linear chroma signal along the ball's colour direction at frame point (x, y); false when
-  // the point is not inside the region.
-  bool At(double x, double y, float* s) const {
+  // Y, U, V at frame point (x, y), bilinear; false when the point is not inside the region.
+  bool At(double x, double y, float out[3]) const {
     const double fx = x - p.rect.x, fy = y - p.rect.y;
     if (fx < 0 || fy < 0 || fx > p.y.cols - 1.001 || fy > p.y.rows - 1.001) return false;
     const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
     const float ax = static_cast<float>(fx - ix), ay = static_cast<float>(fy - iy);
-    const float* u0 = p.u.ptr<float>(iy) + ix;
-    const float* u1 = p.u.ptr<float>(iy + 1) + ix;
-    const float* v0 = p.v.ptr<float>(iy) + ix;
-    const float* v1 = p.v.ptr<float>(iy + 1) + ix;
-    const float s00 = u0[0] * du + v0[0] * dv, s01 = u0[1] * du + v0[1] * dv;
-    const float s10 = u1[0] * du + v1[0] * dv, s11 = u1[1] * du + v1[1] * dv;
-    *s = (1 - ay) * ((1 - ax) * s00 + ax * s01) + ay * ((1 - ax) * s10 + ax * s11);
+    const float w00 = (1 - ax) * (1 - ay), w01 = ax * (1 - ay), w10 = (1 - ax) * ay, w11 = ax * ay;
+    const cv::Mat* planes[3] = {&p.y, &p.u, &p.v};
+    for (int c = 0; c < 3; ++c) {
+      const float* r0 = planes[c]->ptr<float>(iy) + ix;
+      const float* r1 = planes[c]->ptr<float>(iy + 1) + ix;
+      out[c] = w00 * r0[0] + w01 * r0[1] + w10 * r1[0] + w11 * r1[1];
+    }
     return true;
   }
 };
 
-// Rim points on rays from (cx, cy) for a ball of radius about r.
-int CastRays(const Sampler& sm, double cx, double cy, double r, const BallCentreParams& params,
-             std::vector<EdgePoint>* pts, bool* cut) {
+// Rim points on rays from (cx, cy) for a ball of radius about r. Along each ray every sample
+// is unmixed into ball coverage a: pixel - B = (a k) C - a B, with B the background (the
+// ray's outer samples), C = (1, nu, nv) the ball colour per unit luma and k its unknown
+// shading. a is linear in the blur, whatever the shading, so a = 0.5 is the rim.
+int CastRays(const Sampler& sm, const ColorModel& color, double cx, double cy, double r,
+             const BallCentreParams& params, std::vector<EdgePoint>* pts, bool* cut) {
   pts->clear();
   constexpr double kStep = 0.5;
   const double r_in = std::max(0.3 * r, r - std::max(2.5, 0.4 * r));
   const double r_hi = r + std::max(4.0, 0.6 * r);
   const int n = static_cast<int>(std::ceil((r_hi - r_in) / kStep)) + 1;
-  std::vector<float> s(static_cast<size_t>(n));
+  std::vector<float> yuv(static_cast<size_t>(3 * n));
+  std::vector<double> a(static_cast<size_t>(n));
+  const double c0 = 1, c1 = color.nu(), c2 = color.nv();
+  const double cc = c0 * c0 + c1 * c1 + c2 * c2;
   for (int k = 0; k < params.rays; ++k) {
-    const double a = 2 * std::numbers::pi * (k + 0.5) / params.rays;
-    const double c = std::cos(a), sn = std::sin(a);
+    const double ang = 2 * std::numbers::pi * (k + 0.5) / params.rays;
+    const double c = std::cos(ang), sn = std::sin(ang);
     bool inside = true;
     for (int i = 0; i < n && inside; ++i) {
       const double rr = r_in + i * kStep;
-      inside = sm.At(cx + rr * c, cy + rr * sn, &s[static_cast<size_t>(i)]);
+      inside = sm.At(cx + rr * c, cy + rr * sn, &yuv[static_cast<size_t>(3 * i)]);
     }
     if (!inside) {
       *cut = true;
       continue;
     }
-    const float s_in = s[0];
-    const float s_out = 0.5f * (s[static_cast<size_t>(n - 1)] + s[static_cast<size_t>(n - 2)]);
-    if (s_in - s_out < params.edge_min_contrast) continue;
-    const float level = 0.5f * (s_in + s_out);
+    const float* o1 = &yuv[static_cast<size_t>(3 * (n - 1))];
+    const float* o2 = &yuv[static_cast<size_t>(3 * (n - 2))];
+    const double b0 = 0.5 * (o1[0] + o2[0]), b1 = 0.5 * (o1[1] + o2[1]), b2 = 0.5 * (o1[2] + o2[2]);
+    const double bb = b0 * b0 + b1 * b1 + b2 * b2, cb = c0 * b0 + c1 * b1 + c2 * b2;
+    const double det = cc * bb - cb * cb;
+    if (det < 1e-6 * cc * bb) continue;
+    // Least squares for (x1, x2) = (a k, a): [cc, -cb; -cb, bb] x = [C.d; -B.d], d = p - B.
+    double k_in = 0;
+    for (int i = 0; i < n; ++i) {
+      const float* p = &yuv[static_cast<size_t>(3 * i)];
+      const double d0 = p[0] - b0, d1 = p[1] - b1, d2 = p[2] - b2;
+      const double cd = c0 * d0 + c1 * d1 + c2 * d2, bd = -(b0 * d0 + b1 * d1 + b2 * d2);
+      const double x1 = (bb * cd + cb * bd) / det;
+      a[static_cast<size_t>(i)] = (cb * cd + cc * bd) / det;
+      if (i == 0) k_in = x1;
+    }
+    // The inside must be the ball: covered, and with enough chroma to tell it apart.
+    if (a[0] < 0.6 || k_in * std::hypot(c1, c2) < params.edge_min_contrast) continue;
     for (int i = n - 2; i >= 0; --i) {
-      const float a0 = s[static_cast<size_t>(i)], a1 = s[static_cast<size_t>(i + 1)];
-      if (a0 >= level && a1 < level) {
-        const double rr = r_in + (i + (a0 - level) / (a0 - a1)) * kStep;
+      const double a0 = a[static_cast<size_t>(i)], a1 = a[static_cast<size_t>(i + 1)];
+      if (a0 >= 0.5 && a1 < 0.5) {
+        const double rr = r_in + (i + (a0 - 0.5) / (a0 - a1)) * kStep;
         pts->push_back({cx + rr * c, cy + rr * sn});
         break;
       }
@@ -72,7 +90,7 @@ BallCentre FindBallCentre(const YccPlanes& planes, const ColorModel& color, doub
                           double r, double radius_prior, const BallCentreParams& params) {
   BallCentre out;
   if (planes.step != 1 || !(r > 0)) return out;
-  const Sampler sm{planes, static_cast<float>(color.dir_u()), static_cast<float>(color.dir_v())};
+  const Sampler sm{planes};
   std::vector<EdgePoint> pts;
   pts.reserve(static_cast<size_t>(params.rays));
   CircleFitParams fp;
@@ -81,7 +99,7 @@ BallCentre FindBallCentre(const YccPlanes& planes, const ColorModel& color, doub
   CircleFitResult fit;
   for (int pass = 0; pass < 2; ++pass) {
     out.cut = false;
-    const int got = CastRays(sm, cx, cy, r, params, &pts, &out.cut);
+    const int got = CastRays(sm, color, cx, cy, r, params, &pts, &out.cut);
     out.valid_rays = static_cast<double>(got) / params.rays;
     if (out.valid_rays < params.min_valid_rays) return out;
     fit = FitCircleFrom(pts, cx, cy, r, fp);

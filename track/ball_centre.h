@@ -1,8 +1,8 @@
 #pragma once
-// Sub-pixel centre of a ball already found as a blob: rays from a rough centre, the rim located
-// on each ray where the linear chroma signal crosses halfway between its local inside and
-// outside levels (unbiased under blur and mixing, insensitive to how dark the rim is), then a
-// robust circle fit. Rays leaving the region (ball partly out of view or of the ROI) are
+// Sub-pixel centre of a ball already found as a blob: rays from a rough centre; along each ray
+// every sample is unmixed into ball coverage (ball colour of unknown shading over the ray's
+// own background), and the rim is where coverage crosses 1/2 (unbiased under blur, motion
+// blur and the dark shaded bottom); then a robust circle fit. Rays leaving the region (ball partly out of view or of the ROI) are
 // dropped.
 #include <vector>
 
@@ -14,7 +14,7 @@ namespace bouncefit {
 
 struct BallCentreParams {
   int rays = 64;
-  double edge_min_contrast = 6;   // inside-outside chroma step a rim point needs (0-255 units)
+  double edge_min_contrast = 6;   // chroma the ball's inside needs on a ray (0-255 units)
   double radius_prior_weight = 2; // pull towards the tracked radius, in edge points
   double min_valid_rays = 0.35;   // share of rays that must give a rim point
   double max_rms_px = 1.5;        // worse inlier RMS means the blob is not a round ball

@@ -1,0 +1,114 @@
+#pragma once
+// Shared by the tracker tests: render a synth clip with known truth, run the tracker over it,
+// score centres against the truth.
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "replay/synth_clip.h"
+#include "replay/synth_truth.h"
+#include "track/tracker.h"
+
+namespace bouncefit::testing {
+
+struct TrackScore {
+  int in_view = 0;        // frames with the ball fully in view
+  int lost = 0;           // ... where the tracker found nothing
+  int wrong = 0;          // frames where it reported a ball far (> max(3 px, r/2)) from the truth
+  int found_total = 0;
+  double rms = 0, p99 = 0, max = 0;  // centre error on in-view frames it found, px
+  double mean_dx = 0, mean_dy = 0;   // bias, px
+  std::string describe;
+  std::vector<BallObservation> obs;
+};
+
+// YUYV (limited-range BT.601, chroma of each pixel pair averaged) from a BGR frame, the way a
+// V4L2 camera delivers it.
+inline cv::Mat BgrToYuyv(const cv::Mat& bgr) {
+  cv::Mat ycc;
+  cv::cvtColor(bgr, ycc, cv::COLOR_BGR2YCrCb);  // full range: Y, Cr, Cb
+  cv::Mat out(bgr.rows, bgr.cols, CV_8UC2);
+  for (int j = 0; j < bgr.rows; ++j) {
+    const uint8_t* s = ycc.ptr<uint8_t>(j);
+    uint8_t* d = out.ptr<uint8_t>(j);
+    for (int i = 0; i + 1 < bgr.cols; i += 2) {
+      const uint8_t* a = s + 3 * i;
+      const uint8_t* b = a + 3;
+      auto lim_y = [](double y) { return cv::saturate_cast<uint8_t>(16 + y * 219.0 / 255.0); };
+      auto lim_c = [](double c) {
+        return cv::saturate_cast<uint8_t>(128 + (c - 128) * 224.0 / 255.0);
+      };
+      d[2 * i] = lim_y(a[0]);
+      d[2 * i + 1] = lim_c(0.5 * (a[2] + b[2]));  // U = Cb
+      d[2 * i + 2] = lim_y(b[0]);
+      d[2 * i + 3] = lim_c(0.5 * (a[1] + b[1]));  // V = Cr
+    }
+  }
+  return out;
+}
+
+// Decodes `clip` and tracks every frame; scores against `truth` when given.
+inline TrackScore TrackClip(const std::filesystem::path& clip, const TrackerConfig& config,
+                            const SynthTruth* truth, bool as_yuyv = false,
+                            int max_frames = 1 << 30) {
+  cv::VideoCapture cap(clip.string(), cv::CAP_FFMPEG);
+  if (!cap.isOpened()) throw std::runtime_error("cannot open " + clip.string());
+  Tracker tracker(config);
+  TrackScore s;
+  std::vector<double> err;
+  cv::Mat img;
+  const double fps = truth ? truth->fps : cap.get(cv::CAP_PROP_FPS);
+  for (int i = 0; i < max_frames && cap.read(img); ++i) {
+    Frame f;
+    f.image = as_yuyv ? BgrToYuyv(img) : img;
+    f.format = as_yuyv ? PixelFormat::kYuyv : PixelFormat::kBgr24;
+    f.index = i;
+    f.sequence = i;
+    f.utime = static_cast<int64_t>(std::llround(i / fps * 1e6));
+    const BallObservation o = tracker.Track(f);
+    s.obs.push_back(o);
+    if (o.found) ++s.found_total;
+    if (!truth || i >= static_cast<int>(truth->frames.size())) continue;
+    const SynthTruthFrame& t = truth->frames[static_cast<size_t>(i)];
+    const double e = std::hypot(o.cx - t.cx, o.cy - t.cy);
+    if (o.found && e > std::max(3.0, truth->radius_px / 2)) ++s.wrong;
+    if (!t.fully_in_view) continue;
+    ++s.in_view;
+    if (!o.found) {
+      ++s.lost;
+      continue;
+    }
+    err.push_back(e);
+    s.mean_dx += o.cx - t.cx;
+    s.mean_dy += o.cy - t.cy;
+  }
+  s.describe = tracker.Describe();
+  if (!err.empty()) {
+    double ss = 0;
+    for (double e : err) ss += e * e;
+    s.rms = std::sqrt(ss / static_cast<double>(err.size()));
+    s.mean_dx /= static_cast<double>(err.size());
+    s.mean_dy /= static_cast<double>(err.size());
+    std::sort(err.begin(), err.end());
+    s.p99 = err[std::min(err.size() - 1, static_cast<size_t>(0.99 * static_cast<double>(err.size())))];
+    s.max = err.back();
+  }
+  return s;
+}
+
+inline TrackerConfig ConfigForColor(const double bgr[3], const std::string& name) {
+  TrackerConfig c;
+  c.has_color = true;
+  for (int k = 0; k < 3; ++k) c.color_bgr[k] = bgr[k];
+  c.color_name = name;
+  return c;
+}
+
+}  // namespace bouncefit::testing
