@@ -2,6 +2,8 @@
 // presets, distractors, empty scenes, YUYV input.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include <cstdio>
 
 #include "tests/test_support.h"
@@ -51,6 +53,116 @@ TEST_P(TrackerPreset, CentreWithinAFewTenthsOfAPixel) {
 
 INSTANTIATE_TEST_SUITE_P(AllPresets, TrackerPreset,
                          ::testing::Values("pingpong", "wiffle", "softball", "airball"));
+
+// A static sphere of similar hue (1.3x the ball's radius) on the floor, a white wall: the
+// ball's colour given, then chosen automatically; never a report far from the true ball.
+TEST(Tracker, SimilarHueDistractorNeverLocked) {
+  const SynthClipResult clip = Render("tracker_distractor", "pingpong", 2.0, true);
+  const TrackScore given = TrackClip(
+      clip.clip_path, ConfigForColor(clip.truth.ball_color_bgr, "pingpong"), &clip.truth);
+  Print("given", given);
+  EXPECT_EQ(given.wrong, 0);
+  EXPECT_EQ(given.lost, 0);
+  EXPECT_LE(given.rms, 0.3);
+  const TrackScore automatic = TrackClip(clip.clip_path, TrackerConfig{}, &clip.truth);
+  Print("automatic", automatic);
+  EXPECT_EQ(automatic.wrong, 0);
+  // It needs the ball to move before it can choose: the first frames of the fall are lost.
+  EXPECT_LE(automatic.lost, 20);
+  EXPECT_NE(automatic.describe.find("moved"), std::string::npos) << automatic.describe;
+  EXPECT_LE(automatic.rms, 0.3);
+}
+
+// The same clip as a V4L2 camera would deliver it (YUYV 4:2:2): same track as from BGR.
+TEST(Tracker, YuyvGivesTheSameAnswerAsBgr) {
+  const SynthClipResult clip = Render("tracker_yuyv", "wiffle", 1.2);
+  const TrackerConfig config = ConfigForColor(clip.truth.ball_color_bgr, "wiffle");
+  const TrackScore bgr = TrackClip(clip.clip_path, config, &clip.truth, false);
+  const TrackScore yuyv = TrackClip(clip.clip_path, config, &clip.truth, true);
+  Print("bgr", bgr);
+  Print("yuyv", yuyv);
+  ASSERT_EQ(bgr.obs.size(), yuyv.obs.size());
+  double worst = 0;
+  for (size_t i = 0; i < bgr.obs.size(); ++i) {
+    ASSERT_EQ(bgr.obs[i].found, yuyv.obs[i].found) << "frame " << i;
+    if (!bgr.obs[i].found) continue;
+    worst = std::max(worst, static_cast<double>(std::hypot(bgr.obs[i].cx - yuyv.obs[i].cx,
+                                                           bgr.obs[i].cy - yuyv.obs[i].cy)));
+  }
+  std::printf("largest BGR-YUYV centre difference %.3f px\n", worst);
+  EXPECT_LE(worst, 0.2);
+  EXPECT_EQ(yuyv.lost, 0);
+  EXPECT_LE(yuyv.rms, 0.3);
+}
+
+// Frames of the synth scene with no ball (wall, floor, noise 3, JPEG): nothing is ever found,
+// with a colour given or chosen automatically.
+TEST(Tracker, NoBallNothingFound) {
+  SynthSceneConfig sc;
+  sc.roll_deg = 1;
+  const SynthScene scene(sc);
+  const double orange[3] = {20, 120, 250};
+  Tracker given(ConfigForColor(orange, "orange"));
+  Tracker automatic{TrackerConfig{}};
+  cv::RNG rng(7);
+  int found = 0;
+  for (int i = 0; i < 60; ++i) {
+    cv::Mat noise(scene.background().size(), CV_32FC3), img;
+    rng.fill(noise, cv::RNG::NORMAL, 0, 3);
+    scene.background().convertTo(img, CV_32FC3);
+    img += noise;
+    img.convertTo(img, CV_8UC3);
+    std::vector<uchar> jpg;
+    cv::imencode(".jpg", img, jpg, {cv::IMWRITE_JPEG_QUALITY, 95});
+    Frame f;
+    f.image = cv::imdecode(jpg, cv::IMREAD_COLOR);
+    f.index = i;
+    f.utime = i * 8333;
+    found += given.Track(f).found;
+    found += automatic.Track(f).found;
+  }
+  EXPECT_EQ(found, 0);
+  EXPECT_FALSE(automatic.color_chosen()) << automatic.Describe();
+}
+
+// A pixel picked on the first frame sets the colour.
+TEST(Tracker, PickedPixelSetsTheColour) {
+  const SynthClipResult clip = Render("tracker_pick", "softball", 1.0);
+  TrackerConfig config;
+  config.has_pick = true;
+  config.pick_x = clip.truth.frames[0].cx;
+  config.pick_y = clip.truth.frames[0].cy;
+  const TrackScore s = TrackClip(clip.clip_path, config, &clip.truth);
+  Print("picked", s);
+  EXPECT_EQ(s.lost, 0);
+  EXPECT_EQ(s.wrong, 0);
+  EXPECT_LE(s.rms, 0.3);
+  EXPECT_NE(s.describe.find("picked pixel"), std::string::npos);
+}
+
+TEST(Tracker, BadInputIsAOneLineError) {
+  TrackerConfig bad;
+  bad.blur_sigma_px = -1;
+  EXPECT_THROW(Tracker{bad}, std::invalid_argument);
+  Tracker t{TrackerConfig{}};
+  Frame f;
+  f.image = cv::Mat(48, 64, CV_8UC1, cv::Scalar(0));
+  EXPECT_THROW(t.Track(f), std::invalid_argument);
+  f.image = cv::Mat(48, 64, CV_8UC3, cv::Scalar(0));
+  f.format = PixelFormat::kYuyv;
+  EXPECT_THROW(t.Track(f), std::invalid_argument);
+  TrackerConfig pick;
+  pick.has_pick = true;
+  pick.pick_x = 1000;
+  Tracker tp{pick};
+  f.format = PixelFormat::kBgr24;
+  try {
+    tp.Track(f);
+    ADD_FAILURE() << "pick outside the frame accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+  }
+}
 
 }  // namespace
 }  // namespace bouncefit
