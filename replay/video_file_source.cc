@@ -1,0 +1,122 @@
+#include "replay/video_file_source.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace bouncefit {
+namespace {
+
+std::string FourccText(double value) {
+  const auto v = static_cast<uint32_t>(value);
+  std::string s;
+  for (int i = 0; i < 4; ++i) {
+    const char c = static_cast<char>((v >> (8 * i)) & 0xff);
+    if (c >= 32 && c < 127 && c != ' ') s += c;
+  }
+  return s.empty() ? "?" : s;
+}
+
+}  // namespace
+
+VideoFileSource::VideoFileSource(VideoFileSourceConfig config) : config_(std::move(config)) {
+  const std::string& path = config_.path;
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw std::runtime_error("cannot open video '" + path + "': no such file");
+  if (std::filesystem::is_directory(path, ec))
+    throw std::runtime_error("cannot open video '" + path + "': it is a directory");
+  if (!std::ifstream(path, std::ios::binary))
+    throw std::runtime_error("cannot open video '" + path + "': " + std::strerror(errno));
+  Open();
+  pending_ = Decode();
+  if (!pending_)
+    throw std::runtime_error("video '" + path + "' has no decodable frame (corrupt or empty?)");
+  info_.width = pending_->image.cols;
+  info_.height = pending_->image.rows;
+  info_.description = "file " + std::filesystem::path(path).filename().string() + " (" +
+                      FourccText(capture_.get(cv::CAP_PROP_FOURCC)) + " " +
+                      std::to_string(info_.width) + "x" + std::to_string(info_.height) + ")";
+}
+
+void VideoFileSource::Open() {
+  capture_.release();
+  // FFmpeg only: it gives the container's per-frame presentation times.
+  if (!capture_.open(config_.path, cv::CAP_FFMPEG) || !capture_.isOpened())
+    throw std::runtime_error("cannot open video '" + config_.path +
+                             "': not a video file OpenCV/FFmpeg can read");
+  info_.nominal_fps = capture_.get(cv::CAP_PROP_FPS);
+  const double count = capture_.get(cv::CAP_PROP_FRAME_COUNT);
+  info_.frame_count = count > 0 ? static_cast<int64_t>(count) : -1;
+  pass_first_us_ = -1;
+  pass_frames_ = 0;
+}
+
+std::optional<Frame> VideoFileSource::Decode() {
+  Frame frame;
+  bool ok = false;
+  try {
+    ok = capture_.read(frame.image);
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error("video '" + config_.path + "': decoding failed after " +
+                             std::to_string(delivered_) + " frames");
+  }
+  if (!ok || frame.image.empty()) return std::nullopt;
+  frame.format = PixelFormat::kBgr24;
+  const double pos_ms = capture_.get(cv::CAP_PROP_POS_MSEC);
+  const int64_t t = std::isfinite(pos_ms) ? std::llround(pos_ms * 1000.0) : -1;
+  int64_t utime;
+  if (pass_first_us_ < 0) {
+    // OpenCV reports a first presentation time of exactly 0 as the packet's decode time
+    // (slightly negative with B-frames): the pass starts at its first frame.
+    pass_first_us_ = std::max<int64_t>(t, 0);
+    utime = pass_offset_us_;
+  } else {
+    utime = pass_offset_us_ + (t - pass_first_us_);
+  }
+  if (last_utime_ >= 0 && pass_frames_ > 0 && (t < 0 || utime <= last_utime_)) {
+    // No usable container time: frames flushed from the decoder at the end come back as 0.
+    // Continue at the last interval seen (the nominal one if none).
+    const int64_t step = last_step_us_ > 0 ? last_step_us_
+                         : std::llround(info_.nominal_fps > 0 ? 1e6 / info_.nominal_fps : 1e6 / 30);
+    utime = last_utime_ + step;
+    ++repaired_;
+  } else if (last_utime_ >= 0 && pass_frames_ > 0) {
+    last_step_us_ = utime - last_utime_;
+  }
+  frame.utime = utime;
+  last_utime_ = utime;
+  ++pass_frames_;
+  return frame;
+}
+
+std::optional<Frame> VideoFileSource::Next() {
+  std::optional<Frame> frame;
+  if (pending_) {
+    frame = std::move(pending_);
+    pending_.reset();
+  } else {
+    frame = Decode();
+    if (!frame && config_.loop && pass_frames_ > 0) {
+      // The next pass starts one mean frame interval after this pass's last frame.
+      const double mean_interval =
+          pass_frames_ > 1 ? double(last_utime_ - pass_offset_us_) / double(pass_frames_ - 1)
+                           : (info_.nominal_fps > 0 ? 1e6 / info_.nominal_fps : 1e6 / 30);
+      pass_offset_us_ = last_utime_ + std::llround(mean_interval);
+      ++loops_;
+      Open();
+      frame = Decode();
+    }
+  }
+  if (!frame) return std::nullopt;
+  frame->index = delivered_;
+  frame->sequence = delivered_;
+  ++delivered_;
+  return frame;
+}
+
+}  // namespace bouncefit

@@ -1,0 +1,54 @@
+#pragma once
+// A video file (.avi, .mp4, .mov, ...) as a fake camera, through OpenCV's FFmpeg backend.
+// Frame times come from the container (CAP_PROP_POS_MSEC: the frame's presentation time),
+// not from the nominal frame rate, so variable-frame-rate clips keep their true timing.
+#include <opencv2/videoio.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "capture/frame_source.h"
+
+namespace bouncefit {
+
+struct VideoFileSourceConfig {
+  std::string path;
+  bool loop = false;  // start again at the end; times keep increasing across loops
+};
+
+class VideoFileSource final : public FrameSource {
+ public:
+  // Opens the file and decodes its first frame. Throws std::runtime_error with a one-line
+  // reason when the file is missing, unreadable or holds no decodable video.
+  explicit VideoFileSource(VideoFileSourceConfig config);
+
+  SourceInfo Info() const override { return info_; }
+  // Frames in order; utime = container time of the frame since the first one (plus the
+  // length of the previous passes when looping). nullopt at the end.
+  std::optional<Frame> Next() override;
+
+  int loops_done() const { return loops_; }
+  // Frames whose container time did not increase and was replaced by previous + one
+  // nominal interval.
+  int64_t repaired_times() const { return repaired_; }
+
+ private:
+  void Open();
+  std::optional<Frame> Decode();
+
+  VideoFileSourceConfig config_;
+  cv::VideoCapture capture_;
+  SourceInfo info_;
+  std::optional<Frame> pending_;  // decoded ahead (the first frame, read at open)
+  int64_t delivered_ = 0;
+  int64_t pass_offset_us_ = 0;    // added to container times in the current pass
+  int64_t pass_first_us_ = -1;    // container time of the first frame of this pass
+  int64_t last_utime_ = -1;
+  int64_t last_step_us_ = 0;     // last interval between good container times
+  int64_t pass_frames_ = 0;
+  int loops_ = 0;
+  int64_t repaired_ = 0;
+};
+
+}  // namespace bouncefit

@@ -1,0 +1,177 @@
+// A video file as a fake camera: container times (not nominal fps), looping, clear errors.
+#include <gtest/gtest.h>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <fstream>
+
+#include "replay/video_file_source.h"
+#include "tests/test_support.h"
+
+namespace bouncefit {
+namespace {
+
+// A small MJPEG .avi whose frame i shows a white bar at row 2*i.
+std::string WriteClip(const std::filesystem::path& dir, int frames, double fps) {
+  const std::string path = (dir / "clip.avi").string();
+  cv::VideoWriter w(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps, cv::Size(160, 120));
+  EXPECT_TRUE(w.isOpened());
+  for (int i = 0; i < frames; ++i) {
+    cv::Mat img(120, 160, CV_8UC3, cv::Scalar(40, 40, 40));
+    cv::rectangle(img, cv::Rect(0, 2 * i, 160, 2), cv::Scalar(255, 255, 255), cv::FILLED);
+    w.write(img);
+  }
+  return path;
+}
+
+int BarRow(const cv::Mat& bgr) {
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  cv::Mat col;
+  cv::reduce(grey, col, 1, cv::REDUCE_AVG, CV_32F);
+  cv::Point max;
+  cv::minMaxLoc(col, nullptr, nullptr, nullptr, &max);
+  return max.y;
+}
+
+std::string ErrorOf(const std::string& path) {
+  try {
+    VideoFileSource s({path, false});
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(VideoFileSource, ReadsEveryFrameInOrderWithItsTime) {
+  const auto dir = testing::ScratchDir("video_file_source_order");
+  VideoFileSource source({WriteClip(dir, 40, 120), false});
+  const SourceInfo info = source.Info();
+  EXPECT_EQ(info.width, 160);
+  EXPECT_EQ(info.height, 120);
+  EXPECT_DOUBLE_EQ(info.nominal_fps, 120);
+  EXPECT_EQ(info.frame_count, 40);
+  EXPECT_EQ(info.description, "file clip.avi (MJPG 160x120)");
+  int n = 0;
+  while (auto f = source.Next()) {
+    EXPECT_EQ(f->index, n);
+    EXPECT_EQ(f->sequence, n);
+    EXPECT_EQ(f->format, PixelFormat::kBgr24);
+    EXPECT_EQ(f->image.type(), CV_8UC3);
+    EXPECT_NEAR(double(f->utime), n * 1e6 / 120, 1.0) << n;
+    EXPECT_NEAR(BarRow(f->image), 2 * n, 1) << n;
+    ++n;
+  }
+  EXPECT_EQ(n, 40);
+  EXPECT_FALSE(source.Next().has_value());
+  EXPECT_EQ(source.dropped_frames(), 0);
+}
+
+TEST(VideoFileSource, UsesContainerTimesWhereTheyDifferFromTheNominalRate) {
+  // 60 frames at 30 fps with a 0.5 s pause after frame 29, as a variable-rate camera would
+  // produce: the times must show the pause, which the nominal rate knows nothing of.
+  const auto dir = testing::ScratchDir("video_file_source_vfr");
+  const std::string path = (dir / "vfr.mp4").string();
+  std::string out;
+  const int rc = testing::RunCommand(
+      "ffmpeg -v error -y -f lavfi -i testsrc=size=160x120:rate=30:duration=2 -vf "
+      "\"setpts='(N/30+if(gte(N\\,30)\\,0.5\\,0))/TB'\" -fps_mode vfr -c:v mpeg4 -q:v 3 '" +
+          path + "'",
+      &out);
+  if (rc != 0) GTEST_SKIP() << "ffmpeg cannot write the test clip: " << out;
+  VideoFileSource source({path, false});
+  std::vector<int64_t> t;
+  while (auto f = source.Next()) t.push_back(f->utime);
+  ASSERT_EQ(t.size(), 60u);
+  EXPECT_EQ(t[0], 0);
+  EXPECT_NEAR(t[29], 29e6 / 30, 1000);
+  EXPECT_NEAR(t[30], 30e6 / 30 + 0.5e6, 1000);  // the pause
+  EXPECT_NEAR(t[59], 59e6 / 30 + 0.5e6, 1000);
+  EXPECT_EQ(source.repaired_times(), 0);
+}
+
+TEST(VideoFileSource, RealVariableRateClipKeepsItsContainerTimes) {
+  const auto dir = testing::RealClipsDir();
+  if (dir.empty()) GTEST_SKIP() << "shared real clips not found (../shared/real-clips)";
+  // ffprobe: 188 frames; the second at 15.000 ms (nominal 60 fps would say 16.667), the last
+  // at 3115.000 ms (nominal: 3116.667). OpenCV returns no time for the last two frames
+  // (flushed from the H.264 decoder): they continue at the last interval.
+  VideoFileSource source({(dir / "pingpong_ruler_60fps.mov").string(), false});
+  std::vector<int64_t> t;
+  while (auto f = source.Next()) t.push_back(f->utime);
+  ASSERT_EQ(t.size(), 188u);
+  EXPECT_NEAR(t[1], 15000, 50);
+  EXPECT_NEAR(t[2], 31667, 50);
+  EXPECT_NEAR(t.back(), 3115000, 50);
+  EXPECT_EQ(source.repaired_times(), 2);
+}
+
+TEST(VideoFileSource, LoopsWithTimesThatKeepIncreasing) {
+  const auto dir = testing::ScratchDir("video_file_source_loop");
+  VideoFileSource source({WriteClip(dir, 10, 100), true});
+  std::vector<Frame> frames;
+  for (int i = 0; i < 35; ++i) {
+    auto f = source.Next();
+    ASSERT_TRUE(f) << i;
+    frames.push_back(*f);
+  }
+  EXPECT_EQ(source.loops_done(), 3);
+  for (int i = 0; i < 35; ++i) {
+    EXPECT_EQ(frames[i].index, i);
+    EXPECT_NEAR(double(frames[i].utime), i * 10000.0, 2.0) << i;  // 100 fps, no gap at the seam
+    EXPECT_NEAR(BarRow(frames[i].image), 2 * (i % 10), 1) << i;
+  }
+}
+
+TEST(VideoFileSource, MissingCorruptOrEmptyFilesAreOneLineErrors) {
+  const auto dir = testing::ScratchDir("video_file_source_errors");
+  EXPECT_EQ(ErrorOf((dir / "nope.avi").string()),
+            "cannot open video '" + (dir / "nope.avi").string() + "': no such file");
+  EXPECT_EQ(ErrorOf(dir.string()), "cannot open video '" + dir.string() + "': it is a directory");
+
+  const auto garbage = (dir / "garbage.avi").string();
+  {
+    std::ofstream f(garbage, std::ios::binary);
+    for (int i = 0; i < 100000; ++i) f.put(static_cast<char>((i * 7919) % 251));
+  }
+  const std::string e = ErrorOf(garbage);
+  EXPECT_FALSE(e.empty());
+  EXPECT_EQ(e.find('\n'), std::string::npos);
+  EXPECT_NE(e.find(garbage), std::string::npos) << e;
+
+  // A real clip cut to its first 3 kB: the header is there, the frames are not.
+  const std::string good = WriteClip(dir, 20, 120);
+  const auto cut = (dir / "cut.avi").string();
+  {
+    std::ifstream in(good, std::ios::binary);
+    std::string bytes(3000, '\0');
+    in.read(bytes.data(), 3000);
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), in.gcount());
+  }
+  const std::string e2 = ErrorOf(cut);
+  EXPECT_FALSE(e2.empty()) << "a clip with no frame left must be refused";
+  EXPECT_EQ(e2.find('\n'), std::string::npos);
+}
+
+TEST(VideoFileSource, TruncatedClipGivesTheFramesThatAreThere) {
+  const auto dir = testing::ScratchDir("video_file_source_truncated");
+  const std::string good = WriteClip(dir, 60, 120);
+  const auto cut = (dir / "half.avi").string();
+  {
+    std::ifstream in(good, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), bytes.size() / 2);
+  }
+  VideoFileSource source({cut, false});
+  int n = 0;
+  while (auto f = source.Next()) {
+    EXPECT_NEAR(BarRow(f->image), 2 * n, 1);
+    ++n;
+  }
+  EXPECT_GT(n, 20);
+  EXPECT_LT(n, 40);
+}
+
+}  // namespace
+}  // namespace bouncefit
