@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -111,11 +112,10 @@ inline ReportFixtureTruth WriteReportFixture(const std::filesystem::path& dir,
       const bool final = after == bounces;
       const double k = 1.0 / (after + 1);  // converges towards the truth
       const double e = truth_e[0] - 0.06 * k, e_v = truth_e[1] + 0.004 * k;
-      std::string rec, sim;
+      std::ostringstream rec, sim;
       for (int i = 1; i <= after; ++i) {
-        rec += (i > 1 ? "," : "") + std::to_string(tr.apex_height_m[i]);
-        sim += (i > 1 ? "," : "") +
-               std::to_string(tr.release_height_m * std::pow(e * e, i));
+        rec << (i > 1 ? "," : "") << tr.apex_height_m[i];
+        sim << (i > 1 ? "," : "") << tr.release_height_m * std::pow(e * e, i);
       }
       fit << "{\"t_s\":" << tr.apex_t_s[after] + 0.05 << ",\"sequence\":0,\"after_bounce\":"
           << after << ",\"final\":" << (final ? "true" : "false")
@@ -125,7 +125,7 @@ inline ReportFixtureTruth WriteReportFixture(const std::filesystem::path& dir,
           << "{\"name\":\"restitution_per_mps\",\"value\":" << e_v << ",\"sigma\":" << 0.001 * k
           << ",\"identifiable\":true},"
           << "{\"name\":\"spin_damping\",\"value\":0.5,\"sigma\":null,\"identifiable\":false}],"
-          << "\"recorded_m\":[" << rec << "],\"simulated_m\":[" << sim << "],\"residual_m\":"
+          << "\"recorded_m\":[" << rec.str() << "],\"simulated_m\":[" << sim.str() << "],\"residual_m\":"
           << 0.004 * k << ",\"evaluations\":" << 40 * after << ",\"wall_time_s\":" << 0.1 * after
           << ",\"time_step_s\":0.008333333,\"iterations\":4}\n";
     }

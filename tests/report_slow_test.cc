@@ -1,0 +1,110 @@
+// report.html as a person sees it: opened offline in headless Chromium, every figure decoded
+// and painted. Skips with a message when Chromium is not installed (scripts/setup adds it).
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "tests/report_fixture.h"
+#include "tests/test_support.h"
+
+namespace bouncefit {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::BouncefitExe;
+using testing::RunCommand;
+using testing::ScratchDir;
+
+std::string FindChromium() {
+  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
+    std::string out;
+    if (RunCommand(std::string("command -v ") + name, &out) == 0 && !out.empty()) {
+      while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+      return out;
+    }
+  }
+  return "";
+}
+
+// Headless, offline, in a fresh profile: nothing from the network or a previous run counts.
+std::string ChromiumCommand(const std::string& chromium, const fs::path& profile,
+                            const std::string& action, const fs::path& html) {
+  return "timeout 90 '" + chromium +
+         "' --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+         "--disable-background-networking --disable-component-update --disable-sync "
+         "--hide-scrollbars --user-data-dir='" + profile.string() + "' " + action +
+         " 'file://" + fs::absolute(html).string() + "'";
+}
+
+class ReportInChromium : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    chromium_ = FindChromium();
+    if (chromium_.empty()) GTEST_SKIP() << "chromium not installed (bash scripts/setup adds it)";
+    dir_ = ScratchDir("report_chromium");
+    testing::WriteReportFixture(dir_ / "run");
+    std::string out;
+    ASSERT_EQ(RunCommand(BouncefitExe() + " report '" + (dir_ / "run").string() + "'", &out), 0)
+        << out;
+    html_ = dir_ / "run" / "report.html";
+  }
+  std::string chromium_;
+  fs::path dir_, html_;
+};
+
+TEST_F(ReportInChromium, EveryFigureDecodesInTheDom) {
+  std::string dom;
+  const int rc = RunCommand(ChromiumCommand(chromium_, dir_ / "profile-dom",
+                                            "--virtual-time-budget=5000 --dump-dom", html_) +
+                                " 2>/dev/null",
+                            &dom);
+  ASSERT_EQ(rc, 0) << dom.substr(0, 2000);
+  // The page's own load handler counts <img class="figure"> with naturalWidth > 0.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      dom, m, std::regex("id=\"figure-status\"[^>]*data-decoded=\"(\\d+)\" data-total=\"(\\d+)\"")))
+      << "no decode marker in the DOM: the page's script did not run";
+  EXPECT_EQ(m[2].str(), "5");
+  EXPECT_EQ(m[1].str(), m[2].str()) << "some figure did not decode";
+  EXPECT_NE(dom.find("5 of 5 figures rendered."), std::string::npos);
+}
+
+TEST_F(ReportInChromium, ScreenshotShowsTheFiguresPainted) {
+  const fs::path shot = dir_ / "screenshot.png";
+  std::string out;
+  const int rc = RunCommand(
+      ChromiumCommand(chromium_, dir_ / "profile-shot",
+                      "--screenshot='" + shot.string() + "' --window-size=1200,3000", html_),
+      &out);
+  ASSERT_EQ(rc, 0) << out;
+  const cv::Mat img = cv::imread(shot.string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(img.empty()) << "no screenshot at " << shot;
+  EXPECT_EQ(img.cols, 1200);
+  EXPECT_EQ(img.rows, 3000);
+  // Not blank: a good share of the page is ink.
+  cv::Mat gray;
+  cv::cvtColor(img, gray, cv::COLOR_BGR2GRAY);
+  const double ink = cv::countNonZero(gray < 200) / static_cast<double>(gray.total());
+  EXPECT_GT(ink, 0.01);
+  // The page's HTML and CSS use only greys: the plot colours can come only from painted
+  // figures. Blue tracked height, orange simulation, red apexes (the first 3000 px of the page).
+  struct Colour {
+    const char* what;
+    cv::Scalar bgr;
+  };
+  for (const Colour& c : {Colour{"blue height curve", {180, 119, 31}},
+                          Colour{"orange simulation", {14, 127, 255}},
+                          Colour{"red apexes", {40, 39, 214}}}) {
+    cv::Mat mask;
+    cv::inRange(img, c.bgr - cv::Scalar(30, 30, 30), c.bgr + cv::Scalar(30, 30, 30), mask);
+    EXPECT_GT(cv::countNonZero(mask), 200) << c.what << " not on the screenshot";
+  }
+}
+
+}  // namespace
+}  // namespace bouncefit
