@@ -71,14 +71,25 @@ FitObjective::FitObjective(FitProblem problem, SearchOptions options)
   penalty_ = 2 * worst + 1e-3;
 }
 
-CoefficientValues FitObjective::ToValues(const std::vector<double>& x) const {
+double FitObjective::Level(size_t j) const {
+  const auto& s = problem_.free[j];
+  const double range = s.upper - s.lower;
+  if (!(range > 0)) return 0;
+  auto it = problem_.grid.find(s.name);
+  if (it != problem_.grid.end() && it->second > 0) return std::min(1.0, it->second / range);
+  return s.discrete ? std::min(1.0, 1.0 / range) : 0.0;
+}
+
+CoefficientValues FitObjective::ToValues(const std::vector<double>& x_in) const {
+  std::vector<double> x = x_in;
+  x.resize(problem_.free.size(), 0.0);
+  Snap(&x);
   CoefficientValues v = problem_.fixed;
   for (size_t j = 0; j < problem_.free.size(); ++j) {
     const auto& s = problem_.free[j];
-    const double u = std::clamp(j < x.size() ? x[j] : 0.0, 0.0, 1.0);
-    double value = s.lower + u * (s.upper - s.lower);
-    if (s.discrete) value = std::clamp(std::round(value), std::ceil(s.lower), std::floor(s.upper));
-    v[s.name] = value;
+    double value = s.lower + x[j] * (s.upper - s.lower);
+    if (s.discrete) value = std::round(value);
+    v[s.name] = std::clamp(value, s.lower, s.upper);
   }
   return v;
 }
@@ -97,13 +108,11 @@ std::vector<double> FitObjective::ToUnit(const CoefficientValues& values) const 
 
 void FitObjective::Snap(std::vector<double>* x) const {
   for (size_t j = 0; j < problem_.free.size() && j < x->size(); ++j) {
-    const auto& s = problem_.free[j];
-    const double range = s.upper - s.lower;
     (*x)[j] = std::clamp((*x)[j], 0.0, 1.0);
-    if (s.discrete && range > 0) {
-      const double value = std::clamp(std::round(s.lower + (*x)[j] * range), std::ceil(s.lower),
-                                      std::floor(s.upper));
-      (*x)[j] = (value - s.lower) / range;
+    const double level = Level(j);
+    if (level > 0) {
+      const double steps = std::floor(1.0 / level + 1e-9);
+      (*x)[j] = std::min(std::round((*x)[j] / level), steps) * level;
     }
   }
 }

@@ -36,6 +36,10 @@ struct FitProblem {
   CoefficientValues fixed;            // every other coefficient (defaults when missing)
   SimulationOptions simulation;
   std::vector<double> recorded_m;     // r_1..r_k, metres
+  // Coefficients searched on a grid (name -> step, from the lower bound): the mesh
+  // parameters, so that a search visits a few cached meshes rather than a new mesh per
+  // evaluation. Discrete coefficients are on a grid of 1 already.
+  std::map<std::string, double> grid;
 };
 
 struct SearchOptions {
@@ -82,8 +86,10 @@ class FitObjective {
   // Normalised x (clamped to [0, 1]) <-> coefficient values; discrete ones are rounded.
   CoefficientValues ToValues(const std::vector<double>& x) const;
   std::vector<double> ToUnit(const CoefficientValues& values) const;
-  // Rounds discrete coordinates of x to their representable values (in place).
+  // Rounds discrete and gridded coordinates of x to their representable values (in place).
   void Snap(std::vector<double>* x) const;
+  // One grid level of coordinate j in normalised units (0: continuous).
+  double Level(size_t j) const;
 
   // One simulation (or a cache hit). Skipped, with the penalty, once stopped().
   Evaluation Evaluate(const std::vector<double>& x);

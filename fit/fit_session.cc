@@ -130,6 +130,7 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
   p.free = free;
   p.fixed = at;
   p.recorded_m = FittedHeights();
+  for (const auto& [name, step] : config_.grid) p.grid[name] = step;
   if (p.recorded_m.empty()) throw std::logic_error("no bounce to fit yet");
   const int k = static_cast<int>(p.recorded_m.size());
   p.simulation.drop_height_m = drop_height_m_;
@@ -160,6 +161,10 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
   u.wall_time_s = wall_s;
   u.time_step_s = TimeStepOf(r.values);
   u.iterations = IterationsOf(r.values);
+  if (&model == &model_) {
+    if (u.time_step_s == 0) u.time_step_s = config_.time_step_s;
+    if (u.iterations == 0) u.iterations = config_.iterations;
+  }
   u.no_effect = r.inactive;
 
   std::vector<CoefficientEstimate> est;

@@ -70,6 +70,11 @@ struct FitSessionConfig {
   std::vector<std::string> never_fit = {"mass", "radius_m", "diameter", "time_step",
                                         "iterations", "substeps", "floor_", "gravity"};
   CoefficientValues start;          // warm start of the first fit (e.g. a preset table)
+  // Mesh parameters searched on a grid of cached meshes (name -> step).
+  std::map<std::string, double> grid = {{"radius_edge_ratio", 0.2}, {"max_volume", 0.01}};
+  // What the coefficients hold for, reported with every update (from the model's config).
+  double time_step_s = 0;
+  int iterations = 0;
   bool quick_fit = true;            // QuickUpdate() available (needs a quick model)
 };
 

@@ -70,7 +70,7 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
   std::vector<double> x0 = f.ToUnit(start);
   f.Snap(&x0);
   for (size_t j = 0; j < n; ++j) {
-    if (problem.free[j].discrete) continue;
+    if (f.Level(j) > 0) continue;
     if (x0[j] <= 0) x0[j] = 0;
     else if (x0[j] <= h) x0[j] = h;
     else if (x0[j] >= 1) x0[j] = 1;
@@ -86,8 +86,8 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
     const double range = s.upper - s.lower;
     if (!(range > 0)) continue;
     double a, b;
-    if (s.discrete) {
-      const double level = 1.0 / range;
+    if (f.Level(j) > 0) {
+      const double level = f.Level(j);
       a = x0[j] + level <= 1 + 1e-12 ? level : -level;
       b = x0[j] - level >= -1e-12 ? -level : (a > 0 ? 2 * level : -2 * level);
     } else {
@@ -109,7 +109,6 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
   const size_t k = problem.recorded_m.size();
   std::vector<std::vector<double>> jac(k, std::vector<double>(n, 0.0));
   std::vector<double> effect(n, 0.0);
-  std::vector<bool> known(n, false);
   for (size_t j = 0; j < n; ++j) {
     if (pair[j].first < 0) continue;
     const auto& ea = screened[pair[j].first];
@@ -118,7 +117,6 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
       effect[j] = HUGE_VAL;  // a failure is an effect: keep it in the search
       continue;
     }
-    known[j] = true;
     for (size_t i = 0; i < k; ++i) {
       jac[i][j] = (ea.simulated_m[i] - eb.simulated_m[i]) / du[j];
       effect[j] = std::max(effect[j], std::abs(ea.simulated_m[i] - eb.simulated_m[i]));
@@ -132,7 +130,7 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
       inactive.push_back(problem.free[j].name);
       continue;
     }
-    if (!problem.free[j].discrete) active.push_back(j);
+    if (f.Level(j) == 0) active.push_back(j);
   }
   std::stable_sort(active.begin(), active.end(),
                    [&](size_t a, size_t b) { return effect[a] > effect[b]; });
@@ -148,7 +146,7 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
     for (size_t i = 1; i < screened.size(); ++i)
       if (screened[i].objective < screened[best_i].objective) best_i = static_cast<int>(i);
     for (size_t j = 0; j < n; ++j)
-      if (problem.free[j].discrete) x[j] = design[best_i][j];
+      if (f.Level(j) > 0) x[j] = design[best_i][j];
   }
   Continuous(f, active, &x, o);
 
@@ -157,10 +155,10 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
     std::vector<std::vector<double>> trials;
     for (size_t j = 0; j < n; ++j) {
       const auto& s = problem.free[j];
-      const double range = s.upper - s.lower;
-      if (!s.discrete || !(range > 0)) continue;
+      const double level = f.Level(j);
+      if (!(level > 0)) continue;
       if (std::find(inactive.begin(), inactive.end(), s.name) != inactive.end()) continue;
-      for (double d : {-1.0 / range, 1.0 / range}) {
+      for (double d : {-level, level}) {
         auto xt = x;
         xt[j] += d;
         if (xt[j] >= -1e-12 && xt[j] <= 1 + 1e-12) trials.push_back(xt);
@@ -180,7 +178,6 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
   r.jacobian = jac;
   r.jacobian_at = f.ToValues(x0);
   r.inactive = inactive;
-  (void)known;
   return r;
 }
 

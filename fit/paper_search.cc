@@ -40,7 +40,7 @@ SearchResult PaperSearch(const FitProblem& problem, const CoefficientValues& sta
       const auto& spec = ordered.free[j];
       const double range = spec.upper - spec.lower;
       if (!(range > 0)) continue;
-      const double level = spec.discrete ? 1.0 / range : 0.0;  // one integer step
+      const double level = f.Level(j);  // one grid step (0: continuous)
       const double h = std::max(paper.initial_step, level);
       const double min_bracket = std::max(paper.min_bracket, level);
 
@@ -84,7 +84,7 @@ SearchResult PaperSearch(const FitProblem& problem, const CoefficientValues& sta
       while (hi - lo > min_bracket && !f.stopped()) {
         const bool left = best_u - lo > hi - best_u;
         const double t = left ? (lo + best_u) / 2 : (best_u + hi) / 2;
-        if (spec.discrete && std::abs(t - best_u) < level * 0.5) break;
+        if (level > 0 && std::abs(t - best_u) < level * 0.5) break;
         std::vector<double> xt = With(x, j, t);
         f.Snap(&xt);
         const double ft = f.Evaluate(xt).objective;

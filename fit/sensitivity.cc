@@ -97,8 +97,7 @@ std::vector<std::vector<double>> HeightsJacobian(FitObjective& f, const Coeffici
   std::vector<std::vector<double>> pts;
   std::vector<double> du(n, 0);
   for (size_t j = 0; j < n; ++j) {
-    const double range = free[j].upper - free[j].lower;
-    const double h = free[j].discrete && range > 0 ? std::max(step, 1.0 / range) : step;
+    const double h = std::max(step, f.Level(j));
     auto a = x, b = x;
     a[j] = std::min(1.0, x[j] + h);
     b[j] = std::max(0.0, x[j] - h);

@@ -1,0 +1,240 @@
+// bench_fit: the two searches side by side on the same inputs, and the per-bounce latency
+// of the live fit.
+//
+//   bench_fit [--model bullet-softbody|point-mass] [--balls pingpong,wiffle,softball,airball]
+//             [--drop 1.0] [--bounces 6] [--budget 300] [--threads 0]
+//   bench_fit --realtime [--ball pingpong] [--drop 1.0] [--detector-delay 0.05]
+//
+// Searches: recorded heights come from fit/point_mass_drop with the ball's preset (synth's
+// physics); both searches start from the same point (the model's defaults, or the preset
+// table when the model has one), fit the same coefficients, and get the same budget. For
+// each: simulations, RMS residual, wall time; and the number of simulations the default
+// search needed to reach the paper search's final residual (the ratio is the figure).
+//
+// Realtime: the peaks of a drop are replayed on the wall clock (each emitted
+// --detector-delay after its apex) into the live fit worker; prints, per bounce, the time
+// from apex to its update and whether it was out before the next apex.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "fit/ball_preset.h"
+#include "fit/fit_models.h"
+#include "fit/fit_session.h"
+#include "fit/fit_worker.h"
+#include "fit/nlopt_search.h"
+#include "fit/paper_search.h"
+#include "fit/point_mass_drop.h"
+#include "fit/point_mass_model.h"
+
+using namespace bouncefit;
+
+namespace {
+
+struct Args {
+  std::string model = "bullet-softbody";
+  std::vector<std::string> balls = {"pingpong", "wiffle", "softball", "airball"};
+  double drop = 1.0;
+  int bounces = 6;
+  int budget = 300;
+  int threads = 0;
+  bool realtime = false;
+  double detector_delay = 0.05;
+  int per_bounce = 16;
+};
+
+std::vector<std::string> Split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) out.push_back(item);
+  return out;
+}
+
+Args Parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "bench_fit: %s needs a value\n", k.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (k == "--model") a.model = next();
+    else if (k == "--balls" || k == "--ball") a.balls = Split(next());
+    else if (k == "--drop") a.drop = std::stod(next());
+    else if (k == "--bounces") a.bounces = std::stoi(next());
+    else if (k == "--budget") a.budget = std::stoi(next());
+    else if (k == "--threads") a.threads = std::stoi(next());
+    else if (k == "--realtime") a.realtime = true;
+    else if (k == "--detector-delay") a.detector_delay = std::stod(next());
+    else if (k == "--per-bounce") a.per_bounce = std::stoi(next());
+    else {
+      std::fprintf(stderr, "bench_fit: unknown argument %s\n", k.c_str());
+      std::exit(2);
+    }
+  }
+  return a;
+}
+
+PointMassDropResult Truth(const BallPreset& ball, double drop) {
+  PointMassDropConfig c;
+  c.ball = ball;
+  c.drop_height_m = drop;
+  c.end_time_s = 20;
+  return SimulatePointMassDrop(c);
+}
+
+int Searches(const Args& a) {
+  std::printf("bench_fit: searches on %s, drop %.2f m, up to %d bounces >= 1 cm, budget %d "
+              "simulations each\n\n",
+              a.model.c_str(), a.drop, a.bounces, a.budget);
+  std::printf("%-9s | %-6s %6s %10s %8s | %-6s %6s %10s %8s %8s | %s\n", "ball", "paper",
+              "sims", "rms (mm)", "wall s", "nlopt", "sims", "rms (mm)", "wall s", "reach@",
+              "paper/reach");
+  int failures = 0;
+  for (const auto& name : a.balls) {
+    const BallPreset ball = ResolveBallPreset(name);
+    const auto truth = Truth(ball, a.drop);
+    std::vector<double> r;
+    for (size_t i = 1; i < truth.apex_heights_m.size() && static_cast<int>(r.size()) < a.bounces; ++i) {
+      if (truth.apex_heights_m[i] < 0.01) break;
+      r.push_back(truth.apex_heights_m[i]);
+    }
+    auto model = MakeFitModel(a.model, ball);
+    FitSessionConfig cfg;
+    ConfigureSessionForModel(*model, ball, &cfg);
+    // The session's own problem (free coefficients, grid, duration), via a session.
+    FitSession session(*model, nullptr, cfg);
+    session.AddPeak({0, 0, a.drop, 0, 0});
+    for (size_t i = 0; i < r.size(); ++i) session.AddPeak({0, static_cast<int>(i + 1), r[i], 0, 0});
+    FitProblem p;
+    p.model = model.get();
+    for (const auto& s : model->Coefficients()) {
+      bool never = s.name == "radius" || !(s.upper > s.lower);
+      for (const auto& pat : cfg.never_fit) never = never || s.name.find(pat) != std::string::npos;
+      if (!never) p.free.push_back(s);
+    }
+    p.fixed = session.warm_start();
+    p.recorded_m = r;
+    p.grid = cfg.grid;
+    p.simulation.drop_height_m = a.drop;
+    p.simulation.duration_s =
+        cfg.duration_margin * FreeFallApexTime(a.drop, r, static_cast<int>(r.size())) + 0.2;
+    p.simulation.min_bounce_height_m = 0.5 * std::min(0.01, r.back());
+    SearchOptions o;
+    o.max_evaluations = a.budget;
+    o.threads = a.threads;
+    const SearchResult paper = PaperSearch(p, session.warm_start(), o);
+    const SearchResult fast = NloptSearch(p, session.warm_start(), o);
+    int reach = -1;
+    for (size_t i = 0; i < fast.best_history.size(); ++i)
+      if (fast.best_history[i] <= paper.objective * (1 + 1e-12)) {
+        reach = static_cast<int>(i) + 1;
+        break;
+      }
+    char ratio[32] = "never";
+    if (reach > 0) std::snprintf(ratio, sizeof ratio, "%.1fx", double(paper.evaluations) / reach);
+    std::printf("%-9s | %-6s %6d %10.3f %8.1f | %-6s %6d %10.3f %8.1f %8d | %s\n", name.c_str(),
+                "", paper.evaluations, paper.rms_m * 1000, paper.wall_time_s, "",
+                fast.evaluations, fast.rms_m * 1000, fast.wall_time_s, reach, ratio);
+    std::fflush(stdout);
+    if (reach < 0 || 3 * reach > paper.evaluations) ++failures;
+  }
+  std::printf("\nreach@ = simulations the default (nlopt) search used to get at or below the "
+              "paper search's final residual; must-show: paper/reach >= 3.\n");
+  return failures == 0 ? 0 : 1;
+}
+
+int Realtime(const Args& a) {
+  const BallPreset ball = ResolveBallPreset(a.balls.front());
+  const auto truth = Truth(ball, a.drop);
+  auto model = MakeFitModel(a.model, ball);
+  PointMassModel quick(ball);
+  FitSessionConfig cfg;
+  cfg.threads = a.threads;
+  cfg.max_evaluations_per_bounce = a.per_bounce;
+  ConfigureSessionForModel(*model, ball, &cfg);
+
+  using Clock = std::chrono::steady_clock;
+  std::mutex m;
+  std::map<int, double> update_at;  // bounce -> wall seconds since release (model update)
+  std::map<int, int> evals;
+  Clock::time_point t0;
+  FitWorker worker(std::make_unique<FitSession>(*model, &quick, cfg), [&](const FitUpdate& u) {
+    if (u.model == "point-mass" || u.final) return;
+    std::lock_guard<std::mutex> lock(m);
+    update_at[u.after_bounce] =
+        std::chrono::duration<double>(Clock::now() - t0).count();
+    evals[u.after_bounce] = u.evaluations;
+  });
+  worker.Start();
+  const double release = truth.release_time_s;
+  const int n = std::min<int>(8, static_cast<int>(truth.apex_heights_m.size()));
+  t0 = Clock::now();
+  for (int b = 0; b < n; ++b) {
+    const double apex = truth.apex_times_s[b] - release;
+    const double emit = b == 0 ? 0.0 : apex + a.detector_delay;
+    std::this_thread::sleep_until(t0 + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(emit)));
+    worker.Submit({0, b, truth.apex_heights_m[b], 0.001,
+                   static_cast<int64_t>(std::llround(apex * 1e6))});
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  worker.Stop();
+  std::printf("bench_fit --realtime: %s model, %s from %.2f m, peaks emitted %.0f ms after their "
+              "apex, %d simulations per update at most\n\n",
+              a.model.c_str(), ball.name.c_str(), a.drop, a.detector_delay * 1000, a.per_bounce);
+  std::printf("%6s %10s %12s %12s %14s %6s  %s\n", "bounce", "apex s", "update s",
+              "apex->upd s", "next apex s", "sims", "in time");
+  std::vector<double> lat;
+  int late = 0;
+  for (int b = 1; b < n; ++b) {
+    const double apex = truth.apex_times_s[b] - release;
+    const double next = b + 1 < static_cast<int>(truth.apex_times_s.size())
+                            ? truth.apex_times_s[b + 1] - release
+                            : NAN;
+    std::lock_guard<std::mutex> lock(m);
+    auto it = update_at.find(b);
+    if (it == update_at.end()) {
+      std::printf("%6d %10.3f %12s %12s %14.3f %6s  %s\n", b, apex, "-", "-", next, "-",
+                  "superseded");
+      if (b <= 5) ++late;
+      continue;
+    }
+    const double l = it->second - apex;
+    lat.push_back(l);
+    const bool ok = !(it->second >= next);
+    if (b <= 5 && !ok) ++late;
+    std::printf("%6d %10.3f %12.3f %12.3f %14.3f %6d  %s\n", b, apex, it->second, l, next,
+                evals[b], ok ? "yes" : "NO");
+  }
+  std::sort(lat.begin(), lat.end());
+  const double median = lat.empty() ? NAN : lat[lat.size() / 2];
+  std::printf("\nmedian apex->update %.3f s over %zu updates; first five in time: %s\n", median,
+              lat.size(), late == 0 ? "yes" : "NO");
+  return late == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Args a = Parse(argc, argv);
+  try {
+    return a.realtime ? Realtime(a) : Searches(a);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_fit: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,372 @@
+// FitSession, FitWorker (supersede, never queue), the searches on the point-mass model, the
+// fit node over real LCM (memq://), the exports and the offline CLI.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include "bouncefit/bounce_peak_t.hpp"
+#include "bouncefit/fit_update_t.hpp"
+#include "fit/ball_preset.h"
+#include "fit/fit_export.h"
+#include "fit/fit_session.h"
+#include "fit/fit_worker.h"
+#include "fit/nlopt_search.h"
+#include "fit/node/fit_node.h"
+#include "fit/paper_search.h"
+#include "fit/point_mass_drop.h"
+#include "fit/point_mass_model.h"
+#include "msgs/lcm_bus.h"
+#include "tests/test_support.h"
+
+namespace bouncefit {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Drop height then apex heights of a point-mass ball with known coefficients.
+std::vector<double> DropHeights(const BallPreset& ball, double drop, int n) {
+  PointMassDropConfig c;
+  c.ball = ball;
+  c.drop_height_m = drop;
+  c.end_time_s = 20;
+  const auto r = SimulatePointMassDrop(c);
+  std::vector<double> h{drop};
+  for (size_t i = 1; i < r.apex_heights_m.size() && static_cast<int>(h.size()) <= n; ++i)
+    h.push_back(r.apex_heights_m[i]);
+  return h;
+}
+
+// The point mass, slowed down and counting: a stand-in for an expensive simulator whose
+// timing the test controls.
+class SlowModel : public BallModel {
+ public:
+  SlowModel(const BallPreset& ball, std::chrono::milliseconds delay) : inner_(ball), delay_(delay) {}
+  std::string name() const override { return "slow-point-mass"; }
+  std::vector<CoefficientSpec> Coefficients() const override { return inner_.Coefficients(); }
+  SimulationResult Simulate(const CoefficientValues& v, const SimulationOptions& o) const override {
+    ++started;
+    std::this_thread::sleep_for(delay_);
+    return inner_.Simulate(v, o);
+  }
+  mutable std::atomic<int> started{0};
+
+ private:
+  PointMassModel inner_;
+  std::chrono::milliseconds delay_;
+};
+
+struct Collected {
+  std::mutex mutex;
+  std::vector<FitUpdate> updates;
+  void Add(const FitUpdate& u) {
+    std::lock_guard<std::mutex> lock(mutex);
+    updates.push_back(u);
+  }
+  std::vector<FitUpdate> Get() {
+    std::lock_guard<std::mutex> lock(mutex);
+    return updates;
+  }
+};
+
+template <class Pred>
+bool WaitFor(Pred pred, std::chrono::milliseconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (!pred()) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(2ms);
+  }
+  return true;
+}
+
+TEST(FitWorker, NewerBounceSupersedesTheRunningUpdateNeverQueues) {
+  const auto ball = *FindBallPreset("tennis");
+  SlowModel slow(ball, 40ms);
+  PointMassModel quick(ball);
+  FitSessionConfig cfg;
+  cfg.max_evaluations_per_bounce = 30;  // 30 x 40 ms: far longer than the test waits
+  cfg.max_evaluations_final = 12;
+  cfg.threads = 2;
+  Collected got;
+  FitWorker worker(std::make_unique<FitSession>(slow, &quick, cfg),
+                   [&](const FitUpdate& u) { got.Add(u); });
+  worker.Start();
+  const auto h = DropHeights(ball, 1.0, 3);
+  worker.Submit({0, 0, h[0], 0.001, 0});
+  worker.Submit({0, 1, h[1], 0.001, 1000});
+  ASSERT_TRUE(WaitFor([&] { return slow.started.load() >= 2; }, 5s));
+  // Bounce 2 arrives while bounce 1's update runs: it is cut short between simulations.
+  const auto t_cancel = std::chrono::steady_clock::now();
+  worker.Submit({0, 2, h[2], 0.001, 2000});
+  ASSERT_TRUE(WaitFor([&] {
+    for (const auto& u : got.Get())
+      if (u.model == "slow-point-mass" && u.after_bounce == 2) return true;
+    return false;
+  }, 10s));
+  worker.Finish();
+  worker.WaitIdle();
+  const double to_update2 =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_cancel).count();
+
+  std::vector<int> slow_after, quick_after;
+  int finals = 0;
+  for (const auto& u : got.Get()) {
+    if (u.final) {
+      ++finals;
+      EXPECT_EQ(u.after_bounce, 2);
+      EXPECT_EQ(u.model, "slow-point-mass");
+      continue;
+    }
+    (u.model == "point-mass" ? quick_after : slow_after).push_back(u.after_bounce);
+  }
+  // Bounce 1's model update was superseded, not delivered late; bounce 2's was delivered.
+  EXPECT_EQ(slow_after, std::vector<int>{2});
+  EXPECT_EQ(quick_after, (std::vector<int>{1, 2}));  // the quick fit is out at once
+  EXPECT_EQ(finals, 1);
+  const auto s = worker.stats();
+  EXPECT_EQ(s.superseded, 1);
+  EXPECT_EQ(s.peaks, 3);
+  // The cancelled update did not run its budget out: the whole thing (cancel, update 2 and
+  // the final) took far less than 30 simulations of 40 ms.
+  EXPECT_LT(to_update2, 30 * 0.040 + 12 * 0.040);
+}
+
+TEST(FitWorker, NewSequenceFinalisesThePreviousDrop) {
+  const auto ball = *FindBallPreset("wiffle");
+  PointMassModel model(ball);
+  FitSessionConfig cfg;
+  cfg.max_evaluations_per_bounce = 10;
+  cfg.max_evaluations_final = 20;
+  Collected got;
+  FitWorker worker(std::make_unique<FitSession>(model, &model, cfg),
+                   [&](const FitUpdate& u) { got.Add(u); });
+  worker.Start();
+  const auto h = DropHeights(ball, 1.2, 2);
+  for (int b = 0; b <= 2; ++b) worker.Submit({0, b, h[b], 0.001, b});
+  worker.WaitIdle();
+  worker.Submit({1, 0, 1.0, 0.001, 10});
+  worker.WaitIdle();
+  int finals = 0;
+  for (const auto& u : got.Get())
+    if (u.final) {
+      ++finals;
+      EXPECT_EQ(u.sequence, 0);
+      EXPECT_EQ(u.after_bounce, 2);
+    }
+  EXPECT_EQ(finals, 1);
+}
+
+// Warm start and per-bounce refinement on a model with known truth: each update matches the
+// bounces it has, and the final fit recovers the restitution.
+TEST(FitSession, PerBounceUpdatesFollowTheDropAndTheFinalRecoversTruth) {
+  auto truth = *FindBallPreset("softball");
+  truth.restitution = 0.50;  // preset 0.42: the fit has to move
+  const auto h = DropHeights(truth, 1.2, 5);
+  PointMassModel model(*FindBallPreset("softball"));
+  FitSessionConfig cfg;
+  cfg.max_evaluations_per_bounce = 20;
+  cfg.max_evaluations_final = 150;
+  FitSession s(model, nullptr, cfg);
+  s.AddPeak({0, 0, h[0], 0.001, 0});
+  for (int k = 1; k < static_cast<int>(h.size()); ++k) {
+    if (h[k] < 0.01) break;
+    s.AddPeak({0, k, h[k], 0.001, k});
+    const FitUpdate u = s.Update();
+    EXPECT_EQ(u.after_bounce, k);
+    EXPECT_EQ(u.model, "point-mass");
+    EXPECT_FALSE(u.final);
+    EXPECT_LE(u.evaluations, 20);
+    EXPECT_LT(u.residual_m, 0.01 * h[0]) << "after bounce " << k;
+  }
+  const FitUpdate f = s.FinalUpdate();
+  EXPECT_TRUE(f.final);
+  EXPECT_LT(f.residual_m, 0.001 * h[0]);
+  EXPECT_NEAR(f.values.at("restitution"), 0.50, 0.02);
+}
+
+// Same inputs, both searches: the default reaches the paper search's residual with far
+// fewer simulations (the soft-body version of this is bench/fit_bench.cc).
+TEST(Searches, DefaultReachesPaperResidualWithFewerSimulations) {
+  auto truth = *FindBallPreset("airball");
+  truth.restitution = 0.72;
+  truth.drag_coefficient = 0.9;
+  const auto h = DropHeights(truth, 1.5, 6);
+  PointMassModel model(*FindBallPreset("airball"));
+  FitProblem p;
+  p.model = &model;
+  p.free = model.Coefficients();
+  p.recorded_m.assign(h.begin() + 1, h.end());
+  p.simulation.drop_height_m = h[0];
+  p.simulation.duration_s = 8;
+  p.simulation.min_bounce_height_m = 0.005;
+  SearchOptions o;
+  o.max_evaluations = 400;
+  const SearchResult paper = PaperSearch(p, {}, o);
+  const SearchResult fast = NloptSearch(p, {}, o);
+  EXPECT_EQ(paper.method, "paper");
+  EXPECT_EQ(fast.method, "nlopt-bobyqa");
+  EXPECT_GT(paper.evaluations, 10);
+  EXPECT_LT(paper.rms_m, 0.01);
+  // Simulations the default needed to get at or below the paper's final objective.
+  int reached = -1;
+  for (size_t i = 0; i < fast.best_history.size(); ++i)
+    if (fast.best_history[i] <= paper.objective) {
+      reached = static_cast<int>(i) + 1;
+      break;
+    }
+  ASSERT_GT(reached, 0) << "default search never reached the paper's residual " << paper.rms_m;
+  EXPECT_LE(3 * reached, paper.evaluations)
+      << "default " << reached << " vs paper " << paper.evaluations;
+}
+
+TEST(Searches, CancelledBetweenSimulations) {
+  const auto ball = *FindBallPreset("pingpong");
+  SlowModel slow(ball, 20ms);
+  FitProblem p;
+  p.model = &slow;
+  p.free = slow.Coefficients();
+  p.recorded_m = {0.7, 0.5};
+  p.simulation.drop_height_m = 1.0;
+  p.simulation.duration_s = 3;
+  CancelToken token;
+  SearchOptions o;
+  o.max_evaluations = 1000;
+  o.cancel = &token;
+  o.threads = 1;
+  std::thread canceller([&] {
+    WaitFor([&] { return slow.started.load() >= 3; }, 5s);
+    token.Cancel();
+  });
+  const SearchResult r = PaperSearch(p, {}, o);
+  canceller.join();
+  EXPECT_TRUE(r.cancelled);
+  EXPECT_LE(r.evaluations, 4);  // the one running when cancelled finishes, no more start
+}
+
+TEST(FitNode, PeaksInUpdatesOutOverMemqLcm) {
+  LcmBus bus("memq://");
+  FitNodeConfig cfg;
+  cfg.ball = "tennis";
+  cfg.model = "point-mass";
+  cfg.session.max_evaluations_per_bounce = 10;
+  cfg.session.max_evaluations_final = 30;
+  FitNode node(cfg);
+  node.Attach(&bus);
+  node.Start();
+  std::vector<fit_update_t> received;
+  bus.Subscribe<fit_update_t>("FIT_UPDATE", [&](const fit_update_t& m) { received.push_back(m); });
+  const auto h = DropHeights(node.ball(), 1.0, 3);
+  for (int b = 0; b <= 3; ++b) {
+    bounce_peak_t p{};
+    p.utime = 1000000 + b * 700000;
+    p.sequence = 0;
+    p.bounce = b;
+    p.apex_utime = p.utime - 50000;
+    p.height_m = h[b];
+    p.height_sigma_m = 0.002;
+    p.flight_height_m = NAN;
+    bus.Publish("BOUNCE_PEAK", p);
+    // Dispatch until the node has the peak (earlier updates may be queued before it).
+    const auto until = std::chrono::steady_clock::now() + 2s;
+    while (node.stats().peaks < b + 1 && std::chrono::steady_clock::now() < until)
+      bus.HandleOnce(20);
+    ASSERT_EQ(node.stats().peaks, b + 1);
+    node.WaitIdle();  // offline pacing: each bounce fitted before the next
+  }
+  node.Finish();
+  node.WaitIdle();
+  const auto deadline = std::chrono::steady_clock::now() + 3s;
+  while (std::chrono::steady_clock::now() < deadline &&
+         !(received.size() >= 7 && received.back().final))
+    bus.HandleOnce(50);
+  // Bounces 1-3: a quick and a model update each, then the final fit.
+  ASSERT_EQ(received.size(), 7u);
+  EXPECT_TRUE(received.back().final);
+  EXPECT_EQ(received.back().after_bounce, 3);
+  EXPECT_EQ(received[0].after_bounce, 1);
+  EXPECT_EQ(received[0].model, "point-mass");
+  EXPECT_EQ(received[0].method, "least-squares");
+  for (const auto& m : received) {
+    EXPECT_EQ(m.num_coeffs, static_cast<int>(m.names.size()));
+    EXPECT_EQ(m.num_bounces, m.after_bounce);
+    EXPECT_GT(m.evaluations, 0);
+    EXPECT_EQ(m.utime, 1000000 + m.after_bounce * 700000);
+  }
+  const auto& f = received.back();
+  EXPECT_LT(f.residual_m, 0.003);
+  for (int i = 0; i < f.num_bounces; ++i) EXPECT_NEAR(f.recorded_m[i], h[i + 1], 1e-12);
+  EXPECT_EQ(bus.handler_failures(), 0);
+  node.Stop();
+}
+
+TEST(FitExport, JsonAndASnippetThatCompilesAgainstBullet) {
+  FitUpdate u;
+  u.model = "bullet-softbody";
+  u.method = "nlopt-bobyqa";
+  u.final = true;
+  u.time_step_s = 1.0 / 960;
+  u.iterations = 4;
+  u.drop_height_m = 1.0;
+  u.values = {{"linear_stiffness", 0.8}, {"pressure", 2.0}, {"damping", 0.01},
+              {"rebound_boost", 0.2}, {"mesh_resolution", 3}};
+  CoefficientEstimate e;
+  e.name = "linear_stiffness";
+  e.value = 0.8;
+  e.sigma = 0.02;
+  e.identifiable = true;
+  u.coefficients = {e};
+  u.recorded_m = {0.8};
+  u.simulated_m = {0.79};
+  u.residual_m = 0.01;
+  const auto ball = *FindBallPreset("pingpong");
+  const auto dir = testing::ScratchDir("fit_export");
+  const auto paths = WriteFitExports(dir, u, ball);
+  ASSERT_EQ(paths.size(), 2u);
+  std::ifstream in(paths[0]);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["coefficients"]["linear_stiffness"]["value"], 0.8);
+  EXPECT_EQ(j["time_step_s"], 1.0 / 960);
+  EXPECT_EQ(j["iterations"], 4);
+  EXPECT_EQ(j["ball"]["name"], "pingpong");
+  const std::string snippet = BtSoftBodySnippet(u, ball);
+  EXPECT_NE(snippet.find("k.piterations = kPositionIterations"), std::string::npos);
+  // kPR in Bullet units: pressure x m g / (pi r^2) x rest volume.
+  const double r = 0.02, v0 = 4.0 / 3.0 * M_PI * r * r * r;
+  char expect[64];
+  std::snprintf(expect, sizeof expect, "k.kPR = btScalar(%.9g)", 2.0 * 0.0027 * 9.81 * v0 / (M_PI * r * r));
+  EXPECT_NE(snippet.find(expect), std::string::npos) << snippet;
+  // It is real C++ for Bullet 3.24.
+  const auto src = dir / "check.cc";
+  std::ofstream(src) << "#include <BulletSoftBody/btSoftBody.h>\n" << snippet;
+  std::string out;
+  const int rc = testing::RunCommand(
+      "c++ -std=c++20 -fsyntax-only -I/usr/include/bullet '" + src.string() + "'", &out);
+  EXPECT_EQ(rc, 0) << out;
+}
+
+TEST(FitCli, OfflineHeightsPrintUpdatesAndWriteExports) {
+  const auto dir = testing::ScratchDir("fit_cli");
+  std::string out;
+  const int rc = testing::RunCommand(
+      testing::BouncefitExe() +
+          " fit --heights 1.0,0.62,0.40,0.26 --ball tennis --model point-mass --max-evals 60"
+          " --export '" + dir.string() + "'",
+      &out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("FINAL fit after bounce 3"), std::string::npos) << out;
+  EXPECT_NE(out.find("restitution"), std::string::npos);
+  EXPECT_NE(out.find("mm over 3 bounces"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir / "coefficients.json"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "soft_body_config.cc"));
+  // Bad input is a one-line error.
+  const int bad = testing::RunCommand(testing::BouncefitExe() + " fit --heights 1.0,abc", &out);
+  EXPECT_EQ(bad, 1);
+  EXPECT_NE(out.find("bouncefit fit: error:"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace bouncefit
