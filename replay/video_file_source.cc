@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace bouncefit {
@@ -36,11 +37,37 @@ VideoFileSource::VideoFileSource(VideoFileSourceConfig config) : config_(std::mo
   pending_ = Decode();
   if (!pending_)
     throw std::runtime_error("video '" + path + "' has no decodable frame (corrupt or empty?)");
+  LoadTimes();
+  if (!recorded_.empty()) {
+    pending_->utime = 0;
+    pending_->sequence = recorded_[0].sequence;
+  }
   info_.width = pending_->image.cols;
   info_.height = pending_->image.rows;
   info_.description = "file " + std::filesystem::path(path).filename().string() + " (" +
                       FourccText(capture_.get(cv::CAP_PROP_FOURCC)) + " " +
-                      std::to_string(info_.width) + "x" + std::to_string(info_.height) + ")";
+                      std::to_string(info_.width) + "x" + std::to_string(info_.height) +
+                      (recorded_.empty() ? ")" : ", camera times from its .times.csv)");
+}
+
+void VideoFileSource::LoadTimes() {
+  std::ifstream in(config_.path + ".times.csv");
+  if (!in) return;
+  std::string line;
+  std::getline(in, line);
+  if (line != "frame,utime_us,sequence") return;
+  std::vector<Recorded> rows;
+  long long frame = 0, utime = 0, sequence = 0;
+  char c1 = 0, c2 = 0;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    if (!(row >> frame >> c1 >> utime >> c2 >> sequence) || c1 != ',' || c2 != ',' ||
+        frame != static_cast<long long>(rows.size()) ||
+        (!rows.empty() && (utime <= rows.back().utime || sequence <= rows.back().sequence)))
+      return;  // not a file of ours: ignore it, use the container's times
+    rows.push_back({utime, sequence});
+  }
+  recorded_ = std::move(rows);
 }
 
 void VideoFileSource::Open() {
@@ -115,6 +142,16 @@ std::optional<Frame> VideoFileSource::Next() {
   if (!frame) return std::nullopt;
   frame->index = delivered_;
   frame->sequence = delivered_;
+  if (!recorded_.empty()) {
+    // A recording: the camera's own times and sequence numbers, for as long as they last.
+    const auto i = static_cast<std::size_t>(pass_frames_ - 1);
+    if (i < recorded_.size()) {
+      frame->utime = pass_offset_us_ + (recorded_[i].utime - recorded_[0].utime);
+      frame->sequence = recorded_[i].sequence + loops_ * (recorded_.back().sequence + 1);
+      if (i > 0) dropped_ += recorded_[i].sequence - recorded_[i - 1].sequence - 1;
+      last_utime_ = frame->utime;
+    }
+  }
   ++delivered_;
   return frame;
 }

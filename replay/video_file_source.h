@@ -2,11 +2,14 @@
 // A video file (.avi, .mp4, .mov, ...) as a fake camera, through OpenCV's FFmpeg backend.
 // Frame times come from the container (CAP_PROP_POS_MSEC: the frame's presentation time),
 // not from the nominal frame rate, so variable-frame-rate clips keep their true timing.
+// A recording made by `capture --record` (capture/frame_recorder.h) carries the camera's
+// own times and sequence numbers in FILE.times.csv: they are used when present.
 #include <opencv2/videoio.hpp>
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "capture/frame_source.h"
 
@@ -32,9 +35,12 @@ class VideoFileSource final : public FrameSource {
   // Frames whose container time did not increase and was replaced by previous + one
   // nominal interval.
   int64_t repaired_times() const { return repaired_; }
+  int64_t dropped_frames() const override { return dropped_; }
+  bool uses_times_file() const { return !recorded_.empty(); }
 
  private:
   void Open();
+  void LoadTimes();
   std::optional<Frame> Decode();
 
   VideoFileSourceConfig config_;
@@ -48,6 +54,12 @@ class VideoFileSource final : public FrameSource {
   int64_t last_step_us_ = 0;     // last interval between good container times
   int64_t pass_frames_ = 0;
   int loops_ = 0;
+  int64_t dropped_ = 0;
+  struct Recorded {
+    int64_t utime;
+    int64_t sequence;
+  };
+  std::vector<Recorded> recorded_;  // from FILE.times.csv, one per frame
   int64_t repaired_ = 0;
 };
 
