@@ -1,0 +1,200 @@
+#pragma once
+// Test helper for the calibrator and bounce detector: tracker-like observations of a
+// point-mass drop (fit/point_mass_drop.h: gravity, quadratic drag, restitution e(v), the
+// physics `bouncefit synth` renders), seen by a rolled camera with a known scale, averaged
+// over the exposure, with Gaussian centre noise; and scoring of the detector's peaks
+// against the truth (found apexes, false peaks, height error, latency).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fit/ball_preset.h"
+#include "fit/point_mass_drop.h"
+#include "track/ball_observation.h"
+#include "track/bounce_detector.h"
+
+namespace bouncefit::testing {
+
+struct SimOptions {
+  std::string ball = "pingpong";
+  double drop_m = 1.0;
+  double fps = 120;
+  double roll_deg = 0;
+  double px_per_m = 300;
+  double noise_px = 0.15;
+  double hold_s = 0.3;
+  double after_rest_s = 0.5;
+  double exposure_frac = 0.5;  // exposure time / frame period
+  unsigned seed = 1;
+  double floor_y = 560, x0 = 330;  // unrolled image position of the floor and the drop line
+  double width = 660, height = 600;
+  std::vector<std::pair<double, double>> gaps;  // [t0, t1) with no detection, seconds
+  double missing_fraction = 0;  // random frames with no detection
+  double start_s = 0;           // stream clock at frame 0
+};
+
+struct SimClip {
+  SimOptions options;
+  PointMassDropResult truth;
+  double radius_px = 0;
+  std::vector<BallObservation> obs;
+};
+
+inline void SimImagePoint(const SimOptions& o, double height_bottom_m, double radius_m,
+                          double* x, double* y) {
+  // Unrolled: straight down is +y. Then rotate about the image centre so that true down
+  // becomes (sin roll, cos roll).
+  const double ux = o.x0;
+  const double uy = o.floor_y - (height_bottom_m + radius_m) * o.px_per_m;
+  const double cx = (o.width - 1) / 2, cy = (o.height - 1) / 2;
+  const double r = o.roll_deg * std::numbers::pi / 180;
+  const double dx = ux - cx, dy = uy - cy;
+  *x = cx + std::cos(r) * dx + std::sin(r) * dy;
+  *y = cy - std::sin(r) * dx + std::cos(r) * dy;
+}
+
+inline SimClip MakeSimClip(const SimOptions& o, int64_t frame_offset = 0) {
+  SimClip clip;
+  clip.options = o;
+  PointMassDropConfig c;
+  c.ball = ResolveBallPreset(o.ball);
+  c.drop_height_m = o.drop_m;
+  c.hold_s = o.hold_s;
+  c.end_time_s = o.hold_s + 8;
+  clip.truth = SimulatePointMassDrop(c);
+  const double end = (clip.truth.comes_to_rest ? clip.truth.rest_time_s : clip.truth.end_time_s) +
+                     o.after_rest_s;
+  clip.radius_px = c.ball.radius_m() * o.px_per_m;
+  std::mt19937 rng(o.seed);
+  std::normal_distribution<double> noise(0, o.noise_px);
+  std::uniform_real_distribution<double> uni(0, 1);
+  const int frames = static_cast<int>(end * o.fps) + 1;
+  for (int i = 0; i < frames; ++i) {
+    const double t = i / o.fps;
+    BallObservation b;
+    b.frame = frame_offset + i;
+    b.utime = static_cast<int64_t>(std::llround((o.start_s + t) * 1e6));
+    bool hidden = o.missing_fraction > 0 && uni(rng) < o.missing_fraction;
+    for (const auto& g : o.gaps) hidden = hidden || (t >= g.first && t < g.second);
+    // Exposure average of the centre (8 sub-exposures).
+    const double exp_s = o.exposure_frac / o.fps;
+    double sx = 0, sy = 0;
+    const int n_sub = 8;
+    for (int k = 0; k < n_sub; ++k) {
+      const double ts = t + exp_s * ((k + 0.5) / n_sub - 0.5);
+      double x, y;
+      SimImagePoint(o, clip.truth.At(ts).height_m, c.ball.radius_m(), &x, &y);
+      sx += x;
+      sy += y;
+    }
+    const double nx = noise(rng), ny = noise(rng);
+    if (hidden) {
+      clip.obs.push_back(b);
+      continue;
+    }
+    b.found = true;
+    b.cx = static_cast<float>(sx / n_sub + nx);
+    b.cy = static_cast<float>(sy / n_sub + ny);
+    b.radius_px = static_cast<float>(clip.radius_px);
+    b.w = b.h = static_cast<float>(2 * clip.radius_px);
+    b.x = b.cx - b.radius_px;
+    b.y = b.cy - b.radius_px;
+    b.score = 1;
+    clip.obs.push_back(b);
+  }
+  return clip;
+}
+
+// Apex of the truth (bounce index b) in stream seconds.
+inline double SimApexTime(const SimClip& c, size_t b) {
+  return c.options.start_s + c.truth.apex_times_s[b];
+}
+
+struct PeakScore {
+  int truth_over_1cm = 0;    // true apexes above 1 cm (bounce 0 included)
+  int found_over_1cm = 0;    // of those, matched by an emitted peak
+  int false_peaks = 0;       // emitted peaks matching no true apex
+  double max_err_mm = 0;     // worst |height error| over matched apexes
+  bool within_tolerance = true;  // every matched error <= max(2 mm, 1%)
+  std::vector<double> latency_frames;  // bounces >= 1: emission - true apex, frames
+  double bounce0_latency_from_impact_frames = NAN;
+  std::string report;        // one line per peak, for failure messages
+};
+
+inline double Median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// Peaks of one sequence against one clip's truth: a peak matches the true apex with the
+// same bounce index whose time is within 3 frames of the peak's apex time.
+inline PeakScore ScorePeaks(const SimClip& c, const std::vector<BouncePeak>& peaks) {
+  PeakScore s;
+  const double frame = 1.0 / c.options.fps;
+  std::vector<bool> matched(c.truth.apex_heights_m.size(), false);
+  for (const auto& p : peaks) {
+    const auto b = static_cast<size_t>(p.bounce);
+    const double t_apex = static_cast<double>(p.apex_utime) * 1e-6;
+    char line[256];
+    if (b >= c.truth.apex_heights_m.size() ||
+        std::abs(t_apex - SimApexTime(c, b)) > 3 * frame) {
+      ++s.false_peaks;
+      std::snprintf(line, sizeof line, "bounce %zu at %.4f s: %.4f m FALSE\n", b, t_apex,
+                    p.height_m);
+      s.report += line;
+      continue;
+    }
+    matched[b] = true;
+    const double truth = c.truth.apex_heights_m[b];
+    const double err = p.height_m - truth;
+    s.max_err_mm = std::max(s.max_err_mm, std::abs(err) * 1e3);
+    if (std::abs(err) > std::max(0.002, 0.01 * truth)) s.within_tolerance = false;
+    const double emitted = static_cast<double>(p.emitted_utime) * 1e-6;
+    const double lat = (emitted - SimApexTime(c, b)) / frame;
+    if (b >= 1) {
+      s.latency_frames.push_back(lat);
+    } else if (!c.truth.impact_times_s.empty()) {
+      s.bounce0_latency_from_impact_frames =
+          (emitted - c.options.start_s - c.truth.impact_times_s[0]) / frame;
+    }
+    std::snprintf(line, sizeof line, "bounce %zu: %.4f m (truth %.4f, err %+.2f mm) latency %.2f frames\n",
+                  b, p.height_m, truth, err * 1e3, lat);
+    s.report += line;
+  }
+  for (size_t b = 0; b < matched.size(); ++b) {
+    if (c.truth.apex_heights_m[b] <= 0.01) continue;
+    ++s.truth_over_1cm;
+    if (matched[b]) ++s.found_over_1cm;
+    else {
+      char line[128];
+      std::snprintf(line, sizeof line, "MISSED bounce %zu: %.4f m at %.4f s\n", b,
+                    c.truth.apex_heights_m[b], SimApexTime(c, b));
+      s.report += line;
+    }
+  }
+  return s;
+}
+
+// Runs a detector over a clip, returns the peaks (all sequences) and the events.
+inline std::vector<BouncePeak> RunDetector(BounceDetector& d, const std::vector<BallObservation>& obs,
+                                           std::vector<DetectorEvent>* all_events = nullptr) {
+  std::vector<BouncePeak> peaks;
+  auto take = [&](const std::vector<DetectorEvent>& ev) {
+    for (const auto& e : ev) {
+      if (e.kind == DetectorEvent::Kind::kPeak) peaks.push_back(e.peak);
+      if (all_events) all_events->push_back(e);
+    }
+  };
+  for (const auto& o : obs) take(d.Push(o));
+  take(d.Finish());
+  return peaks;
+}
+
+}  // namespace bouncefit::testing
