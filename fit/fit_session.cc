@@ -190,7 +190,7 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
       if (searched) e.note = "no sensitivity computed";
     }
     if (Contains(r.inactive, s.name)) e.note = "no effect on the heights";
-    if (!e.identifiable && e.note != "held fixed in this update") u.unidentified.push_back(e.name);
+    if (!e.identifiable) u.unidentified.push_back(e.name);
     if (e.note == "no effect on the heights" && !Contains(u.no_effect, e.name))
       u.no_effect.push_back(e.name);
     u.coefficients.push_back(e);
@@ -201,11 +201,18 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
 FitUpdate FitSession::QuickUpdate() {
   if (!quick_model_) throw std::logic_error("no quick model for this session");
   const auto t0 = std::chrono::steady_clock::now();
-  FitProblem p = MakeProblem(quick_model_->Coefficients(), quick_current_);
+  // Never more coefficients than the bounces can tell apart: restitution alone from one
+  // or two bounces, then its speed dependence, then drag (the model's order).
+  const auto all = quick_model_->Coefficients();
+  const int k = static_cast<int>(FittedHeights().size());
+  const int count = std::clamp(k - 1, 1, static_cast<int>(all.size()));
+  FitProblem p = MakeProblem({all.begin(), all.begin() + count}, quick_current_);
   p.model = quick_model_;
   SearchOptions o;
-  o.max_evaluations = 600;
-  o.threads = 1;  // each point-mass run takes about a millisecond
+  o.max_evaluations = config_.max_evaluations_quick;
+  o.threads = 1;  // each point-mass run takes a few milliseconds
+  // Matching the heights far below their uncertainty buys nothing.
+  o.target_rms_m = 0.01 * MeasurementSigma();
   const SearchResult r = LeastSquaresSearch(p, quick_current_, o);
   // The next quick fit starts from here; missing heights make no sense to carry over.
   for (const auto& s : p.free) quick_current_[s.name] = r.values.at(s.name);

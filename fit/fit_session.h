@@ -57,6 +57,7 @@ struct FitSessionConfig {
   std::string method = "nlopt";     // "nlopt" (default) or "paper"
   int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
   int max_evaluations_final = 160;      // final fit budget, plus the Jacobian
+  int max_evaluations_quick = 120;      // point-mass estimate budget
   int live_coefficients = 3;        // per-bounce: at most this many (and <= bounces)
   int threads = 0;                  // parallel simulations; 0 = all cores
   double min_bounce_height_m = 0.01;  // bounces lower than this are not fitted

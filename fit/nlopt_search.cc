@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace bouncefit {
@@ -115,6 +116,7 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
     const auto& eb = screened[pair[j].second];
     if (!ea.ok || !eb.ok) {
       effect[j] = HUGE_VAL;  // a failure is an effect: keep it in the search
+      for (size_t i = 0; i < k; ++i) jac[i][j] = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
     for (size_t i = 0; i < k; ++i) {

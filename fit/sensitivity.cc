@@ -23,8 +23,11 @@ std::vector<CoefficientEstimate> EstimateUncertainty(
     out[j].value = it != values.end() ? it->second : free[j].default_value;
     out[j].sigma = nan;
     for (int i = 0; i < k; ++i)
-      if (j < static_cast<int>(jacobian_unit[i].size()))
-        out[j].height_effect_m = std::max(out[j].height_effect_m, std::abs(jacobian_unit[i][j]));
+      if (j < static_cast<int>(jacobian_unit[i].size())) {
+        const double d = std::abs(jacobian_unit[i][j]);
+        out[j].height_effect_m = std::isnan(d) ? nan : std::max(out[j].height_effect_m, d);
+        if (std::isnan(d)) break;
+      }
   }
   if (k == 0) {
     for (auto& e : out) e.note = "no bounces";
@@ -33,6 +36,10 @@ std::vector<CoefficientEstimate> EstimateUncertainty(
   // Columns with an effect take part; scaled to unit norm for a well-conditioned SVD.
   std::vector<int> cols;
   for (int j = 0; j < n; ++j) {
+    if (std::isnan(out[j].height_effect_m)) {
+      out[j].note = "sensitivity unknown (a simulation next to the fit failed)";
+      continue;
+    }
     if (!(out[j].height_effect_m >= o.min_effect_m) || !(free[j].upper > free[j].lower)) {
       out[j].note = "no effect on the heights";
       continue;
@@ -110,7 +117,11 @@ std::vector<std::vector<double>> HeightsJacobian(FitObjective& f, const Coeffici
   for (size_t j = 0; j < n; ++j) {
     const auto& ea = e[2 * j];
     const auto& eb = e[2 * j + 1];
-    if (!ea.ok || !eb.ok || !(du[j] > 0)) continue;
+    if (!ea.ok || !eb.ok || !(du[j] > 0)) {
+      // A failed neighbour says nothing about the slope: unknown, not zero.
+      for (size_t i = 0; i < k; ++i) jac[i][j] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
     for (size_t i = 0; i < k; ++i) jac[i][j] = (ea.simulated_m[i] - eb.simulated_m[i]) / du[j];
   }
   return jac;

@@ -74,7 +74,7 @@ TEST(PointMassQuickFit, RecoversRestitutionSlopeAndDrag) {
   const FitUpdate u = session.QuickUpdate();
   EXPECT_EQ(u.model, "point-mass");
   EXPECT_EQ(u.method, "least-squares");
-  EXPECT_LT(u.residual_m, 1e-5);
+  EXPECT_LT(u.residual_m, 2e-5);
   ASSERT_EQ(u.coefficients.size(), 3u);
   std::map<std::string, CoefficientEstimate> c;
   for (const auto& e : u.coefficients) c[e.name] = e;
