@@ -34,9 +34,11 @@ struct Sampler {
 int CastRays(const Sampler& sm, const ColorModel& color, double cx, double cy, double r,
              const BallCentreParams& params, std::vector<EdgePoint>* pts, bool* cut) {
   pts->clear();
-  constexpr double kStep = 0.5;
-  const double r_in = std::max(0.3 * r, r - std::max(2.5, 0.4 * r));
-  const double r_hi = r + std::max(4.0, 0.6 * r);
+  // From inside the rim (past any motion-blur ramp) to the background; coarser steps on big
+  // balls (coverage is smooth across the rim, the crossing is interpolated).
+  const double kStep = std::clamp(r / 24, 0.5, 1.0);
+  const double r_in = std::max(0.3 * r, r - std::clamp(0.4 * r, 2.5, 9.0));
+  const double r_hi = r + std::clamp(0.6 * r, 4.0, 10.0);
   const int n = static_cast<int>(std::ceil((r_hi - r_in) / kStep)) + 1;
   std::vector<float> yuv(static_cast<size_t>(3 * n));
   std::vector<double> a(static_cast<size_t>(n));

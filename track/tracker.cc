@@ -83,10 +83,16 @@ BallObservation Tracker::Track(const Frame& frame) {
   if (lost_ <= 2 && predictor_.Predict(t, &px, &py, &speed)) {
     const double dt = std::clamp(t - last_t_, 1e-3, 0.1);
     const double motion = speed * dt;
-    const double half = radius_ + std::max(radius_, config_.window_margin_px) + 2 * motion;
-    const double gate = radius_ + 2 * motion + config_.gate_px;
-    ok = TryWindow(frame, cv::Point2f(static_cast<float>(px), static_cast<float>(py)), half,
-                   gate, &obs);
+    const cv::Point2f pred(static_cast<float>(px), static_cast<float>(py));
+    // In flight the parabola predicts to a pixel: a tight window first. A bounce or a kick
+    // breaks the prediction: then a window wide enough for any reversal of the motion.
+    const double tight = 1.6 * radius_ + config_.window_margin_px;
+    ok = TryWindow(frame, pred, tight, 0.5 * radius_ + config_.gate_px, &obs);
+    if (!ok) {
+      const double half = radius_ + std::max(radius_, config_.window_margin_px) + 2 * motion;
+      const double gate = radius_ + 2 * motion + config_.gate_px;
+      ok = TryWindow(frame, pred, half, gate, &obs);
+    }
   }
   if (!ok) ok = Acquire(frame, &obs);
   if (ok) {
@@ -248,7 +254,8 @@ bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
   for (size_t k = 0; k < blobs.size(); ++k) {
     const Blob& b = blobs[k];
     const double r = EquivalentRadius(b);
-    double score = b.mean_distance / tol + 3 * std::abs(b.fill - 0.785);
+    // Colour first (a similar-hue object is a worse match), then shape, size, prediction.
+    double score = 3 * b.mean_distance / tol + std::abs(b.fill - 0.785);
     if (radius_ > 0) score += std::abs(r - radius_) / radius_;
     if (have_pred)
       score += std::hypot(b.centroid.x - px, b.centroid.y - py) / (radius_ + 20);
@@ -287,7 +294,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs)
   double r0 = EquivalentRadius(blob);
   if (blob.touches_edge && radius_ > 0) r0 = radius_;
   const double cx = blob.centroid.x, cy = blob.centroid.y;
-  const double reach = r0 + std::max(4.0, 0.6 * r0) + 2;
+  const double reach = r0 + std::clamp(0.6 * r0, 4.0, 10.0) + 3;
   const cv::Rect need = cv::Rect(static_cast<int>(std::floor(cx - reach)) - 1,
                                  static_cast<int>(std::floor(cy - reach)) - 1,
                                  static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;

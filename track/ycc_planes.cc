@@ -116,12 +116,22 @@ void ExtractYcc(const Frame& frame, cv::Rect rect, int step, double blur_sigma_p
   out->u.create(h, w, CV_32F);
   out->v.create(h, w, CV_32F);
   if (w <= 0 || h <= 0) return;
-  if (frame.format == PixelFormat::kBgr24)
+  const int k = blur_sigma_px > 0 ? 2 * static_cast<int>(std::ceil(2.0 * blur_sigma_px)) + 1 : 0;
+  if (frame.format == PixelFormat::kBgr24) {
+    if (k > 0 && step == 1) {
+      // BGR -> YCbCr is linear: blur the 8-bit pixels first (OpenCV's fast fixed-point path,
+      // neighbours outside the rect included), then convert.
+      thread_local cv::Mat blurred;
+      cv::GaussianBlur(frame.image(rect), blurred, cv::Size(k, k), blur_sigma_px, blur_sigma_px,
+                       cv::BORDER_REPLICATE);
+      ExtractBgr(blurred, cv::Rect(0, 0, rect.width, rect.height), 1, out);
+      return;
+    }
     ExtractBgr(frame.image, rect, step, out);
-  else
+  } else {
     ExtractYuyv(frame.image, rect, step, out);
-  if (blur_sigma_px > 0) {
-    const int k = 2 * static_cast<int>(std::ceil(2.0 * blur_sigma_px)) + 1;
+  }
+  if (k > 0) {
     const cv::Size ks(k, k);
     cv::GaussianBlur(out->y, out->y, ks, blur_sigma_px, blur_sigma_px, cv::BORDER_REPLICATE);
     cv::GaussianBlur(out->u, out->u, ks, blur_sigma_px, blur_sigma_px, cv::BORDER_REPLICATE);
