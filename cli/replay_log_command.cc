@@ -1,10 +1,86 @@
+// bouncefit replay-log: republish an LCM log with its original pacing (scaled), so detect
+// and fit can be rerun without video (replay/node/lcm_log_replay.h).
+#include <csignal>
+#include <cstdio>
+#include <memory>
+
 #include "cli/commands.h"
+#include "msgs/channels.h"
+#include "msgs/lcm_bus.h"
+#include "replay/node/lcm_log_replay.h"
 
 namespace bouncefit::cli {
+namespace {
+
+struct ReplayLogOptions {
+  std::string log;
+  LogReplayConfig replay;
+  std::string lcm_url = kDefaultLcmUrl;
+  bool quiet = false;
+};
+
+std::atomic<bool> g_stop{false};
+
+std::string Fixed(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+extern "C" void OnReplaySignal(int) { g_stop = true; }
+
+void Run(const ReplayLogOptions& o) {
+  { LcmLogReader check(o.log); }  // a missing or foreign file: one error line, nothing else
+  LcmBus bus(o.lcm_url);
+  struct sigaction sa {};
+  sa.sa_handler = OnReplaySignal;
+  sigemptyset(&sa.sa_mask);
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+  if (!o.quiet) {
+    std::printf("replay-log: %s -> %s, channels /%s/, %s\n", o.log.c_str(), o.lcm_url.c_str(),
+                o.replay.channels_regex.c_str(),
+                o.replay.speed > 0 ? ("speed " + Fixed(o.replay.speed)).c_str()
+                                   : "as fast as possible");
+    std::fflush(stdout);
+  }
+  LogReplayStats stats;
+  std::string failure;
+  try {
+    ReplayLcmLog(o.log, o.replay, PublishOn(bus), &stats, &g_stop);
+  } catch (const std::invalid_argument&) {
+    throw;
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  if (stats.events > 0 || failure.empty())
+    std::printf("replay-log: %s%lld of %lld messages republished, log span %.3f s, wall %.3f s%s\n",
+                g_stop ? "stopped: " : (failure.empty() ? "done: " : "before the error: "),
+                static_cast<long long>(stats.published), static_cast<long long>(stats.events),
+                stats.log_s(), stats.wall_s,
+                stats.publish_failures
+                    ? (", " + std::to_string(stats.publish_failures) + " publish failures").c_str()
+                    : "");
+  std::fflush(stdout);
+  if (!failure.empty()) throw std::runtime_error(failure);
+}
+
+}  // namespace
 
 void AddReplayLogCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("replay-log", "Republish an LCM log so detect and fit can be rerun without video");
-  cmd->callback([] { NotYetAvailable("replay-log", 4); });
+  auto* cmd = app.add_subcommand(
+      "replay-log", "Republish an LCM log so detect and fit can be rerun without video");
+  auto o = std::make_shared<ReplayLogOptions>();
+  cmd->add_option("log", o->log, "LCM log (.lcm), as written by --log or lcm-logger")->required();
+  cmd->add_option("--speed", o->replay.speed,
+                  "pace at this multiple of the logged timing (0: as fast as possible)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--channels", o->replay.channels_regex,
+                  "republish only channels matching this regular expression")
+      ->capture_default_str();
+  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL")->capture_default_str();
+  cmd->add_flag("--quiet,-q", o->quiet, "print only the final line");
+  cmd->callback([o] { Run(*o); });
 }
 
 }  // namespace bouncefit::cli
