@@ -1,0 +1,81 @@
+// The detect node over real LCM traffic (memq://): boxes in, calibration and peaks out, the
+// same peaks as the core gives in-process; a garbled BALL_BOX packet is counted and ignored.
+#include "track/node/detect_node.h"
+
+#include <gtest/gtest.h>
+
+#include "msgs/lcm_bus.h"
+#include "tests/detect_sim.h"
+#include "track/node/capture_node.h"
+
+namespace bouncefit {
+namespace {
+
+TEST(DetectNode, BoxesInPeaksOutOverMemq) {
+  testing::SimOptions o;
+  o.ball = "airball";
+  o.drop_m = 1.2;
+  o.roll_deg = 1;
+  const auto clip = testing::MakeSimClip(o);
+
+  // The core alone, in-process: the reference.
+  BounceDetector core{BounceDetectorConfig{}};
+  const auto expected = testing::RunDetector(core, clip.obs);
+  ASSERT_GE(expected.size(), 5u);
+
+  LcmBus bus("memq://");
+  DetectNodeConfig cfg;
+  DetectNode node(&bus, cfg);
+  node.Subscribe();
+  std::vector<bounce_peak_t> peaks;
+  std::vector<calibration_t> cals;
+  bus.Subscribe<bounce_peak_t>(cfg.channels.bounce_peak,
+                               [&](const bounce_peak_t& m) { peaks.push_back(m); });
+  bus.Subscribe<calibration_t>(cfg.channels.calibration,
+                               [&](const calibration_t& m) { cals.push_back(m); });
+  const uint8_t garbage[] = {0xde, 0xad, 0xbe, 0xef, 1, 2, 3};
+  for (size_t i = 0; i < clip.obs.size(); ++i) {
+    bus.Publish(cfg.channels.ball_box, ToBallBox(clip.obs[i]));
+    if (i == 40) bus.raw().publish(cfg.channels.ball_box, garbage, sizeof garbage);
+    bus.Drain();
+  }
+  node.Finish();
+  bus.Drain();
+
+  EXPECT_EQ(bus.decode_failures(), 1);
+  EXPECT_EQ(node.stats().boxes, static_cast<int64_t>(clip.obs.size()));
+  ASSERT_EQ(peaks.size(), expected.size());
+  for (size_t i = 0; i < peaks.size(); ++i) {
+    EXPECT_EQ(peaks[i].bounce, expected[i].bounce);
+    EXPECT_EQ(peaks[i].apex_utime, expected[i].apex_utime);
+    EXPECT_DOUBLE_EQ(peaks[i].height_m, expected[i].height_m);
+    EXPECT_EQ(peaks[i].emitted_utime, expected[i].emitted_utime);
+  }
+  const auto score = testing::ScorePeaks(clip, expected);
+  EXPECT_EQ(score.found_over_1cm, score.truth_over_1cm) << score.report;
+  EXPECT_EQ(score.false_peaks, 0) << score.report;
+  ASSERT_FALSE(cals.empty());
+  EXPECT_EQ(cals.back().method, "free-fall");
+  EXPECT_NEAR(cals.back().px_per_m, o.px_per_m, 0.01 * o.px_per_m);
+  EXPECT_NEAR(cals.back().roll_rad, o.roll_deg * M_PI / 180, 0.005);
+}
+
+TEST(DetectNode, TimeGoingBackwardsStartsAFreshStream) {
+  testing::SimOptions o;
+  o.ball = "softball";
+  const auto clip = testing::MakeSimClip(o);
+  DetectNode node(nullptr, DetectNodeConfig{});
+  size_t peaks = 0;
+  for (int pass = 0; pass < 2; ++pass)
+    for (const auto& b : clip.obs)
+      for (const auto& e : node.OnObservation(b)) peaks += e.kind == DetectorEvent::Kind::kPeak;
+  node.Finish();
+  EXPECT_EQ(node.stats().stream_restarts, 1);
+  const auto s = node.Summaries();
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0].peaks.size(), s[1].peaks.size());
+  EXPECT_EQ(peaks, 2 * s[0].peaks.size());
+}
+
+}  // namespace
+}  // namespace bouncefit
