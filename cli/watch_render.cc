@@ -1,0 +1,253 @@
+#include "cli/watch_render.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace bouncefit::cli {
+namespace {
+
+std::string Format(const char* fmt, auto... args) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, fmt, args...);
+  return buf;
+}
+
+std::string Num(double v, const char* fmt) {
+  if (!std::isfinite(v)) return "-";
+  return Format(fmt, v);
+}
+
+std::string Pad(std::string s, size_t width) {
+  if (s.size() > width) s.resize(width);
+  s.append(width - s.size(), ' ');
+  return s;
+}
+
+std::string Rule(int cols, const std::string& title, bool unicode) {
+  const std::string dash = unicode ? "\u2500" : "-";
+  std::string out = dash + dash + " " + title + " ";
+  const int used = static_cast<int>(title.size()) + 4;
+  for (int i = used; i < cols; ++i) out += dash;
+  return out;
+}
+
+double StreamSeconds(const WatchState& s, int64_t utime) {
+  if (s.stream_start_utime() == 0 || utime == 0) return std::numeric_limits<double>::quiet_NaN();
+  return static_cast<double>(utime - s.stream_start_utime()) * 1e-6;
+}
+
+// Max height per time bucket over the trace window ending at the last box.
+std::vector<double> Buckets(const WatchState& state, int width, double window_s, bool* metres) {
+  std::vector<double> b(std::max(width, 1), std::numeric_limits<double>::quiet_NaN());
+  *metres = false;
+  const auto& trace = state.trace();
+  if (trace.empty()) {
+    state.SampleHeight({0, false, 0, 0, 0}, metres);
+    return b;
+  }
+  const int64_t end = trace.back().utime;
+  const double span = window_s * 1e6;
+  for (const auto& s : trace) {
+    const double h = state.SampleHeight(s, metres);
+    if (!std::isfinite(h)) continue;
+    const double age = static_cast<double>(end - s.utime);
+    int i = width - 1 - static_cast<int>(age / span * width);
+    if (i < 0 || i >= width) continue;
+    if (!std::isfinite(b[i]) || h > b[i]) b[i] = h;
+  }
+  return b;
+}
+
+}  // namespace
+
+std::string Sparkline(const WatchState& state, int width, bool unicode) {
+  bool metres = false;
+  const auto b = Buckets(state, width, 10, &metres);
+  double top = 0;
+  for (double v : b) if (std::isfinite(v)) top = std::max(top, v);
+  static const char* kBlocks[] = {"\u2581", "\u2582", "\u2583", "\u2584",
+                                  "\u2585", "\u2586", "\u2587", "\u2588"};
+  static const char kAscii[] = "_.-:=+*#";
+  std::string out;
+  for (double v : b) {
+    if (!std::isfinite(v) || top <= 0) {
+      out += ' ';
+      continue;
+    }
+    const int level = std::clamp(static_cast<int>(std::lround(std::max(v, 0.0) / top * 7)), 0, 7);
+    if (unicode) out += kBlocks[level];
+    else out += kAscii[level];
+  }
+  return out;
+}
+
+std::string WatchStatusLine(const WatchState& s, int64_t now, const WatchRenderOptions& o) {
+  const auto& ch = o.channel_names;
+  const char* kinds[] = {"box", "calibration", "peak", "fit"};
+  std::string line;
+  for (size_t i = 0; i < 4 && i < ch.size(); ++i) {
+    line += Format("%s %.1f/s (%lld)  ", ch[i].c_str(), s.Rate(kinds[i], now),
+                   static_cast<long long>(s.Count(kinds[i])));
+  }
+  line += Format("| frame gaps %lld  ball not found %lld  decode failures %lld  "
+                 "handler failures %lld  restarts %lld",
+                 static_cast<long long>(s.frame_gaps()), static_cast<long long>(s.lost_frames()),
+                 static_cast<long long>(o.decode_failures),
+                 static_cast<long long>(o.handler_failures),
+                 static_cast<long long>(s.restarts()));
+  return line;
+}
+
+std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
+                                     const WatchRenderOptions& o) {
+  const int cols = std::max(o.cols, 60);
+  std::vector<std::string> lines;
+
+  // Title and liveness.
+  std::string status;
+  if (!s.AnyData()) {
+    status = "waiting for data (nothing received yet)";
+  } else if (s.Waiting(now)) {
+    status = Format("waiting for data (no message for %.1f s)", s.SilenceS(now));
+  } else {
+    status = "LIVE";
+  }
+  std::string title = "bouncefit watch  " + o.source + "  [" + status + "]";
+  const double stream_t = StreamSeconds(s, s.last_box_utime());
+  if (std::isfinite(stream_t)) title += Format("  stream t=%.2f s", stream_t);
+  lines.push_back(Pad(title, cols));
+
+  // Height trace.
+  const int label_w = 9;
+  const int chart_w = cols - label_w;
+  bool metres = false;
+  const auto b = Buckets(s, chart_w, 10, &metres);
+  double top = 0;
+  for (double v : b) if (std::isfinite(v)) top = std::max(top, v);
+  for (const auto& p : s.peaks()) if (metres && std::isfinite(p.height_m)) top = std::max(top, p.height_m);
+  top = top > 0 ? top * 1.05 : 1;
+  lines.push_back(Rule(cols, metres ? "height of the ball bottom above the floor (m), last 10 s"
+                                    : "height (px above the lowest point seen; no calibration yet), last 10 s",
+                       o.unicode));
+  static const char* kBlocks[] = {" ", "\u2581", "\u2582", "\u2583", "\u2584",
+                                  "\u2585", "\u2586", "\u2587", "\u2588"};
+  const int rows = std::max(o.chart_rows, 2);
+  for (int r = 0; r < rows; ++r) {
+    const int from_bottom = rows - 1 - r;
+    std::string label(label_w, ' ');
+    if (r == 0) label = Pad(Format(metres ? "%7.3f " : "%7.0f ", top), label_w);
+    if (r == rows - 1) label = Pad(metres ? "  0.000 " : "      0 ", label_w);
+    std::string row = label;
+    for (double v : b) {
+      if (!std::isfinite(v)) {
+        row += ' ';
+        continue;
+      }
+      const double fill = std::clamp(std::max(v, 0.0) / top * rows - from_bottom, 0.0, 1.0);
+      const int level = static_cast<int>(std::lround(fill * 8));
+      if (o.unicode) {
+        row += kBlocks[level];
+      } else {
+        row += level == 0 ? ' ' : (level < 4 ? '.' : (level < 8 ? ':' : '#'));
+      }
+    }
+    lines.push_back(row);
+  }
+
+  // Calibration.
+  if (s.calibration()) {
+    const auto& c = *s.calibration();
+    lines.push_back(Pad(Format("calibration  %.2f +- %.2f px/m  roll %.2f +- %.2f deg  floor %.1f +- %.1f px  (%s, %d frames)",
+                               c.px_per_m, c.px_per_m_sigma, c.roll_rad * 180 / M_PI,
+                               c.roll_sigma_rad * 180 / M_PI, c.floor_px, c.floor_sigma_px,
+                               c.method.c_str(), c.samples),
+                        cols));
+  } else {
+    lines.push_back(Pad("calibration  not yet known", cols));
+  }
+
+  // Peaks (left) and coefficients (right), side by side when wide enough.
+  std::vector<std::string> left, right;
+  left.push_back(Format("peaks, drop %d", std::max(s.current_sequence(), 0)));
+  left.push_back(" #    t (s)  height (m)  +- (m)   flight (m)  e (-)");
+  const auto& peaks = s.peaks();
+  const size_t max_peaks = 12;
+  const size_t first = peaks.size() > max_peaks ? peaks.size() - max_peaks : 0;
+  for (size_t i = first; i < peaks.size(); ++i) {
+    const auto& p = peaks[i];
+    std::string e = p.bounce == 0 ? "release" : "-";
+    if (i > 0 && peaks[i - 1].bounce == p.bounce - 1 && peaks[i - 1].height_m > 0 &&
+        p.height_m >= 0) {
+      e = Format("%.3f", std::sqrt(p.height_m / peaks[i - 1].height_m));
+    }
+    left.push_back(Format("%2d %8s  %10s  %6s  %10s   %s", p.bounce,
+                          Num(StreamSeconds(s, p.apex_utime), "%.3f").c_str(),
+                          Num(p.height_m, "%.4f").c_str(), Num(p.height_sigma_m, "%.4f").c_str(),
+                          Num(p.flight_height_m, "%.4f").c_str(), e.c_str()));
+  }
+  if (peaks.empty()) left.push_back(" (no apex yet)");
+
+  if (s.fit()) {
+    const auto& f = *s.fit();
+    right.push_back(Format("fit after bounce %d%s  %s / %s", f.after_bounce,
+                           f.final ? " (final)" : "", f.model.c_str(), f.method.c_str()));
+    right.push_back(" coefficient               value         +- sigma   change");
+    const auto& prev = s.previous_fit();
+    for (int i = 0; i < f.num_coeffs; ++i) {
+      std::string change = "";
+      if (prev) {
+        for (int j = 0; j < prev->num_coeffs; ++j) {
+          if (prev->names[j] == f.names[i] && prev->values[j] != 0) {
+            change = Format("%+.1f%%", 100 * (f.values[i] / prev->values[j] - 1));
+          }
+        }
+      }
+      std::string name = f.names[i];
+      if (!f.identifiable[i]) name += " (n/i)";
+      right.push_back(Format(" %-22s %12.6g %12s   %s", name.c_str(), f.values[i],
+                             Num(f.sigmas[i], "%.3g").c_str(), change.c_str()));
+    }
+    right.push_back(Format(" residual %.2f mm   %d sims   %.2f s   step %.3f ms x %d iter",
+                           f.residual_m * 1e3, f.evaluations, f.wall_time_s,
+                           f.time_step_s * 1e3, f.iterations));
+    right.push_back(Format(" fit updates received: %lld", static_cast<long long>(s.fits_received())));
+  } else {
+    right.push_back("coefficients");
+    right.push_back(" (no fit yet)");
+  }
+
+  lines.push_back(Rule(cols, "bounces and coefficients", o.unicode));
+  const size_t left_w = 54;
+  if (cols >= 110) {
+    const size_t n = std::max(left.size(), right.size());
+    for (size_t i = 0; i < n; ++i) {
+      std::string l = i < left.size() ? left[i] : "";
+      std::string r = i < right.size() ? right[i] : "";
+      lines.push_back(Pad(Pad(l, left_w) + "| " + r, cols));
+    }
+  } else {
+    for (auto& l : left) lines.push_back(Pad(l, cols));
+    for (auto& r : right) lines.push_back(Pad(r, cols));
+  }
+
+  // Traffic.
+  lines.push_back(Rule(cols, "messages", o.unicode));
+  const std::string status_line = WatchStatusLine(s, now, o);
+  const size_t bar = status_line.find(" | ");
+  if (bar != std::string::npos && status_line.size() > static_cast<size_t>(cols)) {
+    lines.push_back(Pad(status_line.substr(0, bar), cols));
+    lines.push_back(Pad(" " + status_line.substr(bar + 3), cols));
+  } else {
+    lines.push_back(Pad(status_line, cols));
+  }
+  if (o.show_keys) lines.push_back(Pad("q: quit", cols));
+  if (o.rows > 0 && static_cast<int>(lines.size()) > o.rows) {
+    // Too short a terminal: keep the title, drop chart rows first.
+    lines.resize(o.rows);
+  }
+  return lines;
+}
+
+}  // namespace bouncefit::cli
