@@ -140,6 +140,39 @@ TEST(Tracker, PickedPixelSetsTheColour) {
   EXPECT_NE(s.describe.find("picked pixel"), std::string::npos);
 }
 
+// Light dims to 55% and turns bluish over one second (the ball's own chroma/luma shifts):
+// the tracker keeps the ball on every frame, its threshold follows slowly and stays bounded.
+TEST(Tracker, FollowsSlowLightingChange) {
+  const SynthClipResult clip = Render("tracker_light", "airball", 1.2);
+  const int n = clip.truth.frame_count;
+  auto dim = [n](int i, cv::Mat* img) {
+    const double a = static_cast<double>(i) / n;
+    const cv::Scalar gain(1.0 - 0.25 * a, 1.0 - 0.45 * a, 1.0 - 0.6 * a);  // B, G, R
+    cv::multiply(*img, gain, *img);
+  };
+  TrackerConfig config = ConfigForColor(clip.truth.ball_color_bgr, "airball");
+  const TrackScore s = TrackClip(clip.clip_path, config, &clip.truth, false, 1 << 30, dim);
+  Print("dimming", s);
+  EXPECT_EQ(s.lost, 0);
+  EXPECT_EQ(s.wrong, 0);
+  EXPECT_LE(s.rms, 0.3);
+  // The threshold moved towards the ball's new colour (its chroma/luma on the last frames)...
+  const ColorModel start = ColorModel::FromBgr(clip.truth.ball_color_bgr[0],
+                                               clip.truth.ball_color_bgr[1],
+                                               clip.truth.ball_color_bgr[2], {});
+  const ColorModel end = ColorModel::FromBgr(clip.truth.ball_color_bgr[0] * 0.75,
+                                             clip.truth.ball_color_bgr[1] * 0.55,
+                                             clip.truth.ball_color_bgr[2] * 0.4, {});
+  const double before = std::hypot(end.nu() - start.nu(), end.nv() - start.nv());
+  const double after = std::hypot(end.nu() - s.color_nu, end.nv() - s.color_nv);
+  std::printf("colour distance to the dimmed ball: %.3f at start, %.3f at the end\n", before,
+              after);
+  EXPECT_LT(after, 0.8 * before);
+  // ... but no further than the bound (30% of the colour) from where it started.
+  EXPECT_LE(std::hypot(s.color_nu - start.nu(), s.color_nv - start.nv()),
+            0.3 * std::hypot(start.nu(), start.nv()) + 1e-6);
+}
+
 TEST(Tracker, BadInputIsAOneLineError) {
   TrackerConfig bad;
   bad.blur_sigma_px = -1;

@@ -26,6 +26,8 @@ struct TrackScore {
   double rms = 0, p99 = 0, max = 0;  // centre error on in-view frames it found, px
   double mean_dx = 0, mean_dy = 0;   // bias, px
   std::string describe;
+  double color_nu = 0, color_nv = 0;  // the colour the tracker ended with (chroma/luma)
+  double anchor_drift = 0;            // how far it moved from the initial colour
   std::vector<BallObservation> obs;
 };
 
@@ -55,9 +57,11 @@ inline cv::Mat BgrToYuyv(const cv::Mat& bgr) {
 }
 
 // Decodes `clip` and tracks every frame; scores against `truth` when given.
+// `transform`, when set, edits each decoded BGR frame first (lighting changes).
 inline TrackScore TrackClip(const std::filesystem::path& clip, const TrackerConfig& config,
                             const SynthTruth* truth, bool as_yuyv = false,
-                            int max_frames = 1 << 30) {
+                            int max_frames = 1 << 30,
+                            const std::function<void(int, cv::Mat*)>& transform = {}) {
   cv::VideoCapture cap(clip.string(), cv::CAP_FFMPEG);
   if (!cap.isOpened()) throw std::runtime_error("cannot open " + clip.string());
   Tracker tracker(config);
@@ -66,6 +70,7 @@ inline TrackScore TrackClip(const std::filesystem::path& clip, const TrackerConf
   cv::Mat img;
   const double fps = truth ? truth->fps : cap.get(cv::CAP_PROP_FPS);
   for (int i = 0; i < max_frames && cap.read(img); ++i) {
+    if (transform) transform(i, &img);
     Frame f;
     f.image = as_yuyv ? BgrToYuyv(img) : img;
     f.format = as_yuyv ? PixelFormat::kYuyv : PixelFormat::kBgr24;
@@ -90,6 +95,8 @@ inline TrackScore TrackClip(const std::filesystem::path& clip, const TrackerConf
     s.mean_dy += o.cy - t.cy;
   }
   s.describe = tracker.Describe();
+  s.color_nu = tracker.color().nu();
+  s.color_nv = tracker.color().nv();
   if (!err.empty()) {
     double ss = 0;
     for (double e : err) ss += e * e;

@@ -113,7 +113,7 @@ BallCentre FindBallCentre(const YccPlanes& planes, const ColorModel& color, doub
   out.r = fit.r;
   out.rms = fit.rms;
   out.inlier_fraction = fit.inlier_fraction;
-  out.ok = fit.inlier_fraction >= 0.5 && fit.rms <= params.max_rms_px;
+  out.ok = fit.inlier_fraction >= 0.5 && fit.rms <= std::max(params.max_rms_px, 0.04 * fit.r);
   return out;
 }
 

@@ -73,9 +73,15 @@ BallObservation Tracker::Track(const Frame& frame) {
                                   "x" + std::to_string(size_.height) + " frame");
   }
   ++frames_;
-  if (!color_.valid() && !ChooseColor(frame)) {
-    ++lost_;
-    return obs;
+  if (!color_.valid()) {
+    if (!ChooseColor(frame)) {
+      ++lost_;
+      return obs;
+    }
+    if (!config_.has_color && !config_.has_pick) auto_review_left_ = config_.auto_review_frames;
+  } else if (auto_review_left_ > 0) {
+    --auto_review_left_;
+    AutoChoose(frame);
   }
   const double t = static_cast<double>(frame.utime) * 1e-6;
   bool ok = false;
@@ -175,29 +181,43 @@ bool Tracker::AutoChoose(const Frame& frame) {
   int best = -1;
   double best_score = 0;
   std::vector<int> moving(n, 0);
+  std::vector<double> sat_sum(n, 0.0);
   for (int j = 0; j < h; ++j) {
     const int* pl = labels.ptr<int>(j);
     const float* py = wide_.y.ptr<float>(j);
+    const float* pu = wide_.u.ptr<float>(j);
+    const float* pv = wide_.v.ptr<float>(j);
     const float* po = old.ptr<float>(j);
-    for (int i = 0; i < w; ++i)
-      if (pl[i] > 0 && std::abs(py[i] - po[i]) >= config_.auto_motion_luma) ++moving[pl[i]];
+    for (int i = 0; i < w; ++i) {
+      if (pl[i] <= 0) continue;
+      if (std::abs(py[i] - po[i]) >= config_.auto_motion_luma) ++moving[pl[i]];
+      sat_sum[pl[i]] += std::hypot(pu[i], pv[i]) / std::max(py[i], floor);
+    }
   }
   for (int k = 1; k < n; ++k) {
     const int bw = stats.at<int>(k, cv::CC_STAT_WIDTH) * 2, bh = stats.at<int>(k, cv::CC_STAT_HEIGHT) * 2;
     const int area = stats.at<int>(k, cv::CC_STAT_AREA);
-    if (std::min(bw, bh) < sp.min_box_px || std::max(bw, bh) > sp.max_box_px) continue;
-    if (std::max(bw, bh) > sp.max_aspect * std::min(bw, bh)) continue;
+    // Twice the smallest box: a few noisy pixels that flicker are no ball to choose.
+    if (std::min(bw, bh) < 2 * sp.min_box_px || std::max(bw, bh) > sp.max_box_px) continue;
+    const int bx = stats.at<int>(k, cv::CC_STAT_LEFT), by = stats.at<int>(k, cv::CC_STAT_TOP);
+    if (bx == 0 || by == 0 || bx + bw / 2 >= w || by + bh / 2 >= h) continue;
+    // A ball seen whole: round (box nearly square, a disc fills ~0.785 of it). Hands, arms
+    // and patches of floor light that move are not.
+    const double aspect = static_cast<double>(std::max(bw, bh)) / std::min(bw, bh);
     const double fill = 4.0 * area / (static_cast<double>(bw) * bh);
-    if (fill < sp.min_fill || fill > sp.max_fill) continue;
+    if (aspect > sp.max_aspect || fill < 0.6 || fill > 0.92) continue;
     const double moved = static_cast<double>(moving[k]) / area;
     if (moved < 0.3) continue;
-    const double score = area * moved;
+    const double roundness = std::max(0.05, 1 - 2 * std::abs(fill - 0.785) - 0.3 * (aspect - 1));
+    const double score = moved * (sat_sum[k] / area) * roundness * std::sqrt(static_cast<double>(area));
     if (score > best_score) best_score = score, best = k;
   }
-  if (best < 0) {
-    how_ = "automatic: waiting for a saturated blob that moves";
+  const bool reviewing = color_.valid();
+  if (best < 0 || (reviewing && best_score <= 2 * auto_score_)) {
+    if (!reviewing) how_ = "automatic: waiting for a saturated blob that moves";
     return false;
   }
+  auto_score_ = best_score;
   std::vector<float> nu, nv;
   for (int j = 0; j < h; ++j) {
     const int* pl = labels.ptr<int>(j);
@@ -212,7 +232,17 @@ bool Tracker::AutoChoose(const Frame& frame) {
   const double bx = wide_.rect.x + (centroids.at<double>(best, 0) + 0.5) * 2 - 0.5;
   const double by = wide_.rect.y + (centroids.at<double>(best, 1) + 0.5) * 2 - 0.5;
   how_ = "automatic: the saturated blob that moved, at " + Fmt("%.0f,%.0f", bx, by);
-  auto_luma_.clear();
+  if (reviewing) {
+    // A clearly better ball showed up shortly after the first choice (the first was a hand
+    // releasing a ball still cut by the border, say): start over with its colour.
+    anchor_ = color_;
+    how_ += " (second choice): " + color_.ToString();
+    predictor_.Reset();
+    radius_ = 0;
+    lost_ = 1 << 20;
+    distractors_.clear();
+    last_candidates_.clear();
+  }
   return true;
 }
 
@@ -309,6 +339,14 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs)
     // Ball cut by the frame or ROI border: the blob is all there is.
     bc.cx = cx, bc.cy = cy, bc.r = r0;
     score = 0.2f;
+  } else if (radius_ > 0 && std::min(blob.box.width, blob.box.height) > 1.4 * radius_ &&
+             std::min(blob.box.width, blob.box.height) < 2.6 * radius_) {
+    // Not round but ball-sized across: a ball smeared by motion blur (slow shutters). The
+    // box centre is the centre of the smear, i.e. of the ball at mid-exposure.
+    bc.cx = blob.box.x + 0.5 * (blob.box.width - 1);
+    bc.cy = blob.box.y + 0.5 * (blob.box.height - 1);
+    bc.r = radius_;
+    score = 0.3f;
   } else {
     return false;
   }

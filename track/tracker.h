@@ -51,6 +51,9 @@ struct TrackerConfig {
   double auto_min_saturation = 0.22;
   double auto_motion_luma = 12;
   int auto_motion_frames = 3;
+  // After the first choice, keep looking this many frames for a blob scoring twice as well
+  // (moving, saturated, round, whole) and switch to it.
+  int auto_review_frames = 20;
 
   // False with a one-line reason if a value is out of range.
   bool IsValid(std::string* error) const;
@@ -101,6 +104,8 @@ class Tracker {
   std::vector<Remembered> distractors_;
   std::vector<Blob> last_candidates_;
   std::deque<cv::Mat> auto_luma_;
+  double auto_score_ = 0;
+  int auto_review_left_ = 0;
   YccPlanes planes_, wide_;
   cv::Mat mask_;
 };
