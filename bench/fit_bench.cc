@@ -1,9 +1,9 @@
-// bench_fit: the two searches side by side on the same inputs, and the per-bounce latency
+// fit_bench: the two searches side by side on the same inputs, and the per-bounce latency
 // of the live fit.
 //
-//   bench_fit [--model bullet-softbody|point-mass] [--balls pingpong,wiffle,softball,airball]
+//   fit_bench [--model bullet-softbody|point-mass] [--balls pingpong,wiffle,softball,airball]
 //             [--drop 1.0] [--bounces 6] [--budget 300] [--threads 0]
-//   bench_fit --realtime [--ball pingpong] [--drop 1.0] [--detector-delay 0.05]
+//   fit_bench --realtime [--ball pingpong] [--drop 1.0] [--detector-delay 0.05]
 //
 // Searches: recorded heights come from fit/point_mass_drop with the ball's preset (synth's
 // physics); both searches start from the same point (the model's defaults, or the preset
@@ -66,7 +66,7 @@ Args Parse(int argc, char** argv) {
     const std::string k = argv[i];
     auto next = [&]() -> std::string {
       if (i + 1 >= argc) {
-        std::fprintf(stderr, "bench_fit: %s needs a value\n", k.c_str());
+        std::fprintf(stderr, "fit_bench: %s needs a value\n", k.c_str());
         std::exit(2);
       }
       return argv[++i];
@@ -81,7 +81,7 @@ Args Parse(int argc, char** argv) {
     else if (k == "--detector-delay") a.detector_delay = std::stod(next());
     else if (k == "--per-bounce") a.per_bounce = std::stoi(next());
     else {
-      std::fprintf(stderr, "bench_fit: unknown argument %s\n", k.c_str());
+      std::fprintf(stderr, "fit_bench: unknown argument %s\n", k.c_str());
       std::exit(2);
     }
   }
@@ -97,7 +97,7 @@ PointMassDropResult Truth(const BallPreset& ball, double drop) {
 }
 
 int Searches(const Args& a) {
-  std::printf("bench_fit: searches on %s, drop %.2f m, up to %d bounces >= 1 cm, budget %d "
+  std::printf("fit_bench: searches on %s, drop %.2f m, up to %d bounces >= 1 cm, budget %d "
               "simulations each\n\n",
               a.model.c_str(), a.drop, a.bounces, a.budget);
   std::printf("%-9s | %-6s %6s %10s %8s | %-6s %6s %10s %8s %8s | %s\n", "ball", "paper",
@@ -149,6 +149,14 @@ int Searches(const Args& a) {
     std::printf("%-9s | %-6s %6d %10.3f %8.1f | %-6s %6d %10.3f %8.1f %8d | %s\n", name.c_str(),
                 "", paper.evaluations, paper.rms_m * 1000, paper.wall_time_s, "",
                 fast.evaluations, fast.rms_m * 1000, fast.wall_time_s, reach, ratio);
+    for (const auto* res : {&paper, &fast}) {
+      std::printf("          %-6s:", res == &paper ? "paper" : "nlopt");
+      for (const auto& spec : p.free) std::printf(" %s=%.4g", spec.name.c_str(), res->values.at(spec.name));
+      std::printf("\n          heights:");
+      for (size_t i = 0; i < r.size(); ++i)
+        std::printf(" %.3f/%.3f", r[i], i < res->simulated_m.size() ? res->simulated_m[i] : 0.0);
+      std::printf("\n");
+    }
     std::fflush(stdout);
     if (reach < 0 || 3 * reach > paper.evaluations) ++failures;
   }
@@ -193,7 +201,7 @@ int Realtime(const Args& a) {
   }
   std::this_thread::sleep_for(std::chrono::seconds(2));
   worker.Stop();
-  std::printf("bench_fit --realtime: %s model, %s from %.2f m, peaks emitted %.0f ms after their "
+  std::printf("fit_bench --realtime: %s model, %s from %.2f m, peaks emitted %.0f ms after their "
               "apex, %d simulations per update at most\n\n",
               a.model.c_str(), ball.name.c_str(), a.drop, a.detector_delay * 1000, a.per_bounce);
   std::printf("%6s %10s %12s %12s %14s %6s  %s\n", "bounce", "apex s", "update s",
@@ -234,7 +242,7 @@ int main(int argc, char** argv) {
   try {
     return a.realtime ? Realtime(a) : Searches(a);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_fit: error: %s\n", e.what());
+    std::fprintf(stderr, "fit_bench: error: %s\n", e.what());
     return 1;
   }
 }

@@ -1,6 +1,11 @@
 #include "fit/fit_models.h"
 
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
+
+#include <nlohmann/json.hpp>
 
 #include "fit/point_mass_model.h"
 #include "fit/soft_ball_model.h"
@@ -15,13 +20,54 @@ std::unique_ptr<BallModel> MakeFitModel(const std::string& name, const BallPrese
   throw std::invalid_argument("unknown model '" + name + "' (known: " + FitModelNames() + ")");
 }
 
+std::filesystem::path SoftBallPresetFile(const std::string& ball) {
+  const std::string file = "soft_ball_" + ball + ".json";
+  if (const char* dir = std::getenv("BOUNCEFIT_PRESETS_DIR")) {
+    const auto p = std::filesystem::path(dir) / file;
+    if (std::filesystem::exists(p)) return p;
+  }
+  // The tables live next to this source file (fit/presets/).
+  const auto p = std::filesystem::path(__FILE__).parent_path() / "presets" / file;
+  return std::filesystem::exists(p) ? p : std::filesystem::path();
+}
+
+CoefficientValues LoadCoefficientTable(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read " + path.string());
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path.string() + ": not JSON (" + e.what() + ")");
+  }
+  // {"coefficients": {"name": value | {"value": v}, ...}, ...} or a flat {"name": value}.
+  const nlohmann::json& table = j.contains("coefficients") ? j["coefficients"] : j;
+  CoefficientValues v;
+  if (!table.is_object()) return v;
+  for (auto it = table.begin(); it != table.end(); ++it) {
+    if (it.value().is_number()) v[it.key()] = it.value().get<double>();
+    else if (it.value().is_object() && it.value().contains("value") && it.value()["value"].is_number())
+      v[it.key()] = it.value()["value"].get<double>();
+  }
+  return v;
+}
+
 void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
                               FitSessionConfig* config) {
-  (void)ball;
-  if (const auto* soft = dynamic_cast<const SoftBallModel*>(&model)) {
-    config->time_step_s = soft->config().time_step_s;
-    config->iterations = soft->config().position_iterations;
-  }
+  const auto* soft = dynamic_cast<const SoftBallModel*>(&model);
+  if (!soft) return;
+  config->time_step_s = soft->config().time_step_s;
+  config->iterations = soft->config().position_iterations;
+  // Measured with bench/fit_bench.cc's screening: what moves the heights most, in order.
+  if (config->live_priority.empty())
+    config->live_priority = {"rebound_boost", "linear_stiffness", "contact_hardness", "drag",
+                             "volume_conservation", "pressure"};
+  // Warm start: the model's coefficient table for this ball, when there is one (values the
+  // model does not know are ignored by the session).
+  const auto file = SoftBallPresetFile(ball.name);
+  if (!file.empty())
+    for (const auto& [name, v] : LoadCoefficientTable(file))
+      if (!config->start.count(name)) config->start[name] = v;
 }
 
 }  // namespace bouncefit

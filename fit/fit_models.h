@@ -1,5 +1,6 @@
 #pragma once
 // The models a fit can use, by name, for the CLI and the node.
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -16,6 +17,11 @@ std::string FitModelNames();  // "bullet-softbody, point-mass"
 // Fills what a session needs to know about the model: the time step and iterations the
 // coefficients hold for, and the warm start (the soft-body model's preset table for this
 // ball, when it has one).
+// fit/presets/soft_ball_<ball>.json (or $BOUNCEFIT_PRESETS_DIR/...); empty if none.
+std::filesystem::path SoftBallPresetFile(const std::string& ball);
+// A coefficient table: {"coefficients": {name: value | {"value": v}}} or {name: value}.
+CoefficientValues LoadCoefficientTable(const std::filesystem::path& path);
+
 void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
                               FitSessionConfig* config);
 

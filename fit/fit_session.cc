@@ -59,7 +59,12 @@ FitSession::FitSession(const BallModel& model, const BallModel* quick_model,
   }
   if (quick_model_)
     for (const auto& s : quick_model_->Coefficients()) quick_current_[s.name] = s.default_value;
-  for (const auto& s : FreeSpecs()) live_order_.push_back(s.name);
+  const auto free = FreeSpecs();
+  for (const auto& name : config_.live_priority)
+    for (const auto& s : free)
+      if (s.name == name && !Contains(live_order_, name)) live_order_.push_back(name);
+  for (const auto& s : free)
+    if (!Contains(live_order_, s.name)) live_order_.push_back(s.name);
 }
 
 void FitSession::Reset(int sequence) {

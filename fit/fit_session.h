@@ -59,6 +59,9 @@ struct FitSessionConfig {
   int max_evaluations_final = 160;      // final fit budget, plus the Jacobian
   int max_evaluations_quick = 120;      // point-mass estimate budget
   int live_coefficients = 3;        // per-bounce: at most this many (and <= bounces)
+  // Per-bounce updates search these first (the model's most influential coefficients);
+  // empty: the paper's priority order. A final fit reorders by measured sensitivity.
+  std::vector<std::string> live_priority;
   int threads = 0;                  // parallel simulations; 0 = all cores
   double min_bounce_height_m = 0.01;  // bounces lower than this are not fitted
   double default_sigma_m = 0.002;   // height uncertainty when a peak gives none

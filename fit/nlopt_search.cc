@@ -36,6 +36,29 @@ void Continuous(FitObjective& f, const std::vector<size_t>& active, std::vector<
                 const NloptSearchOptions& o) {
   if (active.empty() || f.stopped()) return;
   const unsigned n = static_cast<unsigned>(active.size());
+  // BOBYQA's start rule (a start within one step of a bound moves onto it or one step
+  // inside), then its 2n+1 initial interpolation points evaluated at once, in parallel: the
+  // serial optimiser finds them cached.
+  const double h = o.initial_step;
+  for (size_t j : active) {
+    double& u = (*x)[j];
+    if (u <= 0) u = 0;
+    else if (u <= h) u = h;
+    else if (u >= 1) u = 1;
+    else if (1 - u <= h) u = 1 - h;
+  }
+  if (n >= 2) {
+    std::vector<std::vector<double>> design{*x};
+    for (size_t j : active) {
+      const bool at_low = (*x)[j] <= 0, at_high = (*x)[j] >= 1;
+      auto xa = *x, xb = *x;
+      xa[j] += at_high ? -h : h;
+      xb[j] += at_low ? 2 * h : (at_high ? -2 * h : -h);
+      design.push_back(xa);
+      design.push_back(xb);
+    }
+    f.EvaluateBatch(design);
+  }
   nlopt::opt opt(n >= 2 ? nlopt::LN_BOBYQA : nlopt::LN_COBYLA, n);
   Subproblem sub{&f, *x, active, &opt};
   opt.set_lower_bounds(std::vector<double>(n, 0.0));
@@ -78,31 +101,22 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
     else if (1 - x0[j] <= h) x0[j] = 1 - h;
   }
 
-  // 1. Screening: x0 and two points along every coordinate, all at once.
+  // 1. Screening, all at once: x0 and one step along every coordinate (the first half of
+  //    BOBYQA's initial design; the other half is evaluated only for the coefficients that
+  //    turn out to matter).
   std::vector<std::vector<double>> design{x0};
-  std::vector<std::pair<int, int>> pair(n, {-1, -1});
+  std::vector<int> index(n, -1);
   std::vector<double> du(n, 0.0);
   for (size_t j = 0; j < n; ++j) {
     const auto& s = problem.free[j];
-    const double range = s.upper - s.lower;
-    if (!(range > 0)) continue;
-    double a, b;
-    if (f.Level(j) > 0) {
-      const double level = f.Level(j);
-      a = x0[j] + level <= 1 + 1e-12 ? level : -level;
-      b = x0[j] - level >= -1e-12 ? -level : (a > 0 ? 2 * level : -2 * level);
-    } else {
-      const bool at_low = x0[j] <= 0, at_high = x0[j] >= 1;
-      a = at_high ? -h : h;
-      b = at_low ? 2 * h : (at_high ? -2 * h : -h);
-    }
-    auto xa = x0, xb = x0;
+    if (!(s.upper - s.lower > 0)) continue;
+    const double step = f.Level(j) > 0 ? f.Level(j) : h;
+    const double a = x0[j] + step <= 1 + 1e-12 ? step : -step;
+    auto xa = x0;
     xa[j] += a;
-    xb[j] += b;
-    pair[j] = {static_cast<int>(design.size()), static_cast<int>(design.size() + 1)};
+    index[j] = static_cast<int>(design.size());
     design.push_back(xa);
-    design.push_back(xb);
-    du[j] = a - b;
+    du[j] = a;
   }
   const auto screened = f.EvaluateBatch(design);
 
@@ -110,24 +124,24 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
   const size_t k = problem.recorded_m.size();
   std::vector<std::vector<double>> jac(k, std::vector<double>(n, 0.0));
   std::vector<double> effect(n, 0.0);
+  const auto& e0 = screened[0];
   for (size_t j = 0; j < n; ++j) {
-    if (pair[j].first < 0) continue;
-    const auto& ea = screened[pair[j].first];
-    const auto& eb = screened[pair[j].second];
-    if (!ea.ok || !eb.ok) {
+    if (index[j] < 0) continue;
+    const auto& ea = screened[index[j]];
+    if (!ea.ok || !e0.ok) {
       effect[j] = HUGE_VAL;  // a failure is an effect: keep it in the search
       for (size_t i = 0; i < k; ++i) jac[i][j] = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
     for (size_t i = 0; i < k; ++i) {
-      jac[i][j] = (ea.simulated_m[i] - eb.simulated_m[i]) / du[j];
-      effect[j] = std::max(effect[j], std::abs(ea.simulated_m[i] - eb.simulated_m[i]));
+      jac[i][j] = (ea.simulated_m[i] - e0.simulated_m[i]) / du[j];
+      effect[j] = std::max(effect[j], std::abs(ea.simulated_m[i] - e0.simulated_m[i]));
     }
   }
   std::vector<size_t> active;
   std::vector<std::string> inactive;
   for (size_t j = 0; j < n; ++j) {
-    if (pair[j].first < 0) continue;
+    if (index[j] < 0) continue;
     if (effect[j] < o.min_effect_m) {
       inactive.push_back(problem.free[j].name);
       continue;
@@ -140,17 +154,23 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
     active.resize(o.max_active);
   std::sort(active.begin(), active.end());
 
-  // 2. Continuous search from x0 (its initial points are cached already).
+  // 2. Continuous search from x0 (half its initial points are cached already).
   std::vector<double> x = x0;
-  // Discrete coordinates: adopt the best screened level before the continuous search.
-  {
-    int best_i = 0;
-    for (size_t i = 1; i < screened.size(); ++i)
-      if (screened[i].objective < screened[best_i].objective) best_i = static_cast<int>(i);
-    for (size_t j = 0; j < n; ++j)
-      if (f.Level(j) > 0) x[j] = design[best_i][j];
-  }
   Continuous(f, active, &x, o);
+  // BOBYQA shrinks its trust region as it converges; on a noisy objective (heights measured
+  // on camera-rate samples) it can stall early. Restart from the best point while that pays.
+  // A restart that gains nothing gets one more try with a wider initial step (out of a
+  // local dip of the noise); two in a row end the search.
+  NloptSearchOptions wide = o;
+  wide.initial_step = std::min(0.25, 3 * o.initial_step);
+  bool widened = false;
+  for (int restart = 0; restart < o.max_restarts && !f.stopped(); ++restart) {
+    const double before = f.best().objective;
+    Continuous(f, active, &x, widened ? wide : o);
+    const bool gained = f.best().objective < before * (1 - o.restart_min_gain);
+    if (!gained && widened) break;
+    widened = !gained;
+  }
 
   // 3. Neighbouring levels of the discrete coefficients, in parallel, at the optimum.
   if (o.search_discrete && !f.stopped()) {

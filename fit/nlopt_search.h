@@ -7,7 +7,8 @@
 //    These are exactly BOBYQA's 2n+1 initial interpolation points, so they are paid once,
 //    concurrently; they also give the heights Jacobian (uncertainty, identifiability) and
 //    name the coefficients with no effect, which are left out of the search.
-// 2. BOBYQA (COBYLA for a single coefficient) from the best screening point, serially.
+// 2. BOBYQA (COBYLA for a single coefficient), serially, restarted from the best point
+//    while restarts gain (each restart's initial points evaluated in parallel).
 // 3. Discrete coefficients: neighbouring levels tried in parallel at the optimum; a better
 //    level gets one more, shorter continuous round.
 #include <string>
@@ -23,6 +24,8 @@ struct NloptSearchOptions {
   double min_effect_m = 1e-6;   // +-step changing no height by more than this: no effect
   int max_active = 0;           // search only the n most sensitive coefficients; 0 = all
   bool search_discrete = true;  // try neighbouring levels of discrete coefficients
+  int max_restarts = 6;         // BOBYQA restarts from the best point while they gain
+  double restart_min_gain = 0.02;  // a restart must lower the objective by this fraction
 };
 
 SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& start,

@@ -1,0 +1,110 @@
+// The fit with the Bullet soft-body model (real Bullet runs): the final fit matches the
+// heights of each of the four ball presets to 1% of the drop height, and live updates of a
+// ping-pong drop replayed on the wall clock come out before the next apex.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "fit/ball_preset.h"
+#include "fit/fit_models.h"
+#include "fit/fit_session.h"
+#include "fit/fit_worker.h"
+#include "fit/point_mass_drop.h"
+#include "fit/point_mass_model.h"
+
+namespace bouncefit {
+namespace {
+
+PointMassDropResult Truth(const BallPreset& ball, double drop) {
+  PointMassDropConfig c;
+  c.ball = ball;
+  c.drop_height_m = drop;
+  c.end_time_s = 20;
+  return SimulatePointMassDrop(c);
+}
+
+class FinalFit : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(FinalFit, RmsWithinOnePercentOfTheDropOverAllBouncesAboveOneCentimetre) {
+  const BallPreset ball = ResolveBallPreset(GetParam());
+  const double drop = 1.0;
+  const auto truth = Truth(ball, drop);
+  auto model = MakeFitModel("bullet-softbody", ball);
+  PointMassModel quick(ball);
+  FitSessionConfig cfg;
+  cfg.max_evaluations_final = 200;
+  ConfigureSessionForModel(*model, ball, &cfg);
+  FitSession session(*model, &quick, cfg);
+  session.AddPeak({0, 0, drop, 0.001, 0});
+  for (size_t i = 1; i < truth.apex_heights_m.size(); ++i)
+    session.AddPeak({0, static_cast<int>(i), truth.apex_heights_m[i], 0.001, 0});
+  const auto r = session.FittedHeights();
+  ASSERT_GE(r.size(), 2u);
+  for (double h : r) EXPECT_GE(h, 0.01);
+  const FitUpdate u = session.FinalUpdate();
+  EXPECT_TRUE(u.final);
+  EXPECT_EQ(u.model, "bullet-softbody");
+  EXPECT_EQ(u.recorded_m.size(), r.size());
+  EXPECT_GT(u.time_step_s, 0);
+  EXPECT_GT(u.iterations, 0);
+  std::printf("%s: %zu bounces, RMS %.2f mm (%.2f%% of the drop), %d simulations, %.1f s\n",
+              ball.name.c_str(), r.size(), u.residual_m * 1000, 100 * u.residual_m / drop,
+              u.evaluations, u.wall_time_s);
+  EXPECT_LE(u.residual_m, 0.01 * drop);
+  // Bullet 3.24 ignores these (NOTES.md): the fit finds out and says so.
+  for (const char* name : {"angular_stiffness", "volume_stiffness"}) {
+    bool found = false;
+    for (const auto& n : u.no_effect) found = found || n == name;
+    EXPECT_TRUE(found) << name << " not reported as having no effect";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Presets, FinalFit,
+                         ::testing::Values("pingpong", "wiffle", "softball", "airball"));
+
+// A 1 m ping-pong drop, peaks emitted 50 ms after their apex (the detector's latency) on
+// the wall clock: each of the first five bounces' update is out before the next apex.
+TEST(LiveFit, FirstFiveUpdatesBeforeTheNextApex) {
+  const BallPreset ball = ResolveBallPreset("pingpong");
+  const auto truth = Truth(ball, 1.0);
+  auto model = MakeFitModel("bullet-softbody", ball);
+  PointMassModel quick(ball);
+  FitSessionConfig cfg;
+  ConfigureSessionForModel(*model, ball, &cfg);
+  using Clock = std::chrono::steady_clock;
+  std::mutex m;
+  std::map<int, double> at;
+  Clock::time_point t0;
+  FitWorker worker(std::make_unique<FitSession>(*model, &quick, cfg), [&](const FitUpdate& u) {
+    if (u.model != "bullet-softbody" || u.final) return;
+    std::lock_guard<std::mutex> lock(m);
+    at[u.after_bounce] = std::chrono::duration<double>(Clock::now() - t0).count();
+  });
+  worker.Start();
+  const double release = truth.release_time_s;
+  t0 = Clock::now();
+  for (int b = 0; b <= 6; ++b) {
+    const double emit = b == 0 ? 0.0 : truth.apex_times_s[b] - release + 0.05;
+    std::this_thread::sleep_until(t0 + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(emit)));
+    worker.Submit({0, b, truth.apex_heights_m[b], 0.001, 0});
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  worker.Stop();
+  std::lock_guard<std::mutex> lock(m);
+  for (int b = 1; b <= 5; ++b) {
+    ASSERT_TRUE(at.count(b)) << "bounce " << b << " update superseded";
+    const double apex = truth.apex_times_s[b] - release;
+    const double next = truth.apex_times_s[b + 1] - release;
+    std::printf("bounce %d: apex %.3f s, update %.3f s (apex->update %.3f s), next apex %.3f s\n",
+                b, apex, at[b], at[b] - apex, next);
+    EXPECT_LT(at[b], next) << "bounce " << b;
+  }
+}
+
+}  // namespace
+}  // namespace bouncefit
