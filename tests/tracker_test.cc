@@ -173,6 +173,44 @@ TEST(Tracker, FollowsSlowLightingChange) {
             0.3 * std::hypot(start.nu(), start.nv()) + 1e-6);
 }
 
+// An ROI over the lower part of the scene: the ball is reported only inside it, accurately
+// when wholly inside, and never while it is above it.
+TEST(Tracker, RegionOfInterest) {
+  const SynthClipResult clip = Render("tracker_roi", "wiffle", 1.6);
+  TrackerConfig config = ConfigForColor(clip.truth.ball_color_bgr, "wiffle");
+  config.roi_x = 100;
+  config.roi_y = 200;
+  config.roi_w = 440;
+  config.roi_h = 280;
+  const TrackScore s = TrackClip(clip.clip_path, config, &clip.truth);
+  const double r = clip.truth.radius_px;
+  int inside = 0, inside_found = 0, above = 0, above_found = 0;
+  double ss = 0;
+  for (size_t i = 0; i < s.obs.size(); ++i) {
+    const SynthTruthFrame& t = clip.truth.frames[i];
+    const BallObservation& o = s.obs[i];
+    if (t.cy - r > config.roi_y + 1) {
+      ++inside;
+      if (o.found) {
+        ++inside_found;
+        ss += std::pow(std::hypot(o.cx - t.cx, o.cy - t.cy), 2);
+      }
+    } else if (t.cy + r < config.roi_y - 1) {
+      ++above;
+      above_found += o.found;
+    }
+    if (o.found) EXPECT_GE(o.cy, config.roi_y - r) << "frame " << i;
+  }
+  const double rms = inside_found ? std::sqrt(ss / inside_found) : 0;
+  std::printf("ROI: wholly inside %d frames (found %d, rms %.3f px), above it %d (found %d)\n",
+              inside, inside_found, rms, above, above_found);
+  ASSERT_GT(inside, 50);
+  ASSERT_GT(above, 10);
+  EXPECT_EQ(inside_found, inside);
+  EXPECT_EQ(above_found, 0);
+  EXPECT_LE(rms, 0.3);
+}
+
 TEST(Tracker, BadInputIsAOneLineError) {
   TrackerConfig bad;
   bad.blur_sigma_px = -1;
