@@ -32,7 +32,8 @@ void FrameRecorder::Write(const Frame& frame) {
   }
   if (!writer_.isOpened()) {
     size_ = bgr->size();
-    if (!writer_.open(path_, cv::CAP_FFMPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps_,
+    // OpenCV's own MJPEG AVI writer: always built in, honours the quality.
+    if (!writer_.open(path_, cv::CAP_OPENCV_MJPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps_,
                       size_, {cv::VIDEOWRITER_PROP_QUALITY, quality_}))
       throw std::runtime_error("cannot record to '" + path_ + "'");
   }

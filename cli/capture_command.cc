@@ -211,7 +211,7 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_option("--record", o->record, "camera: save the frames to this .avi (and its .times.csv)");
   cmd->add_option("--log", o->log, "record every published message to this LCM log (.lcm)");
   cmd->add_option("--lcm-url", o->lcm_url, "LCM URL")->capture_default_str();
-  cmd->add_option("--box-channel", o->channels.ball_box, "channel of ball boxes")
+  cmd->add_option("--ball-box-channel", o->channels.ball_box, "channel to publish ball boxes on")
       ->capture_default_str();
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(CLI::NonNegativeNumber);
