@@ -199,7 +199,9 @@ TEST(Tracker, RegionOfInterest) {
       ++above;
       above_found += o.found;
     }
-    if (o.found) EXPECT_GE(o.cy, config.roi_y - r) << "frame " << i;
+    if (o.found) {
+      EXPECT_GE(o.cy, config.roi_y - r) << "frame " << i;
+    }
   }
   const double rms = inside_found ? std::sqrt(ss / inside_found) : 0;
   std::printf("ROI: wholly inside %d frames (found %d, rms %.3f px), above it %d (found %d)\n",
