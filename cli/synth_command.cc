@@ -72,10 +72,14 @@ void Run(SynthOptions o) {
   });
   std::string apexes;
   for (double h : r.truth.apex_heights_m) apexes += (apexes.empty() ? "" : " ") + Fixed(h, 3);
-  std::printf("synth: wrote %s and %s: %d frames %dx%d at %g fps in %s s; apex heights (m): %s\n",
-              r.clip_path.string().c_str(), r.truth_path.filename().string().c_str(),
-              r.truth.frame_count, r.truth.width, r.truth.height, r.truth.fps,
-              Fixed(r.render_wall_s, 2).c_str(), apexes.c_str());
+  std::printf(
+      "synth: wrote %s and %s: %d frames %dx%d at %g fps in %s s (cpu %s s: draw %s, noise %s, "
+      "encode %s); apex heights (m): %s\n",
+      r.clip_path.string().c_str(), r.truth_path.filename().string().c_str(),
+      r.truth.frame_count, r.truth.width, r.truth.height, r.truth.fps,
+      Fixed(r.render_wall_s, 2).c_str(), Fixed(r.render_cpu_s, 2).c_str(),
+      Fixed(r.scene_s, 2).c_str(),
+      Fixed(r.noise_s, 2).c_str(), Fixed(r.encode_s, 2).c_str(), apexes.c_str());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -53,6 +54,17 @@ void Validate(const SynthClipConfig& c) {
   if (c.ball_bgr) ValidateColor(*c.ball_bgr, "ball");
   ValidateColor(c.wall_bgr, "wall");
   ValidateColor(c.floor_bgr, "floor");
+}
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+// CPU time of the whole process (encoder threads included), s: on a shared machine the
+// phases' wall times mostly measure the neighbours.
+double CpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 // Ball state (scene px and metres) at clip time t.
@@ -128,7 +140,8 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
                                           const SynthProgress& progress) {
   Validate(c);
   if (!traj.at) throw std::invalid_argument("trajectory has no sampling function");
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
+  const double cpu_start = CpuSeconds();
 
   const double r_m = c.ball.radius_m();
   const double floor_px = c.floor_y * (c.height - 1);
@@ -222,6 +235,7 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   truth.rest_t_s = truth.comes_to_rest ? traj.rest_time_s + c.hold_s : 0;
 
   cv::Mat frame;
+  double scene_s = 0, noise_s = 0, encode_s = 0;
   std::vector<BallShape> subs;
   truth.frames.reserve(frame_count);
   for (int i = 0; i < frame_count; ++i) {
@@ -256,20 +270,32 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
       f.fully_in_view = f.fully_in_view && scene.FullyInView(b.shape);
     }
     truth.frames.push_back(f);
+    const double t0 = CpuSeconds();
     scene.Render(subs, &frame);
+    const double t1 = CpuSeconds();
     noise.Add(&frame);
+    const double t2 = CpuSeconds();
     writer.write(frame);
+    const double t3 = CpuSeconds();
+    scene_s += t1 - t0;
+    noise_s += t2 - t1;
+    encode_s += t3 - t2;
     if (progress) progress(i + 1, frame_count);
   }
+  const double t_release = CpuSeconds();
   writer.release();
+  encode_s += CpuSeconds() - t_release;
 
   SynthClipResult result;
   result.clip_path = c.out;
   result.truth_path = SynthTruthPathFor(c.out);
   WriteSynthTruth(truth, result.truth_path);
   result.truth = std::move(truth);
-  result.render_wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.scene_s = scene_s;
+  result.noise_s = noise_s;
+  result.encode_s = encode_s;
+  result.render_wall_s = Seconds(Clock::now() - start);
+  result.render_cpu_s = CpuSeconds() - cpu_start;
   return result;
 }
 

@@ -69,7 +69,10 @@ SynthTrajectory SynthTrajectoryFromSimulation(const SimulationResult& result,
 struct SynthClipResult {
   SynthTruth truth;
   std::filesystem::path clip_path, truth_path;
-  double render_wall_s = 0;  // time spent, s
+  double render_wall_s = 0;  // time spent in all, s
+  double render_cpu_s = 0;   // process CPU time spent in all, s
+  // Of which (process CPU time, s): drawing frames, adding noise, encoding the video.
+  double scene_s = 0, noise_s = 0, encode_s = 0;
 };
 
 // Called after each frame written: (frames done, frame count).

@@ -65,11 +65,14 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
 
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write truth file " + path.string());
-  // Header fields indented, then one line per frame: readable and diffable.
-  std::string text = j.dump(1);
-  text.erase(text.find_last_of('}'));
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  out << text << ",\n \"per_frame\": [";
+  // One line per top-level field, then one line per frame: readable and diffable.
+  out << "{";
+  bool first = true;
+  for (const auto& [key, value] : j.items()) {
+    out << (first ? "\n " : ",\n ") << ojson(key).dump() << ": " << value.dump();
+    first = false;
+  }
+  out << ",\n \"per_frame\": [";
   for (size_t i = 0; i < frames.size(); ++i)
     out << (i ? ",\n  " : "\n  ") << frames[i].dump();
   out << "\n ]\n}\n";

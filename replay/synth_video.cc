@@ -30,6 +30,8 @@ cv::VideoWriter OpenSynthVideo(const std::filesystem::path& path, double fps, cv
                 fps, size, {cv::VIDEOWRITER_PROP_QUALITY, quality});
     if (!writer.isOpened())
       throw std::runtime_error("OpenCV's MJPEG writer cannot open " + path.string());
+    // OpenCV 4.6's MJPEG backend ignores the quality given to open(); set() takes it.
+    writer.set(cv::VIDEOWRITER_PROP_QUALITY, quality);
     return writer;
   }
   if (size.width % 2 || size.height % 2)
