@@ -33,28 +33,34 @@ std::string ReadBinary(const fs::path& file) {
   return ss.str();
 }
 
-// The unit of a coefficient as the fit export records it, if it does.
-std::string CoefficientUnit(const ReportRunData& run, const std::string& name) {
-  if (!run.coefficients_export) return "";
+// A coefficient's entry in the fit export (coefficients.json), if there is one: either
+// {"coefficients": {name: {...}}} (fit/fit_export.h) or a list of {"name": ...}.
+const nlohmann::json* ExportEntry(const ReportRunData& run, const std::string& name) {
+  if (!run.coefficients_export || !run.coefficients_export->is_object()) return nullptr;
   const auto& j = *run.coefficients_export;
-  auto unit_of = [](const nlohmann::json& entry) -> std::string {
-    if (entry.is_object() && entry.contains("unit") && entry["unit"].is_string()) {
-      return entry["unit"].get<std::string>();
-    }
-    return "";
-  };
-  if (j.is_object() && j.contains(name)) return unit_of(j[name]);
-  for (const char* key : {"coefficients", "values"}) {
-    if (!j.is_object() || !j.contains(key)) continue;
-    const auto& c = j[key];
-    if (c.is_object() && c.contains(name)) return unit_of(c[name]);
-    if (c.is_array()) {
-      for (const auto& e : c) {
-        if (e.is_object() && e.value("name", std::string()) == name) return unit_of(e);
-      }
+  if (!j.contains("coefficients")) return nullptr;
+  const auto& c = j["coefficients"];
+  if (c.is_object() && c.contains(name) && c[name].is_object()) return &c[name];
+  if (c.is_array()) {
+    for (const auto& e : c) {
+      if (e.is_object() && e.value("name", std::string()) == name) return &e;
     }
   }
-  return "";
+  return nullptr;
+}
+
+// The unit as the export records it: "-" for dimensionless, "" when not recorded.
+std::string CoefficientUnit(const ReportRunData& run, const std::string& name) {
+  const auto* e = ExportEntry(run, name);
+  if (!e || !e->contains("unit") || !(*e)["unit"].is_string()) return "";
+  const std::string unit = (*e)["unit"].get<std::string>();
+  return unit.empty() ? "-" : unit;
+}
+
+std::string CoefficientNote(const ReportRunData& run, const std::string& name) {
+  const auto* e = ExportEntry(run, name);
+  if (!e || !e->contains("note") || !(*e)["note"].is_string()) return "";
+  return (*e)["note"].get<std::string>();
 }
 
 void Row(std::ostringstream& h, std::initializer_list<std::string> cells) {
@@ -168,7 +174,7 @@ void FitSection(std::ostringstream& h, const ReportRunData& run) {
   h << "<p>" << (fit->final ? "Final fit" : "Latest fit (not final)") << " after bounce "
     << fit->after_bounce << ": model <b>" << HtmlEscape(fit->model) << "</b>, search <b>"
     << HtmlEscape(fit->method) << "</b>.</p>\n<table>\n";
-  Header(h, {"coefficient", "value", "standard uncertainty", "unit", "identifiable"});
+  Header(h, {"coefficient", "value", "standard uncertainty", "unit", "identifiable", "note"});
   bool unknown_unit = false;
   for (const auto& c : fit->coefficients) {
     std::string unit = CoefficientUnit(run, c.name);
@@ -179,7 +185,8 @@ void FitSection(std::ostringstream& h, const ReportRunData& run) {
       unit = HtmlEscape(unit);
     }
     Row(h, {"<code>" + HtmlEscape(c.name) + "</code>", Sig(c.value, 6), Sig(c.sigma, 3), unit,
-            c.identifiable ? "yes" : "<b>no</b> (no effect on the bounces)"});
+            c.identifiable ? "yes" : "<b>no</b>",
+            "<span class=\"left\">" + HtmlEscape(CoefficientNote(run, c.name)) + "</span>"});
   }
   h << "</table>\n";
   if (unknown_unit) {
@@ -209,7 +216,8 @@ void ExportSection(std::ostringstream& h, const ReportRunData& run) {
   if (run.fit_export_cc.empty() && !run.coefficients_export) return;
   h << "<h2>Exports</h2>\n";
   if (!run.fit_export_cc.empty()) {
-    h << "<h3>fit_export.cc: the coefficients for your Bullet code</h3>\n<pre>"
+    h << "<h3>" << HtmlEscape(run.fit_export_cc_name)
+      << ": the coefficients for your Bullet code</h3>\n<pre>"
       << HtmlEscape(run.fit_export_cc) << "</pre>\n";
   }
   if (run.coefficients_export) {
@@ -280,6 +288,7 @@ std::string RenderReportHtml(const ReportRunData& run, const std::vector<ReportF
        "table.kv td:first-child{text-align:left}td code{white-space:nowrap}\n"
        "figure{margin:16px 0}figure img{max-width:100%;border:1px solid #ddd}"
        "figcaption{color:#444;font-size:.92em}\n"
+       ".left{display:block;text-align:left}"
        "pre{background:#f6f6f6;padding:8px;overflow-x:auto;font-size:.88em}"
        ".note{color:#555;font-size:.92em}\n"
     << "</style>\n</head>\n<body>\n"

@@ -139,11 +139,13 @@ inline ReportFixtureTruth WriteReportFixture(const std::filesystem::path& dir,
     }
   }
   if (opt.exports) {
+    // As fit/fit_export.h writes them.
     std::ofstream(dir / "coefficients.json")
-        << "{\"model\": \"point-mass\", \"coefficients\": [{\"name\": \"restitution\", "
-           "\"value\": 0.79, \"unit\": \"\"}, {\"name\": \"restitution_per_mps\", \"value\": "
-           "0.003, \"unit\": \"s/m\"}]}\n";
-    std::ofstream(dir / "fit_export.cc")
+        << "{\"model\": \"point-mass\", \"coefficients\": {\"restitution\": {\"value\": "
+           "0.79, \"sigma\": 0.002, \"identifiable\": true, \"unit\": \"\", \"note\": "
+           "\"e at low impact speed\"}, \"restitution_per_mps\": {\"value\": 0.003, "
+           "\"sigma\": 0.001, \"identifiable\": true, \"unit\": \"s/m\", \"note\": \"\"}}}\n";
+    std::ofstream(dir / "soft_body_config.cc")
         << "// Coefficients fitted by bouncefit for a point-mass ball.\n"
            "const double kRestitution = 0.79;  // -\n"
            "const double kRestitutionPerMps = 0.003;  // s/m\n";

@@ -170,7 +170,10 @@ TEST(Report, FullRunGivesEveryFigureEmbeddedInOneSelfContainedPage) {
   EXPECT_NE(html.find("400.00</td><td>1.20</td><td>px/m"), std::string::npos);
   EXPECT_NE(html.find("<code>restitution</code>"), std::string::npos);
   EXPECT_NE(html.find("s/m"), std::string::npos);  // unit from coefficients.json
-  EXPECT_NE(html.find("kRestitutionPerMps"), std::string::npos);  // fit_export.cc
+  EXPECT_NE(html.find("kRestitutionPerMps"), std::string::npos);  // soft_body_config.cc
+  EXPECT_NE(html.find("e at low impact speed"), std::string::npos);  // note from the export
+  EXPECT_NE(html.find("0.79</td><td>0.00167</td><td>-</td>"), std::string::npos)
+      << "dimensionless unit";
   EXPECT_NE(html.find("0.800"), std::string::npos);                // restitution column
   EXPECT_NE(html.find("<b>no</b>"), std::string::npos);            // spin_damping
   // Apex labels drawn by gnuplot come from peaks.csv.
