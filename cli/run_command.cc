@@ -1,10 +1,352 @@
+// bouncefit run: every node in one process. A clip (or the built-in sample, or a camera) is
+// replayed at its recorded pace through the tracker, the detector and the fitter; every
+// message goes out on the bus (so `watch` can attach), into the output directory, and onto
+// the terminal as it happens.
+#include <csignal>
+#include <cstdio>
+#include <deque>
+#include <memory>
+#include <mutex>
+
+#include "capture/v4l2_camera.h"
 #include "cli/commands.h"
+#include "cli/run_console.h"
+#include "cli/run_output.h"
+#include "cli/sample_clip.h"
+#include "cli/tracker_flags.h"
+#include "fit/fit_export.h"
+#include "fit/fit_models.h"
+#include "fit/node/fit_node.h"
+#include "msgs/channels.h"
+#include "msgs/lcm_bus.h"
+#include "msgs/msg_json.h"
+#include "replay/pacer.h"
+#include "replay/video_file_source.h"
+#include "track/node/capture_node.h"
+#include "track/node/detect_node.h"
 
 namespace bouncefit::cli {
+namespace {
+
+struct RunOptions {
+  std::string clip;
+  std::string device;
+  std::string out = "bouncefit-out";
+  std::string ball;  // empty: the sample's ball, else pingpong
+  double diameter_m = 0;
+  double mass_kg = 0;
+  double speed = 1.0;
+  bool quiet = false;
+  bool json = false;
+  bool no_fit = false;
+  std::string lcm_url = kDefaultLcmUrl;
+  Channels channels;
+  std::string model = "bullet-softbody";
+  std::string method = "nlopt";
+  int max_evals = 0;  // 0: the session's default
+  double px_per_m = 0;
+  double drop_height_m = 0;
+  int64_t max_frames = 0;
+  TrackerConfig tracker;
+};
+
+std::atomic<bool> g_stop{false};
+extern "C" void OnRunSignal(int) { g_stop = true; }
+
+std::string Fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+// Fit updates arrive on the fitter's thread; the main loop publishes and records them, so
+// the bus, the files and the terminal are only ever touched from one thread.
+class FitInbox {
+ public:
+  void Push(const fit_update_t& m, const FitUpdate& u) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    queue_.emplace_back(m, u);
+  }
+  std::deque<std::pair<fit_update_t, FitUpdate>> Take() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::exchange(queue_, {});
+  }
+
+ private:
+  std::mutex mutex_;
+  std::deque<std::pair<fit_update_t, FitUpdate>> queue_;
+};
+
+std::unique_ptr<FrameSource> OpenSource(const RunOptions& o, const std::string& clip) {
+  if (!o.device.empty()) {
+    V4l2CameraConfig c;
+    c.device = o.device;
+    return std::make_unique<V4l2Camera>(c);
+  }
+  return std::make_unique<VideoFileSource>(VideoFileSourceConfig{clip, false});
+}
+
+// The model's trajectory with the final coefficients, on the stream clock, for Fig. 7.
+void WriteSimulatedTrajectory(const RunOutput& out, const FitNode& fit, const FitUpdate& u,
+                              int64_t release_utime) {
+  SimulationOptions so;
+  so.drop_height_m = u.drop_height_m;
+  so.record_trajectory = true;
+  so.duration_s = 8.0;
+  const SimulationResult r = fit.model().Simulate(u.values, so);
+  if (!r.ok) return;
+  std::ofstream f(out.dir() / "simulated.csv", std::ios::trunc);
+  f << "t_s,height_m\n";
+  const double t_release = SecondsSince(release_utime, out.stream_start());
+  for (const auto& s : r.trajectory)
+    f << Fixed(t_release + s.t_s, 6) << ',' << Fixed(s.bottom_height_m, 5) << '\n';
+}
+
+void Run(RunOptions o) {
+  Pacer pacer(o.speed);  // validates --speed
+  RunConsole console(o.json ? ConsoleMode::kJson : o.quiet ? ConsoleMode::kQuiet
+                                                           : ConsoleMode::kHuman,
+                     stdout);
+  ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
+
+  std::string clip = o.clip;
+  if (clip.empty() && o.device.empty()) {
+    const SampleClip sample = BuiltInSample([&](const std::string& s) { console.Info(s); });
+    clip = sample.clip.string();
+    if (o.ball.empty()) o.ball = sample.ball;
+  }
+  if (o.ball.empty()) o.ball = "pingpong";
+  const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);
+
+  std::unique_ptr<FrameSource> source = OpenSource(o, clip);
+  const SourceInfo info = source->Info();
+  const bool is_file = o.device.empty();
+  Tracker tracker(o.tracker);
+  LcmBus bus(o.lcm_url);
+  RunOutput out(o.out);
+
+  CaptureNodeConfig cc;
+  cc.channels = o.channels;
+  cc.max_frames = o.max_frames;
+  CaptureNode capture(*source, tracker, &bus, cc);
+  capture.set_log(&out.log());
+  if (is_file && o.speed > 0) capture.set_pacer([&pacer](int64_t t) { return pacer.WaitFor(t); });
+
+  DetectNodeConfig dc;
+  dc.channels = o.channels;
+  dc.detector.calibration.ball_diameter_m = ball.diameter_m;
+  dc.detector.calibration.px_per_m = o.px_per_m;
+  dc.detector.calibration.drop_height_m = o.drop_height_m;
+  DetectNode detect(&bus, dc);
+
+  FitInbox inbox;
+  std::unique_ptr<FitNode> fit;
+  if (!o.no_fit) {
+    FitNodeConfig fc;
+    fc.ball = o.ball;
+    fc.mass_kg = o.mass_kg;
+    fc.diameter_m = o.diameter_m;
+    fc.model = o.model;
+    fc.session.method = o.method;
+    if (o.max_evals > 0) fc.session.max_evaluations_final = o.max_evals;
+    fc.channels = o.channels;
+    fit = std::make_unique<FitNode>(
+        fc, [&inbox](const fit_update_t& m, const FitUpdate& u) { inbox.Push(m, u); });
+    fit->Start();
+  }
+
+  console.Info("run: " + info.description + ", " + Fixed(info.nominal_fps, 2) + " fps; ball " +
+               ball.name + " (" + Fixed(ball.diameter_m * 1e3, 1) + " mm, " +
+               Fixed(ball.mass_kg * 1e3, 1) + " g); tracker: " + tracker.Describe() +
+               "; output " + out.dir().string() + "; bus " + o.lcm_url);
+
+  std::optional<FitUpdate> final_fit;
+  int64_t release_utime = 0;
+  std::vector<bounce_peak_t> peaks;
+  std::optional<calibration_t> calibration;
+  auto handle_fit_updates = [&] {
+    for (auto& [m, u] : inbox.Take()) {
+      bus.Publish(o.channels.fit_update, m);
+      out.Log(o.channels.fit_update, m);
+      out.OnFit(m);
+      console.OnFit(m);
+      if (u.final && u.model == fit->model().name()) final_fit = u;
+    }
+  };
+  auto handle_events = [&](const std::vector<DetectorEvent>& events) {
+    for (const auto& e : events) {
+      if (e.kind == DetectorEvent::Kind::kCalibration) {
+        const calibration_t m = ToCalibrationMsg(e.calibration);
+        out.Log(o.channels.calibration, m);
+        out.OnCalibration(m);
+        console.OnCalibration(m);
+        calibration = m;
+      } else if (e.kind == DetectorEvent::Kind::kPeak) {
+        const bounce_peak_t m = ToBouncePeakMsg(e.peak);
+        out.Log(o.channels.bounce_peak, m);
+        out.OnPeak(m);
+        console.OnPeak(m);
+        if (m.bounce == 0) release_utime = m.apex_utime;
+        peaks.push_back(m);
+        if (fit) fit->OnPeak(m);
+      } else if (e.kind == DetectorEvent::Kind::kSequenceEnd) {
+        console.Info("drop ended (" + e.reason + ")");
+        if (fit) fit->Finish();
+      }
+    }
+  };
+
+  bool stream_started = false;
+  capture.set_observer([&](const Frame& frame, const BallObservation& obs) {
+    if (!stream_started) {
+      stream_started = true;
+      out.SetStreamStart(frame.utime);
+      console.SetStreamStart(frame.utime);
+    }
+    out.OnBox(ToBallBox(obs));
+    handle_events(detect.OnObservation(obs));
+  });
+
+  struct sigaction sa {};
+  sa.sa_handler = OnRunSignal;
+  sigemptyset(&sa.sa_mask);
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+
+  const double total_s = info.frame_count > 0 && info.nominal_fps > 0
+                             ? static_cast<double>(info.frame_count) / info.nominal_fps
+                             : 0;
+  std::string failure;
+  try {
+    while (!g_stop && capture.Step()) {
+      handle_fit_updates();
+      const auto& s = capture.stats();
+      console.Progress(s.stream_s(), total_s, s.frames, s.found);
+    }
+  } catch (const std::exception& e) {
+    failure = e.what();  // keep going: close the drop, fit, and write what we have
+  }
+  handle_events(detect.Finish());
+  if (fit) {
+    fit->Finish();
+    fit->WaitIdle();
+    handle_fit_updates();
+    fit->Stop();
+  }
+
+  // What a user takes away: the final coefficients as JSON and as a C++ snippet, and the
+  // simulated trajectory for the report.
+  if (final_fit && fit) {
+    WriteFitExports(out.dir(), *final_fit, ball);
+    WriteSimulatedTrajectory(out, *fit, *final_fit, release_utime);
+  }
+  const auto& cs = capture.stats();
+  const auto [logged, log_dropped] = out.CloseLog();
+
+  nlohmann::json summary;
+  summary["input"] = is_file ? clip : o.device;
+  summary["ball"] = {{"name", ball.name}, {"diameter_m", ball.diameter_m}, {"mass_kg", ball.mass_kg}};
+  summary["frames"] = cs.frames;
+  summary["found_frames"] = cs.found;
+  summary["dropped_frames"] = cs.dropped;
+  summary["duration_s"] = cs.stream_s();
+  summary["wall_time_s"] = cs.wall_s;
+  summary["timings_ms"] = {{"decode", cs.read_s * 1e3},
+                           {"track", cs.track_s * 1e3},
+                           {"detect", detect.stats().detect_s * 1e3}};
+  summary["stopped_by_user"] = g_stop.load();
+  if (!failure.empty()) summary["failure"] = failure;
+  summary["log"] = {{"messages", logged}, {"dropped", log_dropped}};
+  summary["calibration"] = calibration ? ToJson(*calibration, out.stream_start()) : nlohmann::json();
+  nlohmann::json jpeaks = nlohmann::json::array();
+  for (const auto& p : peaks) jpeaks.push_back(ToJson(p, out.stream_start()));
+  summary["peaks"] = jpeaks;
+  nlohmann::json drops = nlohmann::json::array();
+  for (const auto& d : detect.Summaries()) {
+    nlohmann::json impacts = nlohmann::json::array();
+    for (const auto& i : d.impacts)
+      impacts.push_back({{"bounce", i.index},
+                         {"t_s", SecondsSince(i.utime, out.stream_start())},
+                         {"speed_in_mps", i.speed_in_mps},
+                         {"speed_out_mps", i.speed_out_mps},
+                         {"restitution", i.restitution}});
+    drops.push_back({{"sequence", d.sequence},
+                     {"end", d.end_reason},
+                     {"impacts", impacts},
+                     {"restitution_intercept", std::isfinite(d.restitution_intercept)
+                                                   ? nlohmann::json(d.restitution_intercept)
+                                                   : nlohmann::json()},
+                     {"restitution_slope_per_mps",
+                      std::isfinite(d.restitution_slope_per_mps)
+                          ? nlohmann::json(d.restitution_slope_per_mps)
+                          : nlohmann::json()}});
+  }
+  summary["drops"] = drops;
+  if (final_fit) summary["final_fit"] = FitUpdateToJson(*final_fit, ball);
+  if (fit) {
+    const auto fs = fit->stats();
+    summary["fit_stats"] = {{"peaks", fs.peaks},
+                            {"updates", fs.updates_delivered},
+                            {"superseded", fs.superseded},
+                            {"finals", fs.finals}};
+  }
+  out.WriteSummary(summary);
+
+  std::string human = "run: " + std::string(g_stop ? "stopped" : failure.empty() ? "done" : "failed") +
+                      ": " + std::to_string(cs.frames) + " frames (" + Fixed(cs.stream_s(), 2) +
+                      " s of stream in " + Fixed(cs.wall_s, 2) + " s), ball in " +
+                      std::to_string(cs.found) + ", " + std::to_string(cs.dropped) +
+                      " dropped; " + std::to_string(peaks.size()) + " peaks";
+  if (final_fit) human += "; final fit residual " + Fixed(final_fit->residual_m * 1e3, 1) + " mm";
+  human += "; wrote " + out.dir().string();
+  console.Summary(human, nlohmann::json{{"event", "summary"}, {"summary", summary}}.dump());
+  if (!failure.empty()) throw std::runtime_error(failure + " (what was recorded is in " +
+                                                 out.dir().string() + ")");
+}
+
+}  // namespace
 
 void AddRunCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("run", "Everything in one process: replay a clip (or the built-in sample), track, detect, fit");
-  cmd->callback([] { NotYetAvailable("run", 8); });
+  auto* cmd = app.add_subcommand(
+      "run",
+      "Everything in one process: replay a clip (or the built-in sample) at its recorded pace, "
+      "track, calibrate, detect every bounce apex and fit the ball model after each bounce");
+  auto o = std::make_shared<RunOptions>();
+  auto* clip = cmd->add_option("clip", o->clip,
+                               "clip to replay (.avi/.mp4/.mov); none: the built-in sample drop")
+                   ->check(CLI::ExistingFile);
+  cmd->add_option("--device", o->device, "a V4L2 camera instead of a clip, e.g. /dev/video0")
+      ->excludes(clip);
+  cmd->add_option("--out", o->out, "output directory (docs/FORMATS.md)")->capture_default_str();
+  cmd->add_option("--ball", o->ball, "ball preset: " + BallPresetNames() +
+                                         " (default: the sample's, else pingpong)");
+  cmd->add_option("--diameter", o->diameter_m, "ball diameter, m (overrides the preset)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--mass", o->mass_kg, "ball mass, kg (overrides the preset)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--speed", o->speed, "replay at this multiple of real time (0: as fast as possible)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--quiet,-q", o->quiet, "print nothing but errors");
+  cmd->add_flag("--json", o->json, "print one JSON object per event (calibration, peak, fit, summary)");
+  cmd->add_flag("--no-fit", o->no_fit, "track and detect only");
+  cmd->add_option("--model", o->model, "model fitted: " + FitModelNames())->capture_default_str();
+  cmd->add_option("--method", o->method, "search: nlopt (default) or paper")
+      ->check(CLI::IsMember({"nlopt", "paper"}))
+      ->capture_default_str();
+  cmd->add_option("--max-evals", o->max_evals, "simulations for the final fit (0: default)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--px-per-m", o->px_per_m, "image scale, px/m (default: from free fall)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--drop-height", o->drop_height_m,
+                  "release height of the ball bottom, m (sets the scale)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL the session is published on")
+      ->capture_default_str();
+  AddTrackerFlags(cmd, &o->tracker);
+  cmd->callback([o] { Run(*o); });
 }
 
 }  // namespace bouncefit::cli

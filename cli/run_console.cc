@@ -40,7 +40,13 @@ void RunConsole::OnCalibration(const calibration_t& m) {
     j["event"] = "calibration";
     Line(j.dump());
   } else if (mode_ == ConsoleMode::kHuman) {
-    Line(Format("calibration  %.1f +- %.1f px/m (%s, %d frames), roll %.2f deg, floor at %.1f px",
+    // The detector refines the scale on every arc: show it again only when it moved.
+    const bool moved = last_px_per_m_ <= 0 || m.method != last_method_ ||
+                       std::abs(m.px_per_m - last_px_per_m_) > 1e-3 * last_px_per_m_;
+    if (!moved) return;
+    last_px_per_m_ = m.px_per_m;
+    last_method_ = m.method;
+    Line(Format("calibration  %.2f +- %.2f px/m (%s, %d frames), roll %.2f deg, floor at %.1f px",
                 m.px_per_m, m.px_per_m_sigma, m.method.c_str(), m.samples,
                 m.roll_rad * 180 / M_PI, m.floor_px));
   }
@@ -82,7 +88,7 @@ void RunConsole::OnFit(const fit_update_t& m) {
   const int shown = std::min(m.num_coeffs, 4);  // the main ones; the report has them all
   for (int i = 0; i < shown; ++i) line += Format("  %s=%.4g", m.names[i].c_str(), m.values[i]);
   if (m.num_coeffs > shown) line += Format("  (+%d more)", m.num_coeffs - shown);
-  line += Format("  residual %.1f mm  %d evals  %.0f ms", m.residual_m * 1e3, m.evaluations,
+  line += Format("  residual %.2f mm  %d evals  %.0f ms", m.residual_m * 1e3, m.evaluations,
                  m.wall_time_s * 1e3);
   Line(line);
 }

@@ -36,6 +36,8 @@ class RunConsole {
   bool progress_open_ = false;
   double last_progress_s_ = -1;
   int64_t t0_ = 0;
+  double last_px_per_m_ = 0;  // last calibration shown
+  std::string last_method_;
   std::map<int, double> heights_;  // bounce -> height, for restitution so far
 };
 

@@ -39,6 +39,8 @@ class RunOutput {
     log_.Record(channel, buf.data(), buf.size(), m.utime);
   }
 
+  LcmLogRecorder& log() { return log_; }
+
   // summary.json, written atomically (temp file + rename).
   void WriteSummary(const nlohmann::json& summary);
   const std::filesystem::path& dir() const { return dir_; }
