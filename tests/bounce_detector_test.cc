@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "tests/detect_sim.h"
 
 namespace bouncefit {
@@ -69,6 +71,145 @@ INSTANTIATE_TEST_SUITE_P(
       return i.param.ball + "_" + std::to_string(static_cast<int>(i.param.drop_m * 10)) + "dm_" +
              std::to_string(static_cast<int>(i.param.fps)) + "fps";
     });
+
+}  // namespace
+}  // namespace bouncefit
+
+namespace bouncefit {
+namespace {
+
+using testing::MakeSimClip;
+using testing::RunDetector;
+using testing::ScorePeaks;
+using testing::SimOptions;
+
+void ExpectAllFound(const testing::PeakScore& s) {
+  EXPECT_EQ(s.found_over_1cm, s.truth_over_1cm) << s.report;
+  EXPECT_EQ(s.false_peaks, 0) << s.report;
+  EXPECT_TRUE(s.within_tolerance) << s.report;
+}
+
+TEST(BounceDetector, MissingFramesAndAnApexOutOfView) {
+  SimOptions o;
+  o.ball = "airball";
+  o.drop_m = 1.5;
+  o.missing_fraction = 0.1;
+  // The first rebound apex is hidden (the ball left the top of the view).
+  PointMassDropConfig pc;
+  pc.ball = ResolveBallPreset(o.ball);
+  pc.drop_height_m = o.drop_m;
+  pc.hold_s = o.hold_s;
+  const double apex1 = SimulatePointMassDrop(pc).apex_times_s[1];
+  o.gaps = {{apex1 - 0.06, apex1 + 0.06}};
+  const auto clip = MakeSimClip(o);
+  BounceDetector d{BounceDetectorConfig{}};
+  const auto s = ScorePeaks(clip, RunDetector(d, clip.obs));
+  ExpectAllFound(s);
+  EXPECT_LE(testing::MaxOf(s.latency_frames), 4.0) << s.report;
+}
+
+TEST(BounceDetector, SecondDropIsANewSequence) {
+  SimOptions a;
+  a.ball = "wiffle";
+  a.drop_m = 1.2;
+  const auto first = MakeSimClip(a);
+  SimOptions b = a;
+  b.drop_m = 0.8;
+  b.hold_s = 0.6;
+  b.seed = 9;
+  // Picked up: one second with no ball, then held at the new height and dropped.
+  b.start_s = static_cast<double>(first.obs.size()) / a.fps + 1.0;
+  const auto second = MakeSimClip(b, static_cast<int64_t>(first.obs.size()) + 120);
+  std::vector<BallObservation> obs = first.obs;
+  for (int i = 0; i < 120; ++i) {
+    BallObservation none;
+    none.utime = first.obs.back().utime + std::llround((i + 1) * 1e6 / a.fps);
+    obs.push_back(none);
+  }
+  obs.insert(obs.end(), second.obs.begin(), second.obs.end());
+  BounceDetector d{BounceDetectorConfig{}};
+  const auto peaks = RunDetector(d, obs);
+  std::vector<BouncePeak> p0, p1;
+  for (const auto& p : peaks) (p.sequence == 0 ? p0 : p1).push_back(p);
+  ASSERT_FALSE(p1.empty());
+  for (const auto& p : p1) EXPECT_EQ(p.sequence, 1);
+  ExpectAllFound(ScorePeaks(first, p0));
+  const auto s1 = ScorePeaks(second, p1);
+  ExpectAllFound(s1);
+  // The floor and scale are known from the first drop: the release height of the second is
+  // emitted as soon as the release is seen, not at its first impact.
+  ASSERT_EQ(p1.front().bounce, 0);
+  EXPECT_LT((p1.front().emitted_utime - p1.front().apex_utime) * 1e-6 * a.fps, 8.0);
+  ASSERT_EQ(d.Summaries().size(), 2u);
+  EXPECT_EQ(d.Summaries()[0].end_reason, "rest");
+}
+
+TEST(BounceDetector, NoiseOutliersAndALongJitteryHoldMakeNoPeaks) {
+  SimOptions o;
+  o.ball = "pingpong";
+  o.drop_m = 1.0;
+  o.hold_s = 2.0;
+  o.noise_px = 0.3;
+  o.after_rest_s = 2.0;  // a long rest, noisy
+  auto clip = MakeSimClip(o);
+  // 2% of the frames are wild detections (a reflection, a hand) 25 px off.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uni(0, 1);
+  int outliers = 0;
+  for (auto& b : clip.obs) {
+    if (!b.found || uni(rng) > 0.02) continue;
+    b.cx += 25;
+    b.cy -= 25;
+    ++outliers;
+  }
+  ASSERT_GT(outliers, 5);
+  BounceDetector d{BounceDetectorConfig{}};
+  const auto peaks = RunDetector(d, clip.obs);
+  const auto s = ScorePeaks(clip, peaks);
+  ExpectAllFound(s);
+  ASSERT_FALSE(peaks.empty());
+  // No release during the hold: bounce 0 is at the true release.
+  EXPECT_EQ(peaks.front().bounce, 0);
+  EXPECT_NEAR(peaks.front().apex_utime * 1e-6, o.hold_s, 1.5 / o.fps);
+}
+
+TEST(BounceDetector, SummaryHasRestitutionAndFlightTimeHeights) {
+  SimOptions o;
+  o.ball = "softball";
+  o.drop_m = 1.6;
+  const auto clip = MakeSimClip(o);
+  BounceDetector d{BounceDetectorConfig{}};
+  RunDetector(d, clip.obs);
+  ASSERT_EQ(d.Summaries().size(), 1u);
+  const auto& sum = d.Summaries()[0];
+  ASSERT_GE(sum.impacts.size(), 2u);
+  for (size_t i = 0; i < sum.impacts.size() && i < clip.truth.restitutions.size(); ++i) {
+    // A rebound of a few mm is seen on a handful of frames: its speed is not measurable.
+    const auto& h = clip.truth.apex_heights_m;
+    if (i + 1 >= h.size() || h[i] < 0.02 || h[i + 1] < 0.02) continue;
+    EXPECT_NEAR(sum.impacts[i].restitution, clip.truth.restitutions[i], 0.01) << i;
+    EXPECT_NEAR(sum.impacts[i].speed_in_mps, clip.truth.impact_speeds_mps[i],
+                0.01 * clip.truth.impact_speeds_mps[i]) << i;
+  }
+  // g dt^2 / 8 ignores drag: within a few percent for a softball.
+  ASSERT_GE(sum.flight_height_m.size(), 2u);
+  EXPECT_NEAR(sum.flight_height_m[1], clip.truth.apex_heights_m[1],
+              0.03 * clip.truth.apex_heights_m[1]);
+  // e(v) = e0 - c v: the trend has the preset's sign.
+  EXPECT_LT(sum.restitution_slope_per_mps, 0.0);
+}
+
+TEST(BounceDetector, TimeGoingBackwardsIsAnError) {
+  BounceDetector d{BounceDetectorConfig{}};
+  BallObservation a;
+  a.utime = 1000000;
+  d.Push(a);
+  a.utime = 999000;
+  EXPECT_THROW(d.Push(a), std::invalid_argument);
+  BounceDetectorConfig bad;
+  bad.gate_sigmas = -1;
+  EXPECT_THROW(BounceDetector{bad}, std::invalid_argument);
+}
 
 }  // namespace
 }  // namespace bouncefit

@@ -133,18 +133,34 @@ inline double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// Peaks of one sequence against one clip's truth: a peak matches the true apex with the
-// same bounce index whose time is within 3 frames of the peak's apex time.
-inline PeakScore ScorePeaks(const SimClip& c, const std::vector<BouncePeak>& peaks) {
+// The truth a score needs: apex times (stream seconds) and heights, impact times.
+struct TruthApexes {
+  double fps = 120;
+  std::vector<double> apex_t_s, apex_h_m, impact_t_s;
+};
+
+inline TruthApexes TruthOf(const SimClip& c) {
+  TruthApexes t;
+  t.fps = c.options.fps;
+  for (size_t b = 0; b < c.truth.apex_times_s.size(); ++b) {
+    t.apex_t_s.push_back(SimApexTime(c, b));
+    t.apex_h_m.push_back(c.truth.apex_heights_m[b]);
+  }
+  for (double i : c.truth.impact_times_s) t.impact_t_s.push_back(c.options.start_s + i);
+  return t;
+}
+
+// Peaks of one sequence against its truth: a peak matches the true apex with the same
+// bounce index whose time is within 3 frames of the peak's apex time.
+inline PeakScore ScorePeaks(const TruthApexes& c, const std::vector<BouncePeak>& peaks) {
   PeakScore s;
-  const double frame = 1.0 / c.options.fps;
-  std::vector<bool> matched(c.truth.apex_heights_m.size(), false);
+  const double frame = 1.0 / c.fps;
+  std::vector<bool> matched(c.apex_h_m.size(), false);
   for (const auto& p : peaks) {
     const auto b = static_cast<size_t>(p.bounce);
     const double t_apex = static_cast<double>(p.apex_utime) * 1e-6;
     char line[256];
-    if (b >= c.truth.apex_heights_m.size() ||
-        std::abs(t_apex - SimApexTime(c, b)) > 3 * frame) {
+    if (b >= c.apex_h_m.size() || std::abs(t_apex - c.apex_t_s[b]) > 3 * frame) {
       ++s.false_peaks;
       std::snprintf(line, sizeof line, "bounce %zu at %.4f s: %.4f m FALSE\n", b, t_apex,
                     p.height_m);
@@ -152,34 +168,45 @@ inline PeakScore ScorePeaks(const SimClip& c, const std::vector<BouncePeak>& pea
       continue;
     }
     matched[b] = true;
-    const double truth = c.truth.apex_heights_m[b];
+    const double truth = c.apex_h_m[b];
     const double err = p.height_m - truth;
     s.max_err_mm = std::max(s.max_err_mm, std::abs(err) * 1e3);
     if (std::abs(err) > std::max(0.002, 0.01 * truth)) s.within_tolerance = false;
     const double emitted = static_cast<double>(p.emitted_utime) * 1e-6;
-    const double lat = (emitted - SimApexTime(c, b)) / frame;
+    const double lat = (emitted - c.apex_t_s[b]) / frame;
     if (b >= 1) {
       s.latency_frames.push_back(lat);
-    } else if (!c.truth.impact_times_s.empty()) {
-      s.bounce0_latency_from_impact_frames =
-          (emitted - c.options.start_s - c.truth.impact_times_s[0]) / frame;
+    } else if (!c.impact_t_s.empty()) {
+      s.bounce0_latency_from_impact_frames = (emitted - c.impact_t_s[0]) / frame;
     }
-    std::snprintf(line, sizeof line, "bounce %zu: %.4f m (truth %.4f, err %+.2f mm) latency %.2f frames\n",
-                  b, p.height_m, truth, err * 1e3, lat);
+    std::snprintf(line, sizeof line,
+                  "bounce %zu: %.4f m (truth %.4f, err %+.2f mm) latency %.2f frames\n", b,
+                  p.height_m, truth, err * 1e3, lat);
     s.report += line;
   }
   for (size_t b = 0; b < matched.size(); ++b) {
-    if (c.truth.apex_heights_m[b] <= 0.01) continue;
+    if (c.apex_h_m[b] <= 0.01) continue;
     ++s.truth_over_1cm;
-    if (matched[b]) ++s.found_over_1cm;
-    else {
+    if (matched[b]) {
+      ++s.found_over_1cm;
+    } else {
       char line[128];
       std::snprintf(line, sizeof line, "MISSED bounce %zu: %.4f m at %.4f s\n", b,
-                    c.truth.apex_heights_m[b], SimApexTime(c, b));
+                    c.apex_h_m[b], c.apex_t_s[b]);
       s.report += line;
     }
   }
   return s;
+}
+
+inline PeakScore ScorePeaks(const SimClip& c, const std::vector<BouncePeak>& peaks) {
+  return ScorePeaks(TruthOf(c), peaks);
+}
+
+inline double MaxOf(const std::vector<double>& v) {
+  double m = NAN;
+  for (double x : v) m = std::isnan(m) ? x : std::max(m, x);
+  return m;
 }
 
 // Runs a detector over a clip, returns the peaks (all sequences) and the events.

@@ -149,24 +149,33 @@ void BounceDetector::OnWaiting(const Sample& s, std::vector<DetectorEvent>& ev) 
   }
   if (wu.size() < 3) return;
   const double ref_u = Median(wu), ref_w = Median(ww);
-  double spread = 0;
-  for (size_t i = 0; i < wu.size(); ++i)
-    spread = std::max({spread, std::abs(wu[i] - ref_u), std::abs(ww[i] - ref_w)});
   const double thr = std::max(config_.release_px, Gate());
-  if (spread > thr) return;  // not held still: carried, rolling, ...
-  if (!sigma_measured_) {
-    double ss = 0;
-    for (double u : wu) ss += (u - ref_u) * (u - ref_u);
-    sigma_ = std::max(config_.noise_floor_px, std::sqrt(ss / static_cast<double>(wu.size())));
+  auto still = [&](const Sample& q) {
+    return std::abs(Down(q) - ref_u) <= thr && std::abs(Floor(q) - ref_w) <= thr;
+  };
+  // Held still: nearly every sample near the median (a stray detection is tolerated).
+  size_t near = 0;
+  double ss = 0;
+  for (size_t i = 0; i < wu.size(); ++i) {
+    if (std::abs(wu[i] - ref_u) > thr || std::abs(ww[i] - ref_w) > thr) continue;
+    ++near;
+    ss += (wu[i] - ref_u) * (wu[i] - ref_u);
   }
+  if (static_cast<double>(near) < 0.9 * static_cast<double>(wu.size())) return;
+  if (!sigma_measured_)
+    sigma_ = std::max(config_.noise_floor_px, std::sqrt(ss / static_cast<double>(near)));
+  if (std::abs(Floor(a) - ref_w) > thr || std::abs(Floor(b) - ref_w) > thr) return;
   const double da = Down(a) - ref_u, db = Down(b) - ref_u;
   if (!(db > thr && da > 0.5 * thr && db > da)) return;
 
   // Released: the release arc is the end of the hold plus the samples moving down.
   Arc arc;
   arc.held = true;
-  for (size_t i = 0; i < n; ++i)
-    if (hold_[i].t >= a.t - config_.hold_window_s) arc.samples.push_back(hold_[i]);
+  for (size_t i = 0; i + 2 < n; ++i)
+    if (hold_[i].t >= a.t - config_.hold_window_s && still(hold_[i]))
+      arc.samples.push_back(hold_[i]);
+  arc.samples.push_back(a);
+  arc.samples.push_back(b);
   hold_.clear();
   arcs_.clear();
   arcs_.push_back(arc);
@@ -363,8 +372,13 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   Arc& cur = arcs_.back();
   double up, wp, vp;
   if (!Predict(cur, s.t, &up, &wp, &vp)) {
-    // The first frames of the first fall: nothing to predict with yet.
-    cur.samples.push_back(s);
+    // The first frames of the first fall: nothing to predict with yet; take what moves on
+    // down the same vertical line (a stray detection elsewhere is dropped).
+    const Sample& last = cur.samples.back();
+    const double g = Gate();
+    if (std::abs(Floor(s) - Floor(last)) <= 2 * g && Down(s) >= Down(last) - g &&
+        Down(s) - Down(last) <= 20 * g)
+      cur.samples.push_back(s);
     return;
   }
   const double u = Down(s), w = Floor(s);
@@ -376,6 +390,7 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     cur.samples.push_back(s);
     pending_up_.clear();
     pending_off_.clear();
+    misses_ = 0;
     RefitArc(cur);
     if (!bounce0_emitted_ && arcs_.size() == 2 &&
         static_cast<int>(arcs_[1].samples.size()) >= config_.bounce0_rising_samples) {
@@ -386,33 +401,33 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     return;
   }
   const bool falling = vp > 0;
-  if (ru < -gate && falling) {
+  ++misses_;
+  if (ru < -gate && falling && std::abs(rw) <= 2 * gate) {
     pending_up_.push_back(s);
-    if (static_cast<int>(pending_up_.size()) >= config_.impact_confirm_samples) {
-      // A rebound rises: the newest sample must be above the first one off the arc.
+    while (static_cast<int>(pending_up_.size()) >= config_.impact_confirm_samples) {
+      // A rebound rises: the newest sample must be above the first one off the arc; if it
+      // is not, the first one was a stray detection.
       if (pending_up_.size() == 1 || Down(pending_up_.back()) < Down(pending_up_.front())) {
         ConfirmImpact(s, ev);
         return;
       }
-      if (pending_up_.size() >= 4) {
-        const bool near_floor = calibrated_ && calibration_.calibration.has_floor &&
-                                std::abs(u - calibration_.calibration.floor_centre_px()) <=
-                                    3 * Gate();
-        EndSequence(near_floor ? "rest" : "broken", ev);
-        if (!near_floor) OnWaiting(s, ev);
-      }
+      pending_up_.erase(pending_up_.begin());
     }
-    return;
+  } else {
+    pending_off_.push_back(s);
   }
-  pending_off_.push_back(s);
-  if (pending_off_.size() >= 3) {
+  if (misses_ >= 6) {
+    // Six frames in a row off the arc: it has ended (at rest, caught, rolling away).
     const bool near_floor = calibrated_ && calibration_.calibration.has_floor &&
                             std::abs(u - calibration_.calibration.floor_centre_px()) <=
                                 3 * Gate();
-    std::vector<Sample> off = pending_off_;
+    std::vector<Sample> recent = pending_off_;
+    recent.insert(recent.end(), pending_up_.begin(), pending_up_.end());
+    std::sort(recent.begin(), recent.end(),
+              [](const Sample& x, const Sample& y) { return x.t < y.t; });
     EndSequence(near_floor ? "rest" : "broken", ev);
     if (!near_floor)
-      for (const auto& o : off) OnWaiting(o, ev);
+      for (const auto& o : recent) OnWaiting(o, ev);
   }
 }
 
@@ -436,6 +451,7 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
   next.samples = pending_up_;
   pending_up_.clear();
   pending_off_.clear();
+  misses_ = 0;
   arcs_.push_back(next);
   Recalibrate(s.utime, ev);
   const size_t idx = arcs_.size() - 1;
@@ -518,8 +534,20 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
     sum.sequence = sequence_;
     sum.end_reason = reason;
     sum.peaks = peaks_;
-    sum.impacts = impacts_;
     sum.calibration = calibration_.calibration;
+    // Impacts from the final refit (the streamed ones saw two or three rising samples).
+    for (size_t j = 0; j < calibration_.impacts.size() && j + 1 < arcs_.size(); ++j) {
+      const FlightImpact& imp = calibration_.impacts[j];
+      if (!imp.ok || !calibration_.calibration.valid()) continue;
+      BounceImpact bi;
+      bi.sequence = sequence_;
+      bi.index = static_cast<int>(j + 1);
+      bi.utime = ToUtime(imp.t);
+      bi.speed_in_mps = imp.speed_in / calibration_.calibration.px_per_m;
+      bi.speed_out_mps = imp.speed_out / calibration_.calibration.px_per_m;
+      bi.restitution = imp.speed_in > 0 ? imp.speed_out / imp.speed_in : 0;
+      sum.impacts.push_back(bi);
+    }
     const Calibration& cal = calibration_.calibration;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const bool metres = calibrated_ && cal.valid() && cal.has_floor;
@@ -543,10 +571,10 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
       if (b < sum.flight_height_m.size()) p.flight_height_m = sum.flight_height_m[b];
       if (b < impact_t.size() && std::isfinite(impact_t[b])) p.impact_after_utime = ToUtime(impact_t[b]);
     }
-    if (impacts_.size() >= 2) {
+    if (sum.impacts.size() >= 2) {
       double sx = 0, sy = 0, sxx = 0, sxy = 0;
-      const double n = static_cast<double>(impacts_.size());
-      for (const auto& i : impacts_) {
+      const double n = static_cast<double>(sum.impacts.size());
+      for (const auto& i : sum.impacts) {
         sx += i.speed_in_mps;
         sy += i.restitution;
         sxx += i.speed_in_mps * i.speed_in_mps;
@@ -567,6 +595,7 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
   arcs_.clear();
   pending_up_.clear();
   pending_off_.clear();
+  misses_ = 0;
   peaks_.clear();
   impacts_.clear();
   hold_.clear();

@@ -159,6 +159,7 @@ class BounceDetector {
   std::vector<Sample> hold_;
   std::vector<Arc> arcs_;
   std::vector<Sample> pending_up_, pending_off_;
+  int misses_ = 0;  // consecutive samples off the current arc
   std::vector<double> radii_;
   int sequence_ = -1;
   bool bounce0_emitted_ = false;
