@@ -36,8 +36,9 @@ void RunGnuplot(const std::filesystem::path& script, const GnuplotOptions& optio
     throw std::runtime_error("gnuplot not found ('" + options.executable +
                              "'); install the Debian package gnuplot-nox");
   }
-  const std::filesystem::path dir = script.parent_path();
-  const std::filesystem::path log = script.string() + ".log";
+  // Absolute: the child changes directory before it opens the log.
+  const std::filesystem::path dir = std::filesystem::absolute(script).parent_path();
+  const std::filesystem::path log = std::filesystem::absolute(script).string() + ".log";
   const std::string script_name = script.filename().string();
 
   const pid_t pid = ::fork();

@@ -210,6 +210,17 @@ TEST(Report, NoCalibrationPlotsPixels) {
   EXPECT_NE(gp.find("(px)"), std::string::npos);
 }
 
+TEST(Report, RelativeDirectoryKeepsGnuplotChatterInItsLog) {
+  const auto dir = ScratchDir("report_relative");
+  testing::WriteReportFixture(dir);  // a constant coefficient makes gnuplot warn
+  std::string out;
+  ASSERT_EQ(RunCommand("cd '" + dir.parent_path().string() + "' && " + BouncefitExe() +
+                           " report -q report_relative", &out), 0) << out;
+  EXPECT_EQ(out, "");
+  EXPECT_NE(Slurp(dir / "report_plots" / "coefficients.gp.log").find("Warning"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "report.html"));
+}
+
 TEST(Report, CliErrorsAreOneLineNamingTheCause) {
   const auto dir = ScratchDir("report_cli_errors");
   std::string out;
