@@ -157,8 +157,7 @@ void Run(RunOptions o) {
 
   console.Info("run: " + info.description + ", " + Fixed(info.nominal_fps, 2) + " fps; ball " +
                ball.name + " (" + Fixed(ball.diameter_m * 1e3, 1) + " mm, " +
-               Fixed(ball.mass_kg * 1e3, 1) + " g); tracker: " + tracker.Describe() +
-               "; output " + out.dir().string() + "; bus " + o.lcm_url);
+               Fixed(ball.mass_kg * 1e3, 1) + " g); output " + out.dir().string() + "; bus " + o.lcm_url);
 
   std::optional<FitUpdate> final_fit;
   int64_t release_utime = 0;
@@ -298,7 +297,7 @@ void Run(RunOptions o) {
                       std::to_string(cs.found) + ", " + std::to_string(cs.dropped) +
                       " dropped; " + std::to_string(peaks.size()) + " peaks";
   if (final_fit) human += "; final fit residual " + Fixed(final_fit->residual_m * 1e3, 1) + " mm";
-  human += "; wrote " + out.dir().string();
+  human += "; wrote " + out.dir().string() + "\n" + tracker.Describe();
   console.Summary(human, nlohmann::json{{"event", "summary"}, {"summary", summary}}.dump());
   if (!failure.empty()) throw std::runtime_error(failure + " (what was recorded is in " +
                                                  out.dir().string() + ")");

@@ -27,6 +27,11 @@ void RunConsole::Line(const std::string& text) {
   }
   std::fputs(text.c_str(), out_);
   std::fputc('\n', out_);
+  // On a terminal the progress line stays at the bottom, under the events.
+  if (tty_ && !progress_text_.empty()) {
+    std::fputs(progress_text_.c_str(), out_);
+    progress_open_ = true;
+  }
   std::fflush(out_);
 }
 
@@ -105,6 +110,7 @@ void RunConsole::Progress(double stream_s, double total_s, int64_t frames, int64
                                           static_cast<long long>(frames),
                                           static_cast<long long>(found));
   if (tty_) {
+    progress_text_ = text;
     std::fputs(("\r\033[K" + text).c_str(), out_);
     std::fflush(out_);
     progress_open_ = true;
@@ -114,6 +120,7 @@ void RunConsole::Progress(double stream_s, double total_s, int64_t frames, int64
 }
 
 void RunConsole::Summary(const std::string& human_text, const std::string& json_text) {
+  progress_text_.clear();
   if (mode_ == ConsoleMode::kHuman) Line(human_text);
   if (mode_ == ConsoleMode::kJson) Line(json_text);
 }

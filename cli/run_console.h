@@ -34,6 +34,7 @@ class RunConsole {
   std::FILE* out_;
   bool tty_;
   bool progress_open_ = false;
+  std::string progress_text_;  // redrawn under each event line on a terminal
   double last_progress_s_ = -1;
   int64_t t0_ = 0;
   double last_px_per_m_ = 0;  // last calibration shown

@@ -21,7 +21,7 @@ double SecondsSince(int64_t utime, int64_t t0_utime) {
 }
 
 nlohmann::json ToJson(const ball_box_t& m, int64_t t0) {
-  nlohmann::json j{{"t_s", SecondsSince(m.utime, t0)}, {"frame", m.frame}, {"found", m.found}};
+  nlohmann::json j{{"t_s", SecondsSince(m.utime, t0)}, {"frame", m.frame}, {"found", static_cast<bool>(m.found)}};
   if (m.found) {
     j.update({{"cx_px", m.cx}, {"cy_px", m.cy}, {"x_px", m.x}, {"y_px", m.y}, {"w_px", m.w},
               {"h_px", m.h}, {"radius_px", m.radius_px}, {"pixel_count", m.pixel_count},
@@ -69,7 +69,7 @@ nlohmann::json ToJson(const fit_update_t& m, int64_t t0) {
   return {{"t_s", SecondsSince(m.utime, t0)},
           {"sequence", m.sequence},
           {"after_bounce", m.after_bounce},
-          {"final", m.final},
+          {"final", static_cast<bool>(m.final)},
           {"model", m.model},
           {"method", m.method},
           {"coefficients", coeffs},

@@ -1,0 +1,191 @@
+// `bouncefit run` end to end, as a user runs it: a rendered clip with known truth in, the
+// output directory of docs/FORMATS.md out, and a live terminal while it replays.
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "replay/synth_truth.h"
+#include "tests/test_support.h"
+
+namespace bouncefit {
+namespace {
+
+using testing::BouncefitExe;
+using testing::RunCommand;
+namespace fs = std::filesystem;
+
+// A 1 m ping-pong drop, 640x480 at 120 fps, rendered once per test binary.
+const fs::path& PingPongClip() {
+  static const fs::path clip = [] {
+    const fs::path dir = testing::ScratchDir("run_clip");
+    const fs::path c = dir / "pingpong.avi";
+    std::string out;
+    const int rc = RunCommand(BouncefitExe() + " synth --quiet --ball pingpong --drop-height 1.0"
+                                               " --duration 3.5 --noise 3 --roll 1 --seed 5 --out " +
+                                  c.string(),
+                              &out);
+    EXPECT_EQ(rc, 0) << out;
+    return c;
+  }();
+  return clip;
+}
+
+std::vector<std::map<std::string, std::string>> ReadCsv(const fs::path& path) {
+  std::ifstream f(path);
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  auto split = [](const std::string& s) {
+    std::vector<std::string> cells;
+    std::stringstream ss(s);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (!s.empty() && s.back() == ',') cells.push_back("");
+    return cells;
+  };
+  if (std::getline(f, line)) header = split(line);
+  while (std::getline(f, line)) {
+    const auto cells = split(line);
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < header.size(); ++i) row[header[i]] = i < cells.size() ? cells[i] : "";
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+TEST(Run, WritesTheOutputDirectoryWithPeaksThatMatchTruth) {
+  const fs::path dir = testing::ScratchDir("run_outputs") / "out";
+  std::string out;
+  const int rc = RunCommand(BouncefitExe() + " run " + PingPongClip().string() + " --out " +
+                                dir.string() +
+                                " --speed 0 --lcm-url memq:// --model point-mass --quiet",
+                            &out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_TRUE(out.empty()) << "--quiet printed: " << out;
+
+  const SynthTruth truth = LoadSynthTruth(SynthTruthPathFor(PingPongClip()));
+  const auto track = ReadCsv(dir / "track.csv");
+  EXPECT_EQ(static_cast<int>(track.size()), truth.frame_count);
+  ASSERT_FALSE(track.empty());
+  EXPECT_TRUE(track[0].count("cx_px") && track[0].count("h_px"));
+
+  // Every apex above 1 cm, in metres from the detector's own calibration.
+  const auto peaks = ReadCsv(dir / "peaks.csv");
+  int checked = 0;
+  for (size_t i = 0; i < truth.apex_heights_m.size(); ++i) {
+    const double h = truth.apex_heights_m[i];
+    if (h < 0.01 || truth.apex_times_s[i] + truth.release_t_s > truth.frame_count / truth.fps - 0.1)
+      continue;
+    ASSERT_LT(i, peaks.size()) << "apex " << i << " missing";
+    EXPECT_EQ(std::stoi(peaks[i].at("bounce")), static_cast<int>(i));
+    EXPECT_NEAR(std::stod(peaks[i].at("height_m")), h, std::max(0.002, 0.01 * h)) << "apex " << i;
+    ++checked;
+  }
+  EXPECT_GE(checked, 4);
+
+  nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
+  EXPECT_EQ(summary["frames"].get<int>(), truth.frame_count);
+  EXPECT_EQ(summary["dropped_frames"].get<int>(), 0);
+  EXPECT_TRUE(summary.contains("final_fit"));
+  EXPECT_NEAR(summary["calibration"]["px_per_m"].get<double>(), truth.px_per_m,
+              0.01 * truth.px_per_m);
+
+  // fit.jsonl: one JSON object per line, the last one final.
+  std::ifstream fits(dir / "fit.jsonl");
+  std::string line, last;
+  int lines = 0;
+  while (std::getline(fits, line)) {
+    EXPECT_NO_THROW(nlohmann::json::parse(line)) << line;
+    last = line;
+    ++lines;
+  }
+  EXPECT_GE(lines, 2);
+  EXPECT_TRUE(nlohmann::json::parse(last)["final"].get<bool>());
+
+  // session.lcm: an LCM log holding every channel.
+  lcm::LogFile log((dir / "session.lcm").string(), "r");
+  ASSERT_TRUE(log.good());
+  std::map<std::string, int> per_channel;
+  while (const lcm::LogEvent* ev = log.readNextEvent()) ++per_channel[ev->channel];
+  EXPECT_EQ(per_channel["BALL_BOX"], truth.frame_count);
+  EXPECT_EQ(per_channel["BOUNCE_PEAK"], static_cast<int>(peaks.size()));
+  EXPECT_GE(per_channel["CALIBRATION"], 1);
+  EXPECT_EQ(per_channel["FIT_UPDATE"], lines);
+}
+
+TEST(Run, BadInputIsOneLineErrorAndNonZero) {
+  std::string out;
+  EXPECT_NE(RunCommand(BouncefitExe() + " run /no/such/clip.avi --out /tmp/x", &out), 0);
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+
+  const fs::path dir = testing::ScratchDir("run_bad");
+  const fs::path corrupt = dir / "corrupt.avi";
+  std::ofstream(corrupt) << "RIFF this is not a video at all";
+  EXPECT_NE(RunCommand(BouncefitExe() + " run " + corrupt.string() + " --out " +
+                           (dir / "out").string() + " --lcm-url memq://",
+                       &out),
+            0);
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  EXPECT_NE(out.find("error"), std::string::npos) << out;
+
+  EXPECT_NE(RunCommand(BouncefitExe() + " run " + PingPongClip().string() +
+                           " --ball bowling --out " + (dir / "out2").string(),
+                       &out),
+            0);
+  EXPECT_NE(out.find("unknown ball"), std::string::npos) << out;
+}
+
+std::string Tmux(const std::string& args) {
+  std::string out;
+  RunCommand("tmux " + args, &out);
+  return out;
+}
+
+// A person watching the terminal: peaks and fit updates appear while the clip is still
+// replaying, not all at the end.
+TEST(Run, ShowsPeaksAndFitsLiveInATerminal) {
+  std::string probe;
+  if (RunCommand("tmux -V", &probe) != 0) GTEST_SKIP() << "tmux is not installed";
+  const fs::path dir = testing::ScratchDir("run_live");
+  const std::string session = "bouncefit_run_" + std::to_string(::getpid());
+  const std::string cmd = BouncefitExe() + " run " + PingPongClip().string() + " --out " +
+                          (dir / "out").string() +
+                          " --lcm-url memq:// --model point-mass; echo RUN-EXITED; sleep 30";
+  Tmux("new-session -d -x 160 -y 50 -s " + session + " \"" + cmd + "\"");
+
+  // Sample the screen until the run exits, keeping the first screen that shows a peak and
+  // the first that shows a fit update.
+  std::string first_peak_screen, first_fit_screen, screen;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    screen = Tmux("capture-pane -p -t " + session);
+    if (first_peak_screen.empty() && screen.find("peak  #1") != std::string::npos)
+      first_peak_screen = screen;
+    if (first_fit_screen.empty() && screen.find("fit   after") != std::string::npos)
+      first_fit_screen = screen;
+    if (screen.find("RUN-EXITED") != std::string::npos) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  Tmux("kill-session -t " + session);
+  ASSERT_NE(screen.find("RUN-EXITED"), std::string::npos) << screen;
+  ASSERT_FALSE(first_peak_screen.empty()) << screen;
+  ASSERT_FALSE(first_fit_screen.empty()) << screen;
+  // While those were on screen the replay was still going: no summary yet, and the progress
+  // line showed less than the whole clip.
+  for (const std::string* s : {&first_peak_screen, &first_fit_screen}) {
+    EXPECT_EQ(s->find("run: done"), std::string::npos) << *s;
+    EXPECT_NE(s->find("replay"), std::string::npos) << *s;
+  }
+  EXPECT_NE(screen.find("run: done"), std::string::npos) << screen;
+}
+
+}  // namespace
+}  // namespace bouncefit
