@@ -16,6 +16,48 @@ double Median(std::vector<double> v) {
   return *mid;
 }
 
+// Circle through three points; false when they are (nearly) collinear.
+bool Circle3(const EdgePoint& a, const EdgePoint& b, const EdgePoint& c, double* cx, double* cy,
+             double* r) {
+  const double bx = b.x - a.x, by = b.y - a.y, qx = c.x - a.x, qy = c.y - a.y;
+  const double d = 2 * (bx * qy - by * qx);
+  if (std::abs(d) < 1e-9) return false;
+  const double b2 = bx * bx + by * by, q2 = qx * qx + qy * qy;
+  const double ux = (qy * b2 - by * q2) / d, uy = (bx * q2 - qx * b2) / d;
+  *cx = a.x + ux;
+  *cy = a.y + uy;
+  *r = std::hypot(ux, uy);
+  return true;
+}
+
+int CountInliers(const std::vector<EdgePoint>& pts, double cx, double cy, double r, double tol) {
+  int n = 0;
+  for (const auto& p : pts) n += std::abs(std::hypot(p.x - cx, p.y - cy) - r) < tol;
+  return n;
+}
+
+// Replaces the start (cx, cy, r) by the circle through three rim points spread 120 degrees
+// apart that agrees with the most points, if it clearly beats the start: a consensus start lets the
+// robust fit drop a deformed or shaded arc instead of settling halfway.
+void ConsensusStart(const std::vector<EdgePoint>& pts, double* cx, double* cy, double* r) {
+  const size_t n = pts.size();
+  if (n < 12) return;
+  const double tol = std::max(0.35, 0.04 * *r);
+  const int start = CountInliers(pts, *cx, *cy, *r, tol);
+  int best = start;
+  double bx = *cx, by = *cy, br = *r;
+  for (size_t k = 0; k < n / 3; ++k) {
+    double x, y, rr;
+    if (!Circle3(pts[k], pts[k + n / 3], pts[k + 2 * n / 3], &x, &y, &rr)) continue;
+    if (!(rr > 0.5 * *r && rr < 2 * *r)) continue;
+    const int c = CountInliers(pts, x, y, rr, tol);
+    if (c > best) best = c, bx = x, by = y, br = rr;
+  }
+  // Only a clearly better consensus (an eighth of the points more) replaces the start: on a
+  // clean rim any three noisy points agree with fewer points than a good start does.
+  if (best > start + static_cast<int>(n / 8)) *cx = bx, *cy = by, *r = br;
+}
+
 }  // namespace
 
 CircleFitResult FitCircle(const std::vector<EdgePoint>& pts, const CircleFitParams& params) {
@@ -38,7 +80,9 @@ CircleFitResult FitCircle(const std::vector<EdgePoint>& pts, const CircleFitPara
   const double cx = -s[0] / 2, cy = -s[1] / 2;
   const double r2 = cx * cx + cy * cy - s[2];
   if (!(r2 > 0) || !std::isfinite(r2)) return res;
-  return FitCircleFrom(pts, cx + mx, cy + my, std::sqrt(r2), params);
+  double x = cx + mx, y = cy + my, r = std::sqrt(r2);
+  ConsensusStart(pts, &x, &y, &r);
+  return FitCircleFrom(pts, x, y, r, params);
 }
 
 CircleFitResult FitCircleFrom(const std::vector<EdgePoint>& pts, double cx, double cy, double r,

@@ -1,0 +1,66 @@
+// The tracker's parts on their own: robust circle fit, parabolic prediction, colour model.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "track/circle_fit.h"
+#include "track/color_model.h"
+#include "track/motion_predictor.h"
+#include "track/ycc_planes.h"
+
+namespace bouncefit {
+namespace {
+
+TEST(CircleFit, IgnoresAFlattenedArcOfTheRim) {
+  // 64 rim points of a circle (10.3, -4.2) r 7.5 with 0.1 px noise; a quarter of them pulled
+  // 1.5 px inwards, as a shaded or occluded part of the rim would be.
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 0.1);
+  std::vector<EdgePoint> pts;
+  for (int k = 0; k < 64; ++k) {
+    const double a = 2 * std::numbers::pi * k / 64;
+    const double r = 7.5 - (k >= 8 && k < 24 ? 1.5 : 0.0);
+    pts.push_back({10.3 + r * std::cos(a) + noise(rng), -4.2 + r * std::sin(a) + noise(rng)});
+  }
+  const CircleFitResult fit = FitCircle(pts, {});
+  ASSERT_TRUE(fit.ok);
+  EXPECT_NEAR(fit.cx, 10.3, 0.05);
+  EXPECT_NEAR(fit.cy, -4.2, 0.05);
+  EXPECT_NEAR(fit.r, 7.5, 0.05);
+  EXPECT_NEAR(fit.inlier_fraction, 0.75, 0.05);
+}
+
+TEST(CircleFit, TooFewPointsIsNotOk) {
+  EXPECT_FALSE(FitCircle({{0, 0}, {1, 1}}, {}).ok);
+}
+
+TEST(MotionPredictor, FollowsAParabolaAndRestartsAtABounce) {
+  MotionPredictor p;
+  const double g = 3000;  // px/s^2
+  auto y = [&](double t) { return 100 + 0.5 * g * t * t; };
+  for (int i = 0; i < 10; ++i) p.Add(i / 120.0, 320 + i * 0.5, y(i / 120.0));
+  double px, py, speed;
+  ASSERT_TRUE(p.Predict(10 / 120.0, &px, &py, &speed));
+  EXPECT_NEAR(px, 325, 1e-6);
+  EXPECT_NEAR(py, y(10 / 120.0), 1e-6);
+  EXPECT_NEAR(speed, std::hypot(60.0, g * 10 / 120.0), 1e-3);
+  // A bounce: the ball comes back up; the far miss starts a new arc.
+  p.Add(10 / 120.0, 325, y(9 / 120.0) - 5);
+  EXPECT_EQ(p.arcs_started(), 1);
+}
+
+TEST(ColorModel, ShadingKeepsTheMatchWhiteAndGreyDoNot) {
+  const ColorModel orange = ColorModel::FromBgr(20, 120, 250, {});
+  double y, u, v;
+  BgrToYuv(20 * 0.45, 120 * 0.45, 250 * 0.45, &y, &u, &v);  // the ball in shadow
+  EXPECT_TRUE(orange.Matches(static_cast<float>(y), static_cast<float>(u), static_cast<float>(v)));
+  BgrToYuv(196, 202, 206, &y, &u, &v);  // the wall
+  EXPECT_FALSE(orange.Matches(static_cast<float>(y), static_cast<float>(u), static_cast<float>(v)));
+  BgrToYuv(200, 120, 30, &y, &u, &v);  // a blue ball
+  EXPECT_FALSE(orange.Matches(static_cast<float>(y), static_cast<float>(u), static_cast<float>(v)));
+}
+
+}  // namespace
+}  // namespace bouncefit
