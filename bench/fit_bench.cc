@@ -201,6 +201,9 @@ int Realtime(const Args& a) {
   }
   std::this_thread::sleep_for(std::chrono::seconds(2));
   worker.Stop();
+  if (worker.stats().errors > 0)
+    std::printf("fit errors: %d, last: %s\n", worker.stats().errors,
+                worker.stats().last_error.c_str());
   std::printf("fit_bench --realtime: %s model, %s from %.2f m, peaks emitted %.0f ms after their "
               "apex, %d simulations per update at most\n\n",
               a.model.c_str(), ball.name.c_str(), a.drop, a.detector_delay * 1000, a.per_bounce);

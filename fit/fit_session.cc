@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "fit/least_squares_search.h"
+#include "fit/live_step.h"
 #include "fit/nlopt_search.h"
 #include "fit/paper_search.h"
 
@@ -40,6 +41,9 @@ int IterationsOf(const CoefficientValues& values) {
 FitSession::FitSession(const BallModel& model, const BallModel* quick_model,
                        FitSessionConfig config)
     : model_(model), quick_model_(quick_model), config_(std::move(config)) {
+  if (config_.live_method != "gauss-newton" && config_.live_method != "search")
+    throw std::invalid_argument("unknown live method '" + config_.live_method +
+                                "' (known: gauss-newton, search)");
   if (config_.method != "nlopt" && config_.method != "paper")
     throw std::invalid_argument("unknown fit method '" + config_.method +
                                 "' (known: nlopt, paper)");
@@ -129,7 +133,7 @@ std::vector<CoefficientSpec> FitSession::FreeSpecs() const {
 }
 
 FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
-                                   const CoefficientValues& at) const {
+                                   const CoefficientValues& at, bool live) const {
   FitProblem p;
   p.model = &model_;
   p.free = free;
@@ -139,8 +143,9 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
   if (p.recorded_m.empty()) throw std::logic_error("no bounce to fit yet");
   const int k = static_cast<int>(p.recorded_m.size());
   p.simulation.drop_height_m = drop_height_m_;
+  const double t_k = FreeFallApexTime(drop_height_m_, p.recorded_m, k);
   p.simulation.duration_s =
-      config_.duration_margin * FreeFallApexTime(drop_height_m_, p.recorded_m, k) + 0.2;
+      live ? config_.live_duration_margin * t_k + 0.1 : config_.duration_margin * t_k + 0.2;
   const double lowest = *std::min_element(p.recorded_m.begin(), p.recorded_m.end());
   p.simulation.min_bounce_height_m = 0.5 * std::min(config_.min_bounce_height_m, lowest);
   return p;
@@ -236,14 +241,16 @@ FitUpdate FitSession::Update(const CancelToken* cancel) {
     for (const auto& s : specs)
       if (s.name == name) live.push_back(s);
   }
-  FitProblem p = MakeProblem(live, current_);
+  const bool fast = config_.live_method == "gauss-newton";
+  FitProblem p = MakeProblem(live, current_, fast);
   SearchOptions o;
   o.max_evaluations = config_.max_evaluations_per_bounce;
   o.threads = config_.threads;
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
-  SearchResult r = config_.method == "paper" ? PaperSearch(p, current_, o)
-                                             : NloptSearch(p, current_, o);
+  SearchResult r = fast                         ? LiveStep(p, current_, o)
+                   : config_.method == "paper" ? PaperSearch(p, current_, o)
+                                               : NloptSearch(p, current_, o);
   if (r.evaluations > 0) current_ = r.values;
   // Coefficients with no effect go to the back of the live order.
   for (const auto& name : r.inactive) {

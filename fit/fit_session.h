@@ -58,7 +58,12 @@ struct FitSessionConfig {
   int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
   int max_evaluations_final = 160;      // final fit budget, plus the Jacobian
   int max_evaluations_quick = 120;      // point-mass estimate budget
-  int live_coefficients = 3;        // per-bounce: at most this many (and <= bounces)
+  // Per-bounce update: "gauss-newton" (default: one parallel Gauss-Newton step, two rounds of
+  // simulations, so it is out before the next apex) or "search" (`method` with the
+  // per-bounce budget).
+  std::string live_method = "gauss-newton";
+  int live_coefficients = 1;        // per-bounce: at most this many (and <= bounces)
+  double live_duration_margin = 1.15;  // per-bounce simulations stop sooner (+0.1 s)
   // Per-bounce updates search these first (the model's most influential coefficients);
   // empty: the paper's priority order. A final fit reorders by measured sensitivity.
   std::vector<std::string> live_priority;
@@ -111,8 +116,8 @@ class FitSession {
 
  private:
   std::vector<CoefficientSpec> FreeSpecs() const;
-  FitProblem MakeProblem(const std::vector<CoefficientSpec>& free,
-                         const CoefficientValues& at) const;
+  FitProblem MakeProblem(const std::vector<CoefficientSpec>& free, const CoefficientValues& at,
+                         bool live = false) const;
   double MeasurementSigma() const;
   FitUpdate Finish(const FitProblem& problem, const SearchResult& r, bool final,
                    const std::vector<std::vector<double>>& jacobian, int extra_evals,

@@ -124,8 +124,11 @@ void FitWorker::Loop() {
         Deliver(session_->FinalUpdate(token.get()));
         final_done = true;
       }
-    } catch (const std::exception&) {
+    } catch (const std::exception& e) {
       // A failing fit must not take the worker down; the next peak starts afresh.
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++stats_.errors;
+      stats_.last_error = e.what();
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -44,6 +45,8 @@ class FitWorker {
     int updates_delivered = 0;
     int superseded = 0;  // updates cancelled by a newer peak
     int finals = 0;
+    int errors = 0;          // fits that threw (the worker carries on)
+    std::string last_error;
   };
   Stats stats() const;
 

@@ -76,13 +76,18 @@ SearchResult LeastSquaresSearch(const FitProblem& problem, const CoefficientValu
   SearchResult r = f.MakeResult("least-squares", wall);
   if (have_jacobian && ex.ok) {
     // Jacobian at the answer, for the uncertainties (cheap: one parallel batch).
+    // Its own budget: the search may have stopped on its target or budget.
+    SearchOptions jo = options;
+    jo.target_rms_m = 0;
+    jo.max_evaluations = static_cast<int>(n) + 1;
+    FitObjective jf(problem, jo);
     Eigen::MatrixXd Jf;
-    if (Jacobian(f, x, ex, std::max(o.fd_step, 1e-4), &Jf)) {
+    if (Jacobian(jf, x, ex, std::max(o.fd_step, 1e-4), &Jf)) {
       r.jacobian.assign(k, std::vector<double>(n, 0.0));
       for (size_t i = 0; i < k; ++i)
         for (size_t j = 0; j < n; ++j) r.jacobian[i][j] = Jf(i, j);
       r.jacobian_at = f.ToValues(x);
-      r.evaluations = f.evaluations();
+      r.evaluations = f.evaluations() + jf.evaluations();
     }
   }
   return r;
