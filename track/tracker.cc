@@ -361,7 +361,9 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs)
   obs->pixel_count = blob.pixels;
   obs->aspect_ratio = blob.box.height > 0 ? blob.box.width / blob.box.height : 0;
   obs->score = std::clamp(score, 0.0f, 1.0f);
-  if (bc.ok && !bc.cut && bc.inlier_fraction > 0.8 && config_.adapt_rate > 0)
+  // Adaptation is slow by design: every 4th good frame, 4x the rate, same time constant.
+  if (bc.ok && !bc.cut && bc.inlier_fraction > 0.8 && config_.adapt_rate > 0 &&
+      ++adapt_tick_ % 4 == 0)
     Adapt(bc.cx, bc.cy, bc.r);
   return true;
 }
@@ -396,7 +398,7 @@ void Tracker::Adapt(double cx, double cy, double r) {
     // Surroundings that look like the ball: adapting now could drift onto them.
     if (std::hypot(out_u - color_.nu(), out_v - color_.nv()) < 1.5 * tol) return;
   }
-  color_.AdaptTowards(in_u, in_v, config_.adapt_rate, anchor_,
+  color_.AdaptTowards(in_u, in_v, std::min(1.0, 4 * config_.adapt_rate), anchor_,
                       config_.adapt_max_drift * std::hypot(anchor_.nu(), anchor_.nv()));
 }
 

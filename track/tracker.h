@@ -106,6 +106,7 @@ class Tracker {
   std::deque<cv::Mat> auto_luma_;
   double auto_score_ = 0;
   int auto_review_left_ = 0;
+  int64_t adapt_tick_ = 0;
   YccPlanes planes_, wide_;
   cv::Mat mask_;
 };
