@@ -111,8 +111,11 @@ void Run(CaptureOptions& o) {
 
   std::unique_ptr<FrameSource> source;
   bool is_file = false;
+  VideoFileSource* file = nullptr;
   if (!o.replay.empty()) {
-    source = std::make_unique<VideoFileSource>(VideoFileSourceConfig{o.replay, o.loop});
+    auto f = std::make_unique<VideoFileSource>(VideoFileSourceConfig{o.replay, o.loop});
+    file = f.get();
+    source = std::move(f);
     is_file = true;
   } else {
     V4l2CameraConfig c;
@@ -165,6 +168,11 @@ void Run(CaptureOptions& o) {
   if (recorder) recorder->Close();
   if (log) log->Close();
   const CaptureStats& s = node.stats();
+  if (file && file->ended_short())
+    std::printf("capture: warning: %s ended after %lld of the %lld frames it announces "
+                "(truncated or damaged?)\n",
+                o.replay.c_str(), static_cast<long long>(s.frames),
+                static_cast<long long>(info.frame_count));
   std::printf(
       "capture: %s%lld frames, %lld dropped, %lld found, %lld published, wall %s s, stream %s "
       "s (read %s s, track %s s)%s%s%s\n",

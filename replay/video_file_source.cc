@@ -139,7 +139,10 @@ std::optional<Frame> VideoFileSource::Next() {
       frame = Decode();
     }
   }
-  if (!frame) return std::nullopt;
+  if (!frame) {
+    ended_short_ = info_.frame_count > 0 && pass_frames_ < info_.frame_count * 0.95 - 1;
+    return std::nullopt;
+  }
   frame->index = delivered_;
   frame->sequence = delivered_;
   if (!recorded_.empty()) {

@@ -32,6 +32,9 @@ class VideoFileSource final : public FrameSource {
   std::optional<Frame> Next() override;
 
   int loops_done() const { return loops_; }
+  // After the end: the last pass gave clearly fewer frames than the container announces
+  // (a truncated or damaged file). Its frames were all delivered.
+  bool ended_short() const { return ended_short_; }
   // Frames whose container time did not increase and was replaced by previous + one
   // nominal interval.
   int64_t repaired_times() const { return repaired_; }
@@ -55,6 +58,7 @@ class VideoFileSource final : public FrameSource {
   int64_t pass_frames_ = 0;
   int loops_ = 0;
   int64_t dropped_ = 0;
+  bool ended_short_ = false;
   struct Recorded {
     int64_t utime;
     int64_t sequence;

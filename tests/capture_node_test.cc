@@ -209,6 +209,28 @@ TEST(CaptureCommand, ReplaysAClipAsFastAsPossibleAndLogsIt) {
   EXPECT_EQ(n, 180);
 }
 
+TEST(CaptureCommand, CtrlCStopsCleanlyAndKeepsTheLog) {
+  const auto dir = testing::ScratchDir("capture_command_sigint");
+  const std::string log = (dir / "boxes.lcm").string();
+  std::string out;
+  // Real-time replay of the 1.5 s clip, interrupted after about 0.8 s.
+  const int rc = RunCommand("bash -c \"" + BouncefitExe() + " capture --replay '" + SynthClip() +
+                                "' --lcm-url memq:// --quiet --log '" + log +
+                                "' & P=\\$!; sleep 0.8; kill -INT \\$P; wait \\$P\"",
+                            &out);
+  EXPECT_EQ(rc, 0) << out;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(out, m, std::regex("capture: stopped: (\\d+) frames"))) << out;
+  const int frames = std::stoi(m[1]);
+  EXPECT_GT(frames, 20);
+  EXPECT_LT(frames, 170);
+  // Every box published before the stop is in the log, and the log is whole.
+  LcmLogReader reader(log);
+  int n = 0;
+  while (reader.Next()) ++n;
+  EXPECT_EQ(n, frames);
+}
+
 TEST(CaptureCommand, BadInputIsOneLineAndNonZero) {
   const auto dir = testing::ScratchDir("capture_command_errors");
   const std::string exe = BouncefitExe() + " capture ";

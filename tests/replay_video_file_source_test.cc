@@ -64,6 +64,7 @@ TEST(VideoFileSource, ReadsEveryFrameInOrderWithItsTime) {
     ++n;
   }
   EXPECT_EQ(n, 40);
+  EXPECT_FALSE(source.ended_short());
   EXPECT_FALSE(source.Next().has_value());
   EXPECT_EQ(source.dropped_frames(), 0);
 }
@@ -171,6 +172,7 @@ TEST(VideoFileSource, TruncatedClipGivesTheFramesThatAreThere) {
   }
   EXPECT_GT(n, 20);
   EXPECT_LT(n, 40);
+  EXPECT_TRUE(source.ended_short());  // the header announced 60
 }
 
 }  // namespace
