@@ -9,7 +9,6 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "cli/run_console.h"
 #include "cli/watch_render.h"
 #include "cli/watch_state.h"
 #include "cli/watch_terminal.h"
@@ -55,36 +54,29 @@ void RunWatch(const WatchFlags& f) {
   const bool tty = ::isatty(STDOUT_FILENO) && ::isatty(STDIN_FILENO);
   const bool dashboard = tty && !f.plain && !f.once;
   const bool plain = !dashboard && !f.once;
-  RunConsole console(ConsoleMode::kHuman, stdout);
-  int64_t restarts_seen = 0;
-  bool t0_set = false;
-
-  auto sync_console = [&] {
-    if (state.restarts() != restarts_seen) {
-      restarts_seen = state.restarts();
-      t0_set = false;
-      if (plain) console.Info("watch: the producer restarted: a new stream");
-    }
-    if (!t0_set && state.stream_start_utime() != 0) {
-      console.SetStreamStart(state.stream_start_utime());
-      t0_set = true;
-    }
+  auto say = [](const std::string& line) {
+    std::printf("%s\n", line.c_str());
+    std::fflush(stdout);
   };
+  int64_t restarts_seen = 0;
   bus.Subscribe<ball_box_t>(f.channels.ball_box, [&](const ball_box_t& m) {
     state.OnBox(m, NowUtime());
-    sync_console();
+    if (state.restarts() != restarts_seen) {
+      restarts_seen = state.restarts();
+      if (plain) say("watch: the producer restarted: a new stream");
+    }
   });
   bus.Subscribe<calibration_t>(f.channels.calibration, [&](const calibration_t& m) {
     state.OnCalibration(m, NowUtime());
-    if (plain) console.OnCalibration(m);
+    if (plain) say(WatchCalibrationLine(m));
   });
   bus.Subscribe<bounce_peak_t>(f.channels.bounce_peak, [&](const bounce_peak_t& m) {
     state.OnPeak(m, NowUtime());
-    if (plain) console.OnPeak(m);
+    if (plain) say(WatchPeakLine(state, m));
   });
   bus.Subscribe<fit_update_t>(f.channels.fit_update, [&](const fit_update_t& m) {
     state.OnFit(m, NowUtime());
-    if (plain) console.OnFit(m);
+    if (plain) say(WatchFitLine(m));
   });
 
   WatchRenderOptions render;
@@ -103,7 +95,7 @@ void RunWatch(const WatchFlags& f) {
   const int64_t frame_us = static_cast<int64_t>(1e6 / f.refresh_hz);
   int64_t next_draw = 0, next_status = start + static_cast<int64_t>(f.status_every_s * 1e6);
   bool was_waiting = true;
-  if (plain) console.Info("watch: listening on " + f.lcm_url + " (Ctrl-C to stop)");
+  if (plain) say("watch: listening on " + f.lcm_url + " (Ctrl-C to stop)");
 
   for (;;) {
     bus.HandleOnce(20);
@@ -124,13 +116,13 @@ void RunWatch(const WatchFlags& f) {
     } else if (plain) {
       const bool waiting = state.Waiting(now);
       if (waiting && !was_waiting) {
-        console.Info(state.AnyData() ? "watch: waiting for data (the producer stopped?)"
+        say(state.AnyData() ? "watch: waiting for data (the producer stopped?)"
                                      : "watch: waiting for data");
       }
-      if (!waiting && was_waiting) console.Info("watch: receiving");
+      if (!waiting && was_waiting) say("watch: receiving");
       was_waiting = waiting;
       if (now >= next_status && !waiting) {
-        console.Info("watch: " + WatchStatusLine(state, now, render));
+        say("watch: " + WatchStatusLine(state, now, render));
         next_status = now + static_cast<int64_t>(f.status_every_s * 1e6);
       }
     }
@@ -147,7 +139,7 @@ void RunWatch(const WatchFlags& f) {
     }
     std::printf("height trace: %s\n", Sparkline(state, 60, render.unicode).c_str());
   } else if (plain) {
-    console.Info("watch: " + WatchStatusLine(state, NowUtime(), render));
+    say("watch: " + WatchStatusLine(state, NowUtime(), render));
   }
   std::fflush(stdout);
 }

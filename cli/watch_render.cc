@@ -60,11 +60,19 @@ std::vector<double> Buckets(const WatchState& state, int width, double window_s,
   return b;
 }
 
+// The chart spans the trace received so far, from 2 s up to the full trace window.
+double ChartWindowS(const WatchState& state) {
+  const auto& trace = state.trace();
+  if (trace.size() < 2) return 2;
+  const double span = static_cast<double>(trace.back().utime - trace.front().utime) * 1e-6;
+  return std::clamp(span, 2.0, 10.0);
+}
+
 }  // namespace
 
 std::string Sparkline(const WatchState& state, int width, bool unicode) {
   bool metres = false;
-  const auto b = Buckets(state, width, 10, &metres);
+  const auto b = Buckets(state, width, ChartWindowS(state), &metres);
   double top = 0;
   for (double v : b) if (std::isfinite(v)) top = std::max(top, v);
   static const char* kBlocks[] = {"\u2581", "\u2582", "\u2583", "\u2584",
@@ -81,6 +89,39 @@ std::string Sparkline(const WatchState& state, int width, bool unicode) {
     else out += kAscii[level];
   }
   return out;
+}
+
+std::string WatchCalibrationLine(const calibration_t& c) {
+  return Format("calibration  %.2f +- %.2f px/m  roll %.2f +- %.2f deg  floor %.1f +- %.1f px  (%s, %d frames)",
+                c.px_per_m, c.px_per_m_sigma, c.roll_rad * 180 / M_PI,
+                c.roll_sigma_rad * 180 / M_PI, c.floor_px, c.floor_sigma_px, c.method.c_str(),
+                c.samples);
+}
+
+std::string WatchPeakLine(const WatchState& s, const bounce_peak_t& m) {
+  std::string line = Format("peak  #%-2d  t=%s s  height %s m  +- %s m", m.bounce,
+                            Num(StreamSeconds(s, m.apex_utime), "%7.3f").c_str(),
+                            Num(m.height_m, "%.4f").c_str(), Num(m.height_sigma_m, "%.4f").c_str());
+  if (std::isfinite(m.flight_height_m)) line += Format("  (flight time: %.4f m)", m.flight_height_m);
+  if (m.bounce == 0) {
+    line += "  release";
+  } else {
+    for (const auto& p : s.peaks()) {
+      if (p.bounce == m.bounce - 1 && p.height_m > 0 && m.height_m >= 0) {
+        line += Format("  e=%.3f", std::sqrt(m.height_m / p.height_m));
+      }
+    }
+  }
+  return line;
+}
+
+std::string WatchFitLine(const fit_update_t& m) {
+  std::string line = Format("fit   after #%d%s  %s/%s", m.after_bounce, m.final ? " (final)" : "",
+                            m.model.c_str(), m.method.c_str());
+  for (int i = 0; i < m.num_coeffs; ++i) line += Format("  %s=%.6g", m.names[i].c_str(), m.values[i]);
+  line += Format("  residual %.2f mm  %d sims  %.2f s", m.residual_m * 1e3, m.evaluations,
+                 m.wall_time_s);
+  return line;
 }
 
 std::string WatchStatusLine(const WatchState& s, int64_t now, const WatchRenderOptions& o) {
@@ -123,13 +164,16 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
   const int label_w = 9;
   const int chart_w = cols - label_w;
   bool metres = false;
-  const auto b = Buckets(s, chart_w, 10, &metres);
+  const double window_s = ChartWindowS(s);
+  const auto b = Buckets(s, chart_w, window_s, &metres);
   double top = 0;
   for (double v : b) if (std::isfinite(v)) top = std::max(top, v);
   for (const auto& p : s.peaks()) if (metres && std::isfinite(p.height_m)) top = std::max(top, p.height_m);
   top = top > 0 ? top * 1.05 : 1;
-  lines.push_back(Rule(cols, metres ? "height of the ball bottom above the floor (m), last 10 s"
-                                    : "height (px above the lowest point seen; no calibration yet), last 10 s",
+  lines.push_back(Rule(cols,
+                       (metres ? "height of the ball bottom above the floor (m), last "
+                               : "height (px above the lowest point seen; no calibration yet), last ") +
+                           Format("%.1f s", window_s),
                        o.unicode));
   static const char* kBlocks[] = {" ", "\u2581", "\u2582", "\u2583", "\u2584",
                                   "\u2585", "\u2586", "\u2587", "\u2588"};
@@ -159,11 +203,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
   // Calibration.
   if (s.calibration()) {
     const auto& c = *s.calibration();
-    lines.push_back(Pad(Format("calibration  %.2f +- %.2f px/m  roll %.2f +- %.2f deg  floor %.1f +- %.1f px  (%s, %d frames)",
-                               c.px_per_m, c.px_per_m_sigma, c.roll_rad * 180 / M_PI,
-                               c.roll_sigma_rad * 180 / M_PI, c.floor_px, c.floor_sigma_px,
-                               c.method.c_str(), c.samples),
-                        cols));
+    lines.push_back(Pad(WatchCalibrationLine(c), cols));
   } else {
     lines.push_back(Pad("calibration  not yet known", cols));
   }

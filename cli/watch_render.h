@@ -28,6 +28,12 @@ std::vector<std::string> RenderWatch(const WatchState& state, int64_t now_utime,
 // A one-line sparkline of the last `width` buckets of the height trace.
 std::string Sparkline(const WatchState& state, int width, bool unicode);
 
+// Plain mode's line for each event (after the state has taken the message in). Times are
+// seconds since the first box this watcher saw of the stream.
+std::string WatchCalibrationLine(const calibration_t& m);
+std::string WatchPeakLine(const WatchState& state, const bounce_peak_t& m);
+std::string WatchFitLine(const fit_update_t& m);
+
 // The status line for plain mode: rates, drops, waiting.
 std::string WatchStatusLine(const WatchState& state, int64_t now_utime,
                             const WatchRenderOptions& options);

@@ -245,6 +245,14 @@ TEST_F(WatchInTmux, ShowsPeaksAndCoefficientsSurvivesRestartAndQuitsOnQ) {
     EXPECT_NE(screen.find("residual 4.20 mm"), std::string::npos) << screen;
     EXPECT_NE(screen.find("400.00 +- 1.25 px/m"), std::string::npos) << screen;
     EXPECT_NE(screen.find("height of the ball bottom above the floor (m)"), std::string::npos);
+    // The height trace is drawn: full blocks under the arcs, and the top row (near 1 m)
+    // reached only by the release.
+    size_t blocks = 0;
+    for (size_t at = screen.find("\u2588"); at != std::string::npos;
+         at = screen.find("\u2588", at + 1)) {
+      ++blocks;
+    }
+    EXPECT_GT(blocks, 100u) << screen;
     EXPECT_NE(screen.find("decode failures 1"), std::string::npos) << screen;
     EXPECT_NE(screen.find("[LIVE]"), std::string::npos) << screen;
     std::smatch rate;
@@ -299,7 +307,7 @@ TEST(WatchPlain, WithoutATerminalPrintsEventLines) {
   producer_thread.join();
   EXPECT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("watch: listening on"), std::string::npos) << out;
-  EXPECT_NE(out.find("calibration  400.0"), std::string::npos) << out;
+  EXPECT_NE(out.find("calibration  400.00 +- 1.25 px/m"), std::string::npos) << out;
   EXPECT_NE(out.find("height 0.6400 m"), std::string::npos) << out;
   EXPECT_NE(out.find("restitution=0.8123"), std::string::npos) << out;
   EXPECT_EQ(out.find("\x1b["), std::string::npos) << "escape codes in plain output";
