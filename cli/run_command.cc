@@ -160,6 +160,7 @@ void Run(RunOptions o) {
                Fixed(ball.mass_kg * 1e3, 1) + " g); output " + out.dir().string() + "; bus " + o.lcm_url);
 
   std::optional<FitUpdate> final_fit;
+  int64_t now_utime = 0;  // capture time of the latest frame: the stream's "now"
   int64_t release_utime = 0;
   std::vector<bounce_peak_t> peaks;
   std::optional<calibration_t> calibration;
@@ -167,8 +168,8 @@ void Run(RunOptions o) {
     for (auto& [m, u] : inbox.Take()) {
       bus.Publish(o.channels.fit_update, m);
       out.Log(o.channels.fit_update, m);
-      out.OnFit(m);
-      console.OnFit(m);
+      out.OnFit(m, now_utime);
+      console.OnFit(m, now_utime);
       if (u.final && u.model == fit->model().name()) final_fit = u;
     }
   };
@@ -202,6 +203,7 @@ void Run(RunOptions o) {
       out.SetStreamStart(frame.utime);
       console.SetStreamStart(frame.utime);
     }
+    now_utime = frame.utime;
     out.OnBox(ToBallBox(obs));
     handle_events(detect.OnObservation(obs));
   });

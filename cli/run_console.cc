@@ -80,10 +80,11 @@ void RunConsole::OnPeak(const bounce_peak_t& m) {
   Line(line);
 }
 
-void RunConsole::OnFit(const fit_update_t& m) {
+void RunConsole::OnFit(const fit_update_t& m, int64_t published_utime) {
   if (mode_ == ConsoleMode::kJson) {
     auto j = ToJson(m, t0_);
     j["event"] = "fit";
+    if (published_utime) j["published_t_s"] = SecondsSince(published_utime, t0_);
     Line(j.dump());
     return;
   }

@@ -72,8 +72,10 @@ void RunOutput::OnPeak(const bounce_peak_t& m) {
   peaks_.flush();
 }
 
-void RunOutput::OnFit(const fit_update_t& m) {
-  fits_ << ToJson(m, t0_).dump() << '\n';
+void RunOutput::OnFit(const fit_update_t& m, int64_t published_utime) {
+  auto j = ToJson(m, t0_);
+  j["published_t_s"] = SecondsSince(published_utime, t0_);
+  fits_ << j.dump() << '\n';
   fits_.flush();
 }
 

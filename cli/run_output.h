@@ -30,7 +30,8 @@ class RunOutput {
   void OnBox(const ball_box_t& m);
   void OnCalibration(const calibration_t& m);
   void OnPeak(const bounce_peak_t& m);
-  void OnFit(const fit_update_t& m);
+  // published_utime: the stream time (latest frame) at which the update went out.
+  void OnFit(const fit_update_t& m, int64_t published_utime);
   // Raw copy into session.lcm of a message this process published.
   template <class Msg>
   void Log(const std::string& channel, const Msg& m) {
