@@ -249,7 +249,11 @@ ReportFigure CoefficientsFigure(const ReportRunData& run, FigureWriter& w) {
   std::map<std::string, bool> identifiable;
   std::ostringstream residual;
   residual << "# after_bounce residual_mm final\n";
+  // One model's history: the final fit's (a run may also fit a quick model on the way).
+  const ReportFit* last = run.FinalFit();
+  const std::string model = last ? last->model : std::string();
   for (const auto& f : run.fits) {
+    if (f.model != model) continue;
     for (const auto& c : f.coefficients) {
       if (!identifiable.count(c.name)) {
         names.push_back(c.name);
@@ -270,7 +274,7 @@ ReportFigure CoefficientsFigure(const ReportRunData& run, FigureWriter& w) {
   const int rows = (panels + cols - 1) / cols;
   std::ostringstream gp;
   gp << "set multiplot layout " << rows << "," << cols
-     << " title 'Coefficient history per bounce' font ',13'\n"
+     << " title " << Quote("Coefficient history per bounce: " + model + " model") << " font ',13'\n"
      << "set key off\nset xlabel 'after bounce'\nset xtics 1\nset offsets 0.3,0.3,0,0\n";
   for (size_t i = 0; i < names.size(); ++i) {
     const std::string file = "coefficient_" + std::to_string(i) + ".dat";
@@ -292,7 +296,8 @@ ReportFigure CoefficientsFigure(const ReportRunData& run, FigureWriter& w) {
         "'residual.dat' using 1:($3==1?$2:1/0) with points pt 9 ps 1.6 lc rgb '#d62728'\n"
      << "unset multiplot\n";
   return w.Draw("coefficients", "Coefficient history per bounce",
-                "Each coefficient (units as in the table below) after each bounce's fit, with "
+                "Each coefficient of the final fit's model (" + model + "; units as in the "
+                "table below) after each bounce's fit, with "
                 "its standard uncertainty as error bar where known; red triangles: the final "
                 "fit. Last panel: RMS of simulated minus recorded bounce heights (mm).",
                 gp.str(), std::max(320, 300 * rows));

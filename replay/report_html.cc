@@ -203,10 +203,12 @@ void FitSection(std::ostringstream& h, const ReportRunData& run) {
 
   if (run.fits.size() > 1) {
     h << "<h3>Fit history</h3>\n<table>\n";
-    Header(h, {"after bounce", "final", "residual (mm)", "simulations", "time (s)"});
+    Header(h, {"after bounce", "model", "search", "final", "residual (mm)", "simulations",
+               "time (s)"});
     for (const auto& f : run.fits) {
-      Row(h, {std::to_string(f.after_bounce), f.final ? "yes" : "", Fmt(f.residual_m * 1000, 2),
-              std::to_string(f.evaluations), Fmt(f.wall_time_s, 2)});
+      Row(h, {std::to_string(f.after_bounce), HtmlEscape(f.model), HtmlEscape(f.method),
+              f.final ? "yes" : "", Fmt(f.residual_m * 1000, 2), std::to_string(f.evaluations),
+              Fmt(f.wall_time_s, 2)});
     }
     h << "</table>\n";
   }

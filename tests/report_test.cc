@@ -199,6 +199,26 @@ TEST(Report, RunWithoutFitStillReportsWhatItHas) {
   EXPECT_FALSE(fs::exists(dir / "report_trajectory.png"));
 }
 
+TEST(Report, CoefficientHistoryIsTheFinalModelsOnly) {
+  const auto dir = ScratchDir("report_two_models");
+  testing::WriteReportFixture(dir);
+  const std::string fits = Slurp(dir / "fit.jsonl");
+  std::ofstream(dir / "fit.jsonl")
+      << "{\"after_bounce\":1,\"final\":false,\"model\":\"quick-model\",\"method\":\"x\","
+         "\"coefficients\":[{\"name\":\"other_coefficient\",\"value\":3}],"
+         "\"residual_m\":0.5}\n"
+      << fits;
+  const auto outcome = WriteReport(dir, ReportOptions{});
+  const std::string gp = Slurp(dir / "report_plots" / "coefficients.gp");
+  EXPECT_EQ(gp.find("other_coefficient"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("'restitution'"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("point-mass model"), std::string::npos) << gp;
+  // 500 mm of the other model's residual is not on the residual panel.
+  EXPECT_EQ(Slurp(dir / "report_plots" / "residual.dat").find(" 500 "), std::string::npos);
+  // The history table still lists every fit.
+  EXPECT_NE(Slurp(outcome.html).find("quick-model"), std::string::npos);
+}
+
 TEST(Report, NoCalibrationPlotsPixels) {
   const auto dir = ScratchDir("report_nocal");
   testing::ReportFixtureOptions opt;
