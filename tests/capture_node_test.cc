@@ -8,6 +8,8 @@
 #include <fstream>
 #include <regex>
 
+#include <unistd.h>
+
 #include "bouncefit/ball_box_t.hpp"
 #include "capture/frame_recorder.h"
 #include "capture/v4l2_camera.h"
@@ -25,16 +27,22 @@ namespace {
 using testing::BouncefitExe;
 using testing::RunCommand;
 
-// A 1.5 s synth drop at 120 fps, 320x240, rendered once per test run.
+// A 1.5 s synth drop at 120 fps, 320x240. ctest runs every test in a process of its own:
+// render it once and reuse it (written under a temporary name, then renamed).
 std::string SynthClip() {
   static std::string path;
   if (!path.empty()) return path;
-  const auto dir = testing::ScratchDir("capture_node_clip");
+  const auto dir = std::filesystem::current_path() / "scratch" / "capture_node_clip";
   const std::string p = (dir / "drop.avi").string();
-  std::string out;
-  const int rc = RunCommand(BouncefitExe() + " synth --duration 1.5 --fps 120 --size 320x240 "
-                                             "--drop-height 0.5 -q -o '" + p + "'", &out);
-  EXPECT_EQ(rc, 0) << out;
+  if (!std::filesystem::exists(p)) {
+    std::filesystem::create_directories(dir);
+    const std::string tmp = (dir / ("drop." + std::to_string(::getpid()) + ".avi")).string();
+    std::string out;
+    const int rc = RunCommand(BouncefitExe() + " synth --duration 1.5 --fps 120 --size 320x240 "
+                                               "--drop-height 0.5 -q -o '" + tmp + "'", &out);
+    EXPECT_EQ(rc, 0) << out;
+    std::filesystem::rename(tmp, p);
+  }
   path = p;
   return path;
 }

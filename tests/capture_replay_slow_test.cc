@@ -12,6 +12,8 @@
 #include <regex>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "bouncefit/ball_box_t.hpp"
 #include "replay/node/lcm_log_replay.h"
 #include "replay/video_file_source.h"
@@ -26,12 +28,17 @@ using testing::RunCommand;
 class CaptureReplaySlow : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = testing::ScratchDir("capture_replay_slow");
+    // ctest runs each test in its own process: render the clip once, reuse it after.
+    dir_ = std::filesystem::current_path() / "scratch" / "capture_replay_slow";
+    std::filesystem::create_directories(dir_);
     clip_ = (dir_ / "drop5s.avi").string();
+    if (std::filesystem::exists(clip_)) return;
+    const std::string tmp = (dir_ / ("drop5s." + std::to_string(::getpid()) + ".avi")).string();
     std::string out;
     // 600 frames at 120 fps: exactly 5 s of footage.
-    ASSERT_EQ(RunCommand(BouncefitExe() + " synth --duration 5 --fps 120 -q -o '" + clip_ + "'", &out), 0)
+    ASSERT_EQ(RunCommand(BouncefitExe() + " synth --duration 5 --fps 120 -q -o '" + tmp + "'", &out), 0)
         << out;
+    std::filesystem::rename(tmp, clip_);
   }
   static std::filesystem::path dir_;
   static std::string clip_;
@@ -83,6 +90,7 @@ Timing ParseFinal(const std::string& out) {
 TEST_F(CaptureReplaySlow, TwoProcessesOverUdpmLoggerAndReplayGiveTheSameBoxesAndPeaks) {
   const std::string url = testing::UniqueUdpmUrl();
   const auto d = dir_ / "two_process";
+  std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   const std::string exe = BouncefitExe();
   std::ostringstream sh;
