@@ -156,7 +156,16 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
         else
           all_init.push_back(InitialArcParams(in.arcs[j], global.globals));
       }
-      FlightFit all = FitArcs(in.arcs, global.globals, all_init);
+      // Arcs are independent once the globals are fixed: one small fit each.
+      FlightFit all;
+      all.ok = true;  // the globals are known; an arc that cannot be fitted keeps its start
+      all.globals = global.globals;
+      for (size_t j = 0; j < in.arcs.size(); ++j) {
+        const FlightFit one = FitArcs({in.arcs[j]}, global.globals, {all_init[j]});
+        all.arcs.push_back(one.ok ? one.arcs[0] : all_init[j]);
+        all.u_apex_sigma.push_back(one.ok ? one.u_apex_sigma[0] : 0.0);
+        all.samples += one.samples;
+      }
       all.gravity_sigma = global.gravity_sigma;
       all.drag_sigma = global.drag_sigma;
       all.roll_sigma = global.roll_sigma;
