@@ -50,6 +50,7 @@ struct Args {
   bool realtime = false;
   double detector_delay = 0.05;
   int per_bounce = 16;
+  double step = 0;  // NLopt initial step override (0: the search's default)
 };
 
 std::vector<std::string> Split(const std::string& s) {
@@ -80,6 +81,7 @@ Args Parse(int argc, char** argv) {
     else if (k == "--realtime") a.realtime = true;
     else if (k == "--detector-delay") a.detector_delay = std::stod(next());
     else if (k == "--per-bounce") a.per_bounce = std::stoi(next());
+    else if (k == "--step") a.step = std::stod(next());
     else {
       std::fprintf(stderr, "fit_bench: unknown argument %s\n", k.c_str());
       std::exit(2);
@@ -137,7 +139,9 @@ int Searches(const Args& a) {
     o.max_evaluations = a.budget;
     o.threads = a.threads;
     const SearchResult paper = PaperSearch(p, session.warm_start(), o);
-    const SearchResult fast = NloptSearch(p, session.warm_start(), o);
+    NloptSearchOptions no;
+    if (a.step > 0) no.initial_step = a.step;
+    const SearchResult fast = NloptSearch(p, session.warm_start(), o, no);
     int reach = -1;
     for (size_t i = 0; i < fast.best_history.size(); ++i)
       if (fast.best_history[i] <= paper.objective * (1 + 1e-12)) {

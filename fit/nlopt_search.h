@@ -18,7 +18,7 @@
 namespace bouncefit {
 
 struct NloptSearchOptions {
-  double initial_step = 0.05;   // BOBYQA's initial trust radius, fraction of each range
+  double initial_step = 0.15;   // BOBYQA's initial trust radius, fraction of each range
   double xtol = 2e-3;           // stop when steps are below this (fraction of range)
   double ftol_rel = 1e-6;       // or the objective changes by less than this fraction
   double min_effect_m = 1e-6;   // +-step changing no height by more than this: no effect
