@@ -463,6 +463,9 @@ std::optional<Frame> V4l2Camera::Next() {
   }
   if (!negotiated_.streaming) return NextRead();
   int consecutive_errors = 0;
+  // poll() may keep reporting readiness while DQBUF keeps saying EAGAIN (a driver in a bad
+  // state): give up at the same timeout as for silence, instead of spinning.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(config_.timeout_ms);
   for (;;) {
     pollfd p{fd_, POLLIN, 0};
     const int r = io_.Poll(&p, 1, config_.timeout_ms);
@@ -483,6 +486,13 @@ std::optional<Frame> V4l2Camera::Next() {
       const int err = errno;
       if (err == EAGAIN) {  // woken with nothing ready: poll again
         ++eagain_;
+        if (std::chrono::steady_clock::now() > deadline) {
+          failed_ = true;
+          throw std::runtime_error(config_.device + ": no frame for " +
+                                   Fixed(config_.timeout_ms / 1000.0, 1) +
+                                   " s, the driver only says EAGAIN (after " +
+                                   std::to_string(delivered_) + " frames)");
+        }
         continue;
       }
       if (err == EIO && ++consecutive_errors <= config_.max_consecutive_errors) continue;
@@ -494,7 +504,12 @@ std::optional<Frame> V4l2Camera::Next() {
                                std::to_string(b.index) + " of " +
                                std::to_string(buffers_.size()));
     }
-    const int64_t utime = int64_t(b.timestamp.tv_sec) * 1000000 + int64_t(b.timestamp.tv_usec);
+    int64_t utime = int64_t(b.timestamp.tv_sec) * 1000000 + int64_t(b.timestamp.tv_usec);
+    if (utime == 0) {  // a driver without timestamps: stamp it on arrival
+      utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                  std::chrono::steady_clock::now().time_since_epoch())
+                  .count();
+    }
     const int64_t sequence = b.sequence;
     std::optional<Frame> frame;
     if (!(b.flags & V4L2_BUF_FLAG_ERROR)) {

@@ -399,6 +399,8 @@ int FakeV4l2Device::Poll(pollfd* fds, nfds_t count, int timeout_ms) {
       fds[i].revents = POLLNVAL;
     } else if (gone_) {
       fds[i].revents = POLLERR | POLLHUP;
+    } else if (events_.empty() && script_.stuck_after_events) {
+      fds[i].revents = POLLIN;
     } else if (!events_.empty()) {
       fds[i].revents = events_.front().kind == FakeV4l2Event::kEnodev ? (POLLERR | POLLHUP)
                                                                       : POLLIN;

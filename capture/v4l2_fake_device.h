@@ -55,7 +55,8 @@ struct FakeV4l2Script {
   std::vector<FakeV4l2Format> formats;
   std::optional<V4l2Interval> grant_only;  // S_PARM grants this whatever is asked
   int max_buffers = 8;
-  std::vector<FakeV4l2Event> events;       // after the last one, poll times out
+  std::vector<FakeV4l2Event> events;       // after the last one, poll times out...
+  bool stuck_after_events = false;         // ...or says ready while DQBUF says EAGAIN forever
 };
 
 class FakeV4l2Device final : public V4l2Io {

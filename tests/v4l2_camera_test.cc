@@ -4,6 +4,8 @@
 #include <linux/videodev2.h>
 
 #include <gtest/gtest.h>
+
+#include <chrono>
 #include <opencv2/imgproc.hpp>
 
 #include "capture/v4l2_camera.h"
@@ -269,6 +271,26 @@ TEST(V4l2Camera, NoFrameWithinTheTimeoutIsAnError) {
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "/dev/video0: no frame for 0.2 s (after 2 frames)");
   }
+}
+
+TEST(V4l2Camera, ADriverStuckOnEagainIsAnErrorNotASpin) {
+  FakeV4l2Script s = Typical(FakeV4l2Device::Frames(0, 3, 120));
+  s.stuck_after_events = true;  // poll: ready; DQBUF: EAGAIN, forever
+  FakeV4l2Device dev(s);
+  V4l2Camera camera(Config(), dev);
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(camera.Next());
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    camera.Next();
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(),
+                 "/dev/video0: no frame for 0.2 s, the driver only says EAGAIN (after 3 frames)");
+  }
+  const double s_waited =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_GT(s_waited, 0.19);
+  EXPECT_LT(s_waited, 1.0);
 }
 
 TEST(V4l2Camera, StopsCleanly) {
