@@ -211,7 +211,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
   // Peaks (left) and coefficients (right), side by side when wide enough.
   std::vector<std::string> left, right;
   left.push_back(Format("peaks, drop %d", std::max(s.current_sequence(), 0)));
-  left.push_back(" #    t (s)  height (m)  +- (m)   flight (m)  e (-)");
+  left.push_back(" #    t (s)  height (m)  +- (mm)  flight (m)  e (-)");
   const auto& peaks = s.peaks();
   const size_t max_peaks = 12;
   const size_t first = peaks.size() > max_peaks ? peaks.size() - max_peaks : 0;
@@ -224,7 +224,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
     }
     left.push_back(Format("%2d %8s  %10s  %6s  %10s   %s", p.bounce,
                           Num(StreamSeconds(s, p.apex_utime), "%.3f").c_str(),
-                          Num(p.height_m, "%.4f").c_str(), Num(p.height_sigma_m, "%.4f").c_str(),
+                          Num(p.height_m, "%.4f").c_str(), Num(p.height_sigma_m * 1e3, "%.2f").c_str(),
                           Num(p.flight_height_m, "%.4f").c_str(), e.c_str()));
   }
   if (peaks.empty()) left.push_back(" (no apex yet)");
@@ -233,8 +233,8 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
     const auto& f = *s.fit();
     right.push_back(Format("fit after bounce %d%s  %s / %s", f.after_bounce,
                            f.final ? " (final)" : "", f.model.c_str(), f.method.c_str()));
-    right.push_back(" coefficient               value         +- sigma   change");
-    const auto& prev = s.previous_fit();
+    right.push_back(" coefficient                           value   +- sigma  change");
+    const fit_update_t* prev = s.previous_fit();
     for (int i = 0; i < f.num_coeffs; ++i) {
       std::string change = "";
       if (prev) {
@@ -246,12 +246,21 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
       }
       std::string name = f.names[i];
       if (!f.identifiable[i]) name += " (n/i)";
-      right.push_back(Format(" %-22s %12.6g %12s   %s", name.c_str(), f.values[i],
+      right.push_back(Format(" %-32s %11.6g %10s  %s", name.c_str(), f.values[i],
                              Num(f.sigmas[i], "%.3g").c_str(), change.c_str()));
     }
-    right.push_back(Format(" residual %.2f mm   %d sims   %.2f s   step %.3f ms x %d iter",
-                           f.residual_m * 1e3, f.evaluations, f.wall_time_s,
-                           f.time_step_s * 1e3, f.iterations));
+    std::string totals = Format(" residual %.2f mm   %d sims   %.2f s", f.residual_m * 1e3,
+                                f.evaluations, f.wall_time_s);
+    if (f.time_step_s > 0) {
+      totals += Format("   step %.3f ms x %d iter", f.time_step_s * 1e3, f.iterations);
+    }
+    right.push_back(totals);
+    for (const auto& [model, other] : s.latest_by_model()) {
+      if (model == f.model) continue;
+      right.push_back(Format(" also %s after #%d%s: residual %.2f mm", model.c_str(),
+                             other.after_bounce, other.final ? " (final)" : "",
+                             other.residual_m * 1e3));
+    }
     right.push_back(Format(" fit updates received: %lld", static_cast<long long>(s.fits_received())));
   } else {
     right.push_back("coefficients");

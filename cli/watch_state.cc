@@ -40,7 +40,8 @@ void WatchState::NewStream() {
   trace_.clear();
   peaks_.clear();
   fit_.reset();
-  previous_fit_.reset();
+  latest_by_model_.clear();
+  previous_by_model_.clear();
   calibration_.reset();
   last_frame_ = -1;
   sequence_ = -1;
@@ -93,8 +94,16 @@ void WatchState::OnPeak(const bounce_peak_t& m, int64_t now_utime) {
 void WatchState::OnFit(const fit_update_t& m, int64_t now_utime) {
   Count("fit", now_utime);
   ++fits_received_;
-  if (fit_) previous_fit_ = fit_;
+  auto it = latest_by_model_.find(m.model);
+  if (it != latest_by_model_.end()) previous_by_model_[m.model] = it->second;
+  latest_by_model_[m.model] = m;
   fit_ = m;
+}
+
+const fit_update_t* WatchState::previous_fit() const {
+  if (!fit_) return nullptr;
+  auto it = previous_by_model_.find(fit_->model);
+  return it == previous_by_model_.end() ? nullptr : &it->second;
 }
 
 double WatchState::Rate(const std::string& kind, int64_t now_utime) const {

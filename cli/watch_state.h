@@ -46,8 +46,11 @@ class WatchState {
   const std::deque<TraceSample>& trace() const { return trace_; }
   const std::optional<calibration_t>& calibration() const { return calibration_; }
   const std::vector<bounce_peak_t>& peaks() const { return peaks_; }  // current drop
-  const std::optional<fit_update_t>& fit() const { return fit_; }     // latest
-  const std::optional<fit_update_t>& previous_fit() const { return previous_fit_; }
+  const std::optional<fit_update_t>& fit() const { return fit_; }     // latest, any model
+  // The fit before the latest one of the same model (for the change column), if any.
+  const fit_update_t* previous_fit() const;
+  // The latest fit of each model (a run may fit a quick model and the soft body in turn).
+  const std::map<std::string, fit_update_t>& latest_by_model() const { return latest_by_model_; }
   int64_t fits_received() const { return fits_received_; }
 
   // Messages per second on each channel over the rate window ending at now.
@@ -78,7 +81,8 @@ class WatchState {
   std::deque<TraceSample> trace_;
   std::optional<calibration_t> calibration_;
   std::vector<bounce_peak_t> peaks_;
-  std::optional<fit_update_t> fit_, previous_fit_;
+  std::optional<fit_update_t> fit_;
+  std::map<std::string, fit_update_t> latest_by_model_, previous_by_model_;
   int64_t fits_received_ = 0;
   int64_t last_recv_utime_ = 0;
   int64_t stream_start_utime_ = 0;

@@ -112,6 +112,20 @@ class Producer {
 
  private:
   void PublishFit(int64_t utime, int after, const std::vector<double>& apex_h) {
+    if (after == 1) {  // a second model, fitted once
+      fit_update_t soft{};
+      soft.utime = utime;
+      soft.after_bounce = 1;
+      soft.model = "bullet-softbody";
+      soft.method = "live-gauss-newton";
+      soft.names = {"linear_stiffness"};
+      soft.values = {0.5};
+      soft.sigmas = {0.1};
+      soft.identifiable = {true};
+      soft.num_coeffs = 1;
+      soft.residual_m = 0.0125;
+      bus_.Publish("FIT_UPDATE", soft);
+    }
     fit_update_t m{};
     m.utime = utime;
     m.after_bounce = after;
@@ -241,6 +255,10 @@ TEST_F(WatchInTmux, ShowsPeaksAndCoefficientsSurvivesRestartAndQuitsOnQ) {
     EXPECT_NE(screen.find("restitution"), std::string::npos) << screen;
     EXPECT_NE(screen.find("0.8123"), std::string::npos) << screen;
     EXPECT_NE(screen.find("drag_coefficient (n/i)"), std::string::npos) << screen;
+    EXPECT_NE(screen.find("0.6400    3.00"), std::string::npos) << "height sigma in mm:\n" << screen;
+    // The other model's latest fit stays visible in one line.
+    EXPECT_NE(screen.find("also bullet-softbody after #1: residual 12.50 mm"), std::string::npos)
+        << screen;
     EXPECT_NE(screen.find("0.4567"), std::string::npos) << screen;
     EXPECT_NE(screen.find("residual 4.20 mm"), std::string::npos) << screen;
     EXPECT_NE(screen.find("400.00 +- 1.25 px/m"), std::string::npos) << screen;
