@@ -108,7 +108,12 @@ TEST_F(CaptureReplaySlow, TwoProcessesOverUdpmLoggerAndReplayGiveTheSameBoxesAnd
      << "wait_for detect2.txt listening || echo 'detect did not start'\n"
      << exe << " replay-log session.lcm --lcm-url '" << url
      << "' --channels BALL_BOX --speed 2 > replay.txt 2>&1; echo \"replay rc $?\"\n"
-     << "wait $D; echo \"detect2 rc $?\"\n";
+     << "wait $D; echo \"detect2 rc $?\"\n"
+     // lcm-logplayer plays capture's own --log; a fresh lcm-logger records what it played.
+     << "lcm-logger --lcm-url='" << url << "' -f played.lcm > logger2.txt 2>&1 & L=$!\n"
+     << "sleep 1\n"
+     << "lcm-logplayer -s 4 --lcm-url='" << url << "' capture.lcm; echo \"logplayer rc $?\"\n"
+     << "sleep 0.5; kill -INT $L; wait $L\n";
   std::ofstream(d / "run.sh") << sh.str();
   std::string out;
   RunCommand("bash '" + (d / "run.sh").string() + "'", &out);
@@ -135,6 +140,10 @@ TEST_F(CaptureReplaySlow, TwoProcessesOverUdpmLoggerAndReplayGiveTheSameBoxesAnd
   const auto peaks1 = PeakLines(detect1), peaks2 = PeakLines(detect2);
   EXPECT_GE(peaks1.size(), 3u) << detect1;
   EXPECT_EQ(peaks1, peaks2) << detect1 << "\n----\n" << detect2;
+  // lcm-logplayer reads our log: everything it played arrived, byte for byte.
+  EXPECT_NE(out.find("logplayer rc 0"), std::string::npos) << out;
+  const auto played = Boxes((d / "played.lcm").string());
+  EXPECT_EQ(played, published);
   std::printf("two processes: %zu boxes, %zu peak lines, identical after replay-log\n",
               logged.size(), peaks1.size());
 }
