@@ -24,6 +24,7 @@ struct Case {
   double drop_m;
   double fps;
   double roll_deg;
+  bool arc_apex = true;  // FitArcApex through the arc (default) or the model's vertex
 };
 
 class DetectorPresets : public ::testing::TestWithParam<Case> {};
@@ -38,6 +39,7 @@ TEST_P(DetectorPresets, FindsEveryApexAccuratelyAndPromptly) {
   o.seed = static_cast<unsigned>(c.drop_m * 100 + c.fps + c.ball.size());
   const auto clip = MakeSimClip(o);
   BounceDetectorConfig cfg;
+  cfg.use_arc_apex = c.arc_apex;
   BounceDetector d(cfg);
   std::vector<BouncePeak> peaks;
   double worst_ms = 0, total_ms = 0;
@@ -60,10 +62,10 @@ TEST_P(DetectorPresets, FindsEveryApexAccuratelyAndPromptly) {
   const auto& cal = d.calibration();
   const double cal_err = (cal.px_per_m / o.px_per_m - 1) * 100;
   std::printf("%s", s.report.c_str());
-  std::printf("%s %.1f m %g fps roll %g: %d/%d apexes, %d false, max err %.2f mm, cal %+.3f%%, "
+  std::printf("%s %.1f m %g fps roll %g: %d/%d apexes, %d false, max err %.2f mm (rebounds rms %.2f mm), cal %+.3f%%, "
               "roll err %.3f deg, latency median %.2f max %.2f, bounce0 %.1f frames after impact\n",
               c.ball.c_str(), c.drop_m, c.fps, c.roll_deg, s.found_over_1cm, s.truth_over_1cm,
-              s.false_peaks, s.max_err_mm, cal_err, cal.roll_rad * 180 / M_PI - c.roll_deg, med,
+              s.false_peaks, s.max_err_mm, s.rms_err_rebounds_mm, cal_err, cal.roll_rad * 180 / M_PI - c.roll_deg, med,
               max_lat, s.bounce0_latency_from_impact_frames);
   EXPECT_EQ(s.found_over_1cm, s.truth_over_1cm) << s.report;
   EXPECT_EQ(s.false_peaks, 0) << s.report;
@@ -80,10 +82,13 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"wiffle", 1.0, 120, -1}, Case{"wiffle", 1.6, 120, 2},
                       Case{"softball", 1.0, 120, 2}, Case{"softball", 1.6, 120, 0},
                       Case{"airball", 1.0, 120, 1.5}, Case{"airball", 1.6, 120, -2},
-                      Case{"pingpong", 1.6, 60, 2}, Case{"airball", 1.0, 60, 0}),
+                      Case{"pingpong", 1.6, 60, 2}, Case{"airball", 1.0, 60, 0},
+                      Case{"pingpong", 1.0, 120, 0, false}, Case{"wiffle", 1.0, 120, -1, false},
+                      Case{"airball", 1.0, 60, 0, false}),
     [](const ::testing::TestParamInfo<Case>& i) {
       return i.param.ball + "_" + std::to_string(static_cast<int>(i.param.drop_m * 10)) + "dm_" +
-             std::to_string(static_cast<int>(i.param.fps)) + "fps";
+             std::to_string(static_cast<int>(i.param.fps)) + "fps" +
+             (i.param.arc_apex ? "" : "_model_vertex");
     });
 
 }  // namespace

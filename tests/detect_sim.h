@@ -121,6 +121,8 @@ struct PeakScore {
   int found_over_1cm = 0;    // of those, matched by an emitted peak
   int false_peaks = 0;       // emitted peaks matching no true apex
   double max_err_mm = 0;     // worst |height error| over matched apexes
+  double rms_err_rebounds_mm = 0;  // RMS height error over matched bounces >= 1
+  int rebounds = 0;
   bool within_tolerance = true;  // every matched error <= max(2 mm, 1%)
   std::vector<double> latency_frames;  // bounces >= 1: emission - true apex, frames
   double bounce0_latency_from_impact_frames = NAN;
@@ -176,6 +178,9 @@ inline PeakScore ScorePeaks(const TruthApexes& c, const std::vector<BouncePeak>&
     const double lat = (emitted - c.apex_t_s[b]) / frame;
     if (b >= 1) {
       s.latency_frames.push_back(lat);
+      s.rms_err_rebounds_mm = std::sqrt((s.rms_err_rebounds_mm * s.rms_err_rebounds_mm * s.rebounds +
+                                         err * err * 1e6) / (s.rebounds + 1));
+      ++s.rebounds;
     } else if (!c.impact_t_s.empty()) {
       s.bounce0_latency_from_impact_frames = (emitted - c.impact_t_s[0]) / frame;
     }

@@ -1,5 +1,7 @@
 #include "track/bounce_detector.h"
 
+#include "track/arc_apex.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -510,6 +512,23 @@ void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent
   p.bounce = static_cast<int>(j);
   p.apex_utime = ToUtime(arc.fit.t_apex);
   p.height_px = cal.floor_centre_px() - arc.fit.u_apex;
+  if (config_.use_arc_apex && !arc.held) {
+    // Heights above the floor with the drag's departure from a parabola removed.
+    const FlightGlobals& g = calibration_.flight.globals;
+    std::vector<double> ts, hs;
+    for (const auto& q : arc.samples) {
+      const double tau = q.t - arc.fit.t_apex;
+      if (std::abs(tau) > config_.arc_apex_window_s) continue;
+      const double drag = FlightDrop(g.gravity_px, g.drag_per_px, tau) - 0.5 * g.gravity_px * tau * tau;
+      ts.push_back(q.t);
+      hs.push_back(cal.floor_centre_px() - Down(q) + drag);
+    }
+    const ArcApex a = FitArcApex(ts, hs);
+    if (a.ok && ts.size() >= 5 && std::abs(a.t - arc.fit.t_apex) < frame_dt_) {
+      p.height_px = a.height;
+      p.apex_utime = ToUtime(a.t);
+    }
+  }
   p.height_m = p.height_px / cal.px_per_m;
   const double rel = cal.px_per_m_sigma / cal.px_per_m;
   p.height_sigma_m = std::hypot(std::hypot(arc.u_sigma, cal.floor_sigma_px) / cal.px_per_m,

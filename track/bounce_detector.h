@@ -90,6 +90,13 @@ struct BounceDetectorConfig {
   double hold_window_s = 0.25;  // hold samples kept in the release arc
   int impact_confirm_samples = 2;  // samples off the falling arc, upwards, that make an impact
   int bounce0_rising_samples = 8;  // rising samples after the first impact before bounce 0
+  // Apex height of bounces >= 1: true = FitArcApex (track/arc_apex.h, the parabola shared
+  // with the models) through the arc's samples within arc_apex_window_s of the fitted
+  // vertex, drag's departure from a parabola removed; false (or too few samples there) =
+  // the vertex of the drag-aware arc fitted through all the arc's samples. Both measure
+  // within 0.1 mm RMS of each other on the synth presets (docs/ACCURACY.md).
+  bool use_arc_apex = true;
+  double arc_apex_window_s = 0.15;
 
   bool IsValid(std::string* error) const;
 };
