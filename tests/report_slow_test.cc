@@ -9,6 +9,8 @@
 #include <regex>
 #include <sstream>
 
+#include "replay/report_html.h"
+#include "replay/report_run_data.h"
 #include "tests/report_fixture.h"
 #include "tests/test_support.h"
 
@@ -104,6 +106,45 @@ TEST_F(ReportInChromium, ScreenshotShowsTheFiguresPainted) {
     cv::inRange(img, c.bgr - cv::Scalar(30, 30, 30), c.bgr + cv::Scalar(30, 30, 30), mask);
     EXPECT_GT(cv::countNonZero(mask), 200) << c.what << " not on the screenshot";
   }
+}
+
+// A real `bouncefit run` of the built-in sample drop: the report reads what run writes, and
+// its height curve (from track.csv and calibration.json) agrees with the detector's apexes.
+TEST(ReportOfARealRun, HeightCurveMeetsTheDetectedApexes) {
+  const auto dir = ScratchDir("report_real_run");
+  std::string out;
+  ASSERT_EQ(RunCommand(BouncefitExe() + " run --out '" + (dir / "run").string() +
+                           "' --speed 0 --model point-mass -q --lcm-url '" +
+                           testing::UniqueUdpmUrl() + "'", &out), 0) << out;
+  ASSERT_EQ(RunCommand(BouncefitExe() + " report -q '" + (dir / "run").string() + "'", &out), 0)
+      << out;
+  const ReportRunData run = LoadRunDirectory(dir / "run");
+  ASSERT_TRUE(run.calibration.has_value());
+  ASSERT_GE(run.peaks.size(), 5u);
+  ASSERT_NE(run.FinalFit(), nullptr);
+  EXPECT_FALSE(run.simulated.empty());
+  for (const char* id : {"height", "trajectory", "bounces", "coefficients", "aspect"}) {
+    EXPECT_TRUE(fs::exists(dir / "run" / (std::string("report_") + id + ".png"))) << id;
+  }
+  int compared = 0;
+  for (const auto& p : run.peaks) {
+    if (p.bounce < 1 || !std::isfinite(p.height_m)) continue;
+    // The found frame nearest the apex: within half a frame the ball moves < 0.1 mm.
+    const ReportTrackRow* nearest = nullptr;
+    for (const auto& r : run.track) {
+      if (r.found && (!nearest || std::abs(r.t_s - p.t_s) < std::abs(nearest->t_s - p.t_s))) {
+        nearest = &r;
+      }
+    }
+    ASSERT_NE(nearest, nullptr);
+    if (std::abs(nearest->t_s - p.t_s) > 1.0 / 120) continue;
+    // Box half-height vs the detector's fitted radius and pixel noise: within 5 mm
+    // (2 px at 368 px/m). A wrong roll sign alone would be off by ~15 mm here.
+    EXPECT_NEAR(BallBottomHeightM(*nearest, *run.calibration), p.height_m, 0.005)
+        << "bounce " << p.bounce;
+    ++compared;
+  }
+  EXPECT_GE(compared, 4);
 }
 
 }  // namespace
