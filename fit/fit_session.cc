@@ -145,7 +145,7 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
   p.simulation.drop_height_m = drop_height_m_;
   const double t_k = FreeFallApexTime(drop_height_m_, p.recorded_m, k);
   p.simulation.duration_s =
-      live ? config_.live_duration_margin * t_k + 0.1 : config_.duration_margin * t_k + 0.2;
+      live ? config_.live_duration_margin * t_k + 0.08 : config_.duration_margin * t_k + 0.2;
   const double lowest = *std::min_element(p.recorded_m.begin(), p.recorded_m.end());
   p.simulation.min_bounce_height_m = 0.5 * std::min(config_.min_bounce_height_m, lowest);
   return p;
@@ -248,6 +248,9 @@ FitUpdate FitSession::Update(const CancelToken* cancel) {
   o.threads = config_.threads;
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
+  // A warm start that already matches the heights to their uncertainty needs no second
+  // round: the update goes out after one round of simulations.
+  if (fast) o.target_rms_m = std::max(o.target_rms_m, MeasurementSigma());
   SearchResult r = fast                         ? LiveStep(p, current_, o)
                    : config_.method == "paper" ? PaperSearch(p, current_, o)
                                                : NloptSearch(p, current_, o);

@@ -63,7 +63,7 @@ struct FitSessionConfig {
   // per-bounce budget).
   std::string live_method = "gauss-newton";
   int live_coefficients = 1;        // per-bounce: at most this many (and <= bounces)
-  double live_duration_margin = 1.15;  // per-bounce simulations stop sooner (+0.1 s)
+  double live_duration_margin = 1.1;  // per-bounce simulations stop sooner (+0.08 s)
   // Per-bounce updates search these first (the model's most influential coefficients);
   // empty: the paper's priority order. A final fit reorders by measured sensitivity.
   std::vector<std::string> live_priority;
