@@ -32,8 +32,9 @@ using testing::ScratchDir;
 // seen at 120 fps by a camera with 400 px/m and the floor line at 460 px.
 class Producer {
  public:
-  Producer(const std::string& url, double drop_m, double fit_value)
-      : bus_(url), drop_m_(drop_m), fit_value_(fit_value) {
+  Producer(const std::string& url, double drop_m, double fit_value,
+           std::string peak_channel = "BOUNCE_PEAK")
+      : bus_(url), drop_m_(drop_m), fit_value_(fit_value), peak_channel_(std::move(peak_channel)) {
     truth_.release_height_m = drop_m;
     truth_.release_t_s = 0.05;
   }
@@ -97,7 +98,7 @@ class Producer {
         p.height_sigma_m = 0.003;
         p.flight_height_m = NAN;
         p.emitted_utime = utime;
-        bus_.Publish("BOUNCE_PEAK", p);
+        bus_.Publish(peak_channel_, p);
         if (next_peak >= 1) PublishFit(utime, static_cast<int>(next_peak), apex_h);
         ++next_peak;
       }
@@ -153,6 +154,7 @@ class Producer {
   LcmBus bus_;
   testing::ReportFixtureTruth truth_;
   double drop_m_, fit_value_;
+  std::string peak_channel_;
 };
 
 // A private tmux server (its own socket), killed at the end of the test.
@@ -320,7 +322,7 @@ TEST(WatchPlain, WithoutATerminalPrintsEventLines) {
     producer.Run(2.0, 2.0);
   });
   const int rc = RunCommand(BouncefitExe() + " watch --lcm-url '" + url +
-                                "' --duration 3.5 < /dev/null | cat",
+                                "' --duration 3.5 --stale-after 1 < /dev/null | cat",
                             &out);
   producer_thread.join();
   EXPECT_EQ(rc, 0) << out;
@@ -329,6 +331,12 @@ TEST(WatchPlain, WithoutATerminalPrintsEventLines) {
   EXPECT_NE(out.find("height 0.6400 m"), std::string::npos) << out;
   EXPECT_NE(out.find("restitution=0.8123"), std::string::npos) << out;
   EXPECT_EQ(out.find("\x1b["), std::string::npos) << "escape codes in plain output";
+  // The producer stops 1.7 s in: the log says so.
+  const auto receiving = out.find("watch: receiving");
+  const auto stopped = out.find("watch: waiting for data (the producer stopped?)");
+  ASSERT_NE(receiving, std::string::npos) << out;
+  ASSERT_NE(stopped, std::string::npos) << out;
+  EXPECT_LT(receiving, stopped);
 }
 
 TEST(WatchPlain, OnceGivesOneSnapshot) {
@@ -336,17 +344,21 @@ TEST(WatchPlain, OnceGivesOneSnapshot) {
   std::string out;
   std::thread producer_thread([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    Producer producer(url, 1.0, 0.8123);
+    Producer producer(url, 1.0, 0.8123, "MY_PEAKS");  // a channel override
     producer.Run(2.0, 2.0);
   });
-  const int rc =
-      RunCommand(BouncefitExe() + " watch --once --ascii --duration 2.5 --lcm-url '" + url + "'", &out);
+  const int rc = RunCommand(BouncefitExe() +
+                                " watch --once --ascii --duration 2.5 --peak-channel MY_PEAKS "
+                                "--lcm-url '" + url + "'",
+                            &out);
   producer_thread.join();
   EXPECT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("0.6400"), std::string::npos) << out;
   EXPECT_NE(out.find("restitution"), std::string::npos) << out;
   EXPECT_NE(out.find("height trace: "), std::string::npos) << out;
   EXPECT_NE(out.find('#'), std::string::npos) << "no ASCII trace:\n" << out;
+  EXPECT_NE(out.find("MY_PEAKS "), std::string::npos) << out;
+  EXPECT_EQ(out.find("\u2588"), std::string::npos) << "--ascii drew blocks:\n" << out;
 }
 
 }  // namespace
