@@ -106,9 +106,6 @@ void Run(CaptureOptions& o) {
     throw std::invalid_argument("--record saves a camera; a replayed clip is already a file");
   Pacer pacer(o.speed);  // validates --speed
 
-  // Quieter FFmpeg: our own one-line errors say what went wrong.
-  ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
-
   std::unique_ptr<FrameSource> source;
   bool is_file = false;
   VideoFileSource* file = nullptr;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -72,6 +73,10 @@ void VideoFileSource::LoadTimes() {
 
 void VideoFileSource::Open() {
   capture_.release();
+  // A core prints nothing: FFmpeg's own complaints about damaged frames stay quiet (OpenCV
+  // reads this once, at its first use of FFmpeg); ours say what matters in one line. Set
+  // OPENCV_FFMPEG_LOGLEVEL yourself to see them.
+  ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
   // FFmpeg only: it gives the container's per-frame presentation times.
   if (!capture_.open(config_.path, cv::CAP_FFMPEG) || !capture_.isOpened())
     throw std::runtime_error("cannot open video '" + config_.path +
