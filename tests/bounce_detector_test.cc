@@ -232,3 +232,22 @@ TEST(BounceDetector, TimeGoingBackwardsIsAnError) {
 
 }  // namespace
 }  // namespace bouncefit
+
+namespace bouncefit {
+namespace {
+
+TEST(BounceDetector, ReleaseAtTheFirstFrameWithoutAHold) {
+  testing::SimOptions o;
+  o.ball = "airball";
+  o.drop_m = 1.4;
+  o.hold_s = 0;
+  const auto clip = testing::MakeSimClip(o);
+  BounceDetector d{BounceDetectorConfig{}};
+  const auto s = testing::ScorePeaks(clip, testing::RunDetector(d, clip.obs));
+  EXPECT_EQ(s.found_over_1cm, s.truth_over_1cm) << s.report;
+  EXPECT_EQ(s.false_peaks, 0) << s.report;
+  EXPECT_TRUE(s.within_tolerance) << s.report;
+}
+
+}  // namespace
+}  // namespace bouncefit
