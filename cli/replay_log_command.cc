@@ -3,6 +3,8 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <regex>
+#include <stdexcept>
 
 #include "cli/commands.h"
 #include "msgs/channels.h"
@@ -29,7 +31,14 @@ std::string Fixed(double v) {
 extern "C" void OnReplaySignal(int) { g_stop = true; }
 
 void Run(const ReplayLogOptions& o) {
-  { LcmLogReader check(o.log); }  // a missing or foreign file: one error line, nothing else
+  // A missing or foreign file, or a bad regex: one error line, nothing else.
+  { LcmLogReader check(o.log); }
+  try {
+    std::regex check(o.replay.channels_regex);
+  } catch (const std::regex_error&) {
+    throw std::invalid_argument("--channels is not a valid regular expression: '" +
+                                o.replay.channels_regex + "'");
+  }
   LcmBus bus(o.lcm_url);
   struct sigaction sa {};
   sa.sa_handler = OnReplaySignal;
