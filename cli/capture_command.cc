@@ -9,6 +9,7 @@
 
 #include "capture/frame_recorder.h"
 #include "capture/v4l2_camera.h"
+#include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/tracker_flags.h"
 #include "msgs/channels.h"
@@ -215,9 +216,7 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_flag("--loop", o->loop, "replay: start the clip again at its end");
   cmd->add_option("--record", o->record, "camera: save the frames to this .avi (and its .times.csv)");
   cmd->add_option("--log", o->log, "record every published message to this LCM log (.lcm)");
-  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL")->capture_default_str();
-  cmd->add_option("--ball-box-channel", o->channels.ball_box, "channel to publish ball boxes on")
-      ->capture_default_str();
+  AddBusFlags(cmd, &o->lcm_url, &o->channels);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet,-q", o->quiet, "print only the final line");

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "fit/ball_preset.h"
 #include "msgs/channels.h"
@@ -139,15 +140,7 @@ void AddDetectCommand(CLI::App& app) {
       "detect",
       "Calibrate and detect bounce apexes from BALL_BOX; publish CALIBRATION and BOUNCE_PEAK");
   auto o = std::make_shared<DetectOptions>();
-  cmd->add_option("--lcm-url", o->lcm_url, "LCM bus URL")->capture_default_str();
-  cmd->add_option("--ball-box-channel", o->channels.ball_box, "channel of the tracker's boxes")
-      ->capture_default_str();
-  cmd->add_option("--calibration-channel", o->channels.calibration,
-                  "channel to publish calibrations on")
-      ->capture_default_str();
-  cmd->add_option("--bounce-peak-channel", o->channels.bounce_peak,
-                  "channel to publish bounce peaks on")
-      ->capture_default_str();
+  AddBusFlags(cmd, &o->lcm_url, &o->channels);
   cmd->add_option("--ball", o->ball,
                   "ball preset, for the diameter cross-check (" + BallPresetNames() + ")");
   cmd->add_option("--ball-diameter", o->ball_diameter_m,

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "fit/fit_export.h"
 #include "fit/fit_models.h"
@@ -287,11 +288,7 @@ void AddFitCommand(CLI::App& app) {
                   "write the final fit to DIR/coefficients.json and DIR/soft_body_config.cc");
   cmd->add_flag("--json", o->json, "print updates as JSON lines (fit_update_t fields)");
   cmd->add_flag("--final-only", o->final_only, "offline: only the quick and the final fit");
-  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL")->capture_default_str();
-  cmd->add_option("--peak-channel", o->node.channels.bounce_peak, "channel of bounce peaks")
-      ->capture_default_str();
-  cmd->add_option("--fit-channel", o->node.channels.fit_update, "channel of fit updates")
-      ->capture_default_str();
+  AddBusFlags(cmd, &o->lcm_url, &o->node.channels);
   cmd->add_option("--final-after", o->final_after_s,
                   "node: final fit of a drop after this many seconds without a peak (0: never)")
       ->capture_default_str();

@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "capture/v4l2_camera.h"
+#include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/run_console.h"
 #include "cli/run_output.h"
@@ -344,8 +345,7 @@ void AddRunCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL the session is published on")
-      ->capture_default_str();
+  AddBusFlags(cmd, &o->lcm_url, &o->channels);
   AddTrackerFlags(cmd, &o->tracker);
   cmd->callback([o] { Run(*o); });
 }

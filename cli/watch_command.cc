@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <memory>
 
+#include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/watch_render.h"
 #include "cli/watch_state.h"
@@ -150,15 +151,7 @@ void AddWatchCommand(CLI::App& app) {
   auto* cmd =
       app.add_subcommand("watch", "Live terminal dashboard of a running session over LCM");
   auto f = std::make_shared<WatchFlags>();
-  cmd->add_option("--lcm-url", f->lcm_url, "LCM bus to attach to")->capture_default_str();
-  cmd->add_option("--box-channel", f->channels.ball_box, "Channel of ball boxes")
-      ->capture_default_str();
-  cmd->add_option("--calibration-channel", f->channels.calibration, "Channel of calibrations")
-      ->capture_default_str();
-  cmd->add_option("--peak-channel", f->channels.bounce_peak, "Channel of bounce peaks")
-      ->capture_default_str();
-  cmd->add_option("--fit-channel", f->channels.fit_update, "Channel of fit updates")
-      ->capture_default_str();
+  AddBusFlags(cmd, &f->lcm_url, &f->channels);
   cmd->add_flag("--plain", f->plain,
                 "One line per event (for logs) instead of the dashboard; automatic without a "
                 "terminal");

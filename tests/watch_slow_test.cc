@@ -348,7 +348,7 @@ TEST(WatchPlain, OnceGivesOneSnapshot) {
     producer.Run(2.0, 2.0);
   });
   const int rc = RunCommand(BouncefitExe() +
-                                " watch --once --ascii --duration 2.5 --peak-channel MY_PEAKS "
+                                " watch --once --ascii --duration 2.5 --bounce-peak-channel MY_PEAKS "
                                 "--lcm-url '" + url + "'",
                             &out);
   producer_thread.join();

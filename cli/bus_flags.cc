@@ -1,0 +1,18 @@
+#include "cli/bus_flags.h"
+
+namespace bouncefit::cli {
+
+void AddBusFlags(CLI::App* cmd, std::string* lcm_url, Channels* channels) {
+  cmd->add_option("--lcm-url", *lcm_url, "LCM URL (memq:// keeps it in this process)")
+      ->capture_default_str();
+  cmd->add_option("--ball-box-channel", channels->ball_box, "channel of ball boxes")
+      ->capture_default_str();
+  cmd->add_option("--calibration-channel", channels->calibration, "channel of calibrations")
+      ->capture_default_str();
+  cmd->add_option("--bounce-peak-channel", channels->bounce_peak, "channel of bounce peaks")
+      ->capture_default_str();
+  cmd->add_option("--fit-update-channel", channels->fit_update, "channel of fit updates")
+      ->capture_default_str();
+}
+
+}  // namespace bouncefit::cli

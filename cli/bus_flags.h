@@ -1,0 +1,13 @@
+#pragma once
+// The same bus flags on every node: --lcm-url and one override per channel.
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+#include "msgs/channels.h"
+
+namespace bouncefit::cli {
+
+void AddBusFlags(CLI::App* cmd, std::string* lcm_url, Channels* channels);
+
+}  // namespace bouncefit::cli
