@@ -187,5 +187,45 @@ TEST(Run, ShowsPeaksAndFitsLiveInATerminal) {
   EXPECT_NE(screen.find("run: done"), std::string::npos) << screen;
 }
 
+// `watch` in its own terminal attaches to a `run` in another process and shows its peaks
+// and its coefficients as they come.
+TEST(Run, WatchInAnotherProcessShowsTheRunsPeaksAndCoefficients) {
+  std::string probe;
+  if (RunCommand("tmux -V", &probe) != 0) GTEST_SKIP() << "tmux is not installed";
+  const fs::path dir = testing::ScratchDir("run_watch");
+  const std::string url = testing::UniqueUdpmUrl();
+  const std::string session = "bouncefit_watch_" + std::to_string(::getpid());
+  Tmux("new-session -d -x 140 -y 45 -s " + session + " \"" + BouncefitExe() +
+       " watch --lcm-url '" + url + "'\"");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  std::string out;
+  const int rc = RunCommand(BouncefitExe() + " run " + PingPongClip().string() + " --out " +
+                                (dir / "out").string() + " --lcm-url '" + url +
+                                "' --model point-mass --quiet",
+                            &out);
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  const std::string screen = Tmux("capture-pane -p -t " + session);
+  Tmux("send-keys -t " + session + " q");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const std::string sessions = Tmux("ls");
+  Tmux("kill-session -t " + session);
+  ASSERT_EQ(rc, 0) << out;
+
+  // Every peak the run wrote is on the dashboard, to the displayed 4 decimals.
+  const auto peaks = ReadCsv(dir / "out" / "peaks.csv");
+  ASSERT_GE(peaks.size(), 4u);
+  for (const auto& p : peaks) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4f", std::stod(p.at("height_m")));
+    EXPECT_NE(screen.find(text), std::string::npos) << "peak " << text << " not shown:\n" << screen;
+  }
+  // The final fit's coefficients, by name.
+  for (const char* name : {"restitution", "drag_coefficient", "(final)"})
+    EXPECT_NE(screen.find(name), std::string::npos) << name << "\n" << screen;
+  EXPECT_NE(screen.find("px/m"), std::string::npos) << screen;
+  // q ended the dashboard.
+  EXPECT_EQ(sessions.find(session), std::string::npos) << sessions;
+}
+
 }  // namespace
 }  // namespace bouncefit
