@@ -31,29 +31,39 @@ double SubObjective(const std::vector<double>& y, std::vector<double>& grad, voi
   return s->f->Evaluate(x).objective;
 }
 
+// BOBYQA's initial step for a normalised coordinate u: `h`, shortened to stay inside the
+// bounds (so BOBYQA keeps the start where it is); a start within h/10 of a bound is put on
+// it. Updates *u; returns the step.
+double StartStep(double* u, double h) {
+  *u = std::clamp(*u, 0.0, 1.0);
+  const double d = std::min(*u, 1 - *u);
+  if (d < h / 10) {
+    *u = *u < 0.5 ? 0.0 : 1.0;
+    return h;
+  }
+  return std::min(h, 0.9 * d);
+}
+
 // One continuous round over `active` from x (updated to the optimum found).
 void Continuous(FitObjective& f, const std::vector<size_t>& active, std::vector<double>* x,
                 const NloptSearchOptions& o) {
   if (active.empty() || f.stopped()) return;
   const unsigned n = static_cast<unsigned>(active.size());
-  // BOBYQA's start rule (a start within one step of a bound moves onto it or one step
-  // inside), then its 2n+1 initial interpolation points evaluated at once, in parallel: the
-  // serial optimiser finds them cached.
-  const double h = o.initial_step;
-  for (size_t j : active) {
-    double& u = (*x)[j];
-    if (u <= 0) u = 0;
-    else if (u <= h) u = h;
-    else if (u >= 1) u = 1;
-    else if (1 - u <= h) u = 1 - h;
-  }
+  // Initial steps that keep BOBYQA from moving the start (it moves a start within one step
+  // of a bound onto it or one step inside, which would throw a good warm start away), then
+  // its 2n+1 initial interpolation points evaluated at once, in parallel: the serial
+  // optimiser finds them cached.
+  std::vector<double> dx(n);
+  for (unsigned i = 0; i < n; ++i) dx[i] = StartStep(&(*x)[active[i]], o.initial_step);
   if (n >= 2) {
     std::vector<std::vector<double>> design{*x};
-    for (size_t j : active) {
+    for (unsigned i = 0; i < n; ++i) {
+      const size_t j = active[i];
+      const double sj = dx[i];
       const bool at_low = (*x)[j] <= 0, at_high = (*x)[j] >= 1;
       auto xa = *x, xb = *x;
-      xa[j] += at_high ? -h : h;
-      xb[j] += at_low ? 2 * h : (at_high ? -2 * h : -h);
+      xa[j] += at_high ? -sj : sj;
+      xb[j] += at_low ? 2 * sj : (at_high ? -2 * sj : -sj);
       design.push_back(xa);
       design.push_back(xb);
     }
@@ -63,7 +73,7 @@ void Continuous(FitObjective& f, const std::vector<size_t>& active, std::vector<
   Subproblem sub{&f, *x, active, &opt};
   opt.set_lower_bounds(std::vector<double>(n, 0.0));
   opt.set_upper_bounds(std::vector<double>(n, 1.0));
-  opt.set_initial_step(o.initial_step);
+  opt.set_initial_step(dx);
   opt.set_xtol_abs(o.xtol);
   opt.set_ftol_rel(o.ftol_rel);
   opt.set_maxeval(100000);  // the objective's own budget stops it
@@ -89,17 +99,12 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
   const size_t n = problem.free.size();
   const double h = o.initial_step;
 
-  // BOBYQA moves a start within one step of a bound onto the bound or one step inside it;
-  // do the same so the screening points are its initial interpolation points.
+  // The steps BOBYQA will start with, so the screening points are its initial points.
   std::vector<double> x0 = f.ToUnit(start);
   f.Snap(&x0);
-  for (size_t j = 0; j < n; ++j) {
-    if (f.Level(j) > 0) continue;
-    if (x0[j] <= 0) x0[j] = 0;
-    else if (x0[j] <= h) x0[j] = h;
-    else if (x0[j] >= 1) x0[j] = 1;
-    else if (1 - x0[j] <= h) x0[j] = 1 - h;
-  }
+  std::vector<double> start_step(n, h);
+  for (size_t j = 0; j < n; ++j)
+    start_step[j] = f.Level(j) > 0 ? f.Level(j) : StartStep(&x0[j], h);
 
   // 1. Screening, all at once: x0 and one step along every coordinate (the first half of
   //    BOBYQA's initial design; the other half is evaluated only for the coefficients that
@@ -110,7 +115,7 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
   for (size_t j = 0; j < n; ++j) {
     const auto& s = problem.free[j];
     if (!(s.upper - s.lower > 0)) continue;
-    const double step = f.Level(j) > 0 ? f.Level(j) : h;
+    const double step = start_step[j];
     const double a = x0[j] + step <= 1 + 1e-12 ? step : -step;
     auto xa = x0;
     xa[j] += a;
