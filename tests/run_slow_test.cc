@@ -22,7 +22,7 @@ using testing::BouncefitExe;
 using testing::RunCommand;
 namespace fs = std::filesystem;
 
-// A 1 m ping-pong drop, 640x480 at 120 fps, rendered once per test binary.
+// A 1 m ping-pong drop, 640x480 at 120 fps, rendered once per test process.
 const fs::path& PingPongClip() {
   static const fs::path clip = [] {
     const fs::path dir = testing::ScratchDir("run_clip");

@@ -3,13 +3,22 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cstdio>
 
 namespace bouncefit::testing {
 
 std::filesystem::path ScratchDir(const std::string& name) {
-  auto dir = std::filesystem::current_path() / "scratch" / name;
+  // ctest runs each test case as a process of its own, in parallel: keying the directory by
+  // the running test keeps two cases from wiping each other's files.
+  std::string owner = "no-test";
+  if (const auto* info = ::testing::UnitTest::GetInstance()->current_test_info())
+    owner = std::string(info->test_suite_name()) + "." + info->name();
+  for (char& ch : owner)
+    if (ch == '/' || ch == '"') ch = '_';
+  auto dir = std::filesystem::current_path() / "scratch" / owner / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

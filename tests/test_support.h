@@ -5,8 +5,9 @@
 
 namespace bouncefit::testing {
 
-// A fresh, empty directory under the build tree for this test; kept after the test for
-// inspection, wiped at the start of the next run.
+// A fresh, empty directory under the build tree for this test case
+// (scratch/<Suite.Test>/<name>); kept after the test for inspection, wiped when the same
+// test asks for it again.
 std::filesystem::path ScratchDir(const std::string& name);
 
 // Runs a shell command line, captures stdout+stderr into *output; returns the exit status
