@@ -86,12 +86,20 @@ void AddTrackerFlags(CLI::App* cmd, TrackerConfig* config) {
   cmd->add_option_function<std::string>(
          "--color",
          [config](const std::string& s) {
+           config->color_name = s;
+           if (s == "white" || s == "black") {
+             // A colourless ball: follow its brightness against the background.
+             config->luma_mode = true;
+             config->luma.polarity = s == "white" ? +1 : -1;
+             return;
+           }
            ParseTrackerColor(s, config->color_bgr);
            config->has_color = true;
-           config->color_name = s;
          },
-         "Ball colour: a name (" + ColorNames() + "), a ball preset, or B,G,R 0-255. "
-         "Without --pick or --color the tracker picks the saturated blob that moves")
+         "Ball colour: a name (" + ColorNames() + "), a ball preset, or B,G,R 0-255; "
+         "white or black (or --pick on a nearly grey ball) track its brightness against a "
+         "background model instead. Without --pick or --color the tracker picks the "
+         "saturated blob that moves")
       ->group(group);
   cmd->add_option_function<std::string>(
          "--roi",
@@ -124,6 +132,9 @@ void AddTrackerFlags(CLI::App* cmd, TrackerConfig* config) {
   cmd->add_option("--rays", config->centre.rays,
                   "Rays cast to find the ball's rim for the sub-pixel centre, count")
       ->capture_default_str()->check(CLI::Range(8, 1024))->group(group);
+  cmd->add_option("--luma-contrast", config->luma.min_contrast_luma,
+                  "Brightness mode: least luma difference of a ball pixel from the background, 0-255")
+      ->capture_default_str()->check(CLI::Range(1.0, 35.0))->group(group);
   cmd->add_option("--auto-saturation", config->auto_min_saturation,
                   "Automatic choice: least chroma/luma of a ball pixel, unitless")
       ->capture_default_str()->check(CLI::Range(0.02, 2.0))->group(group);

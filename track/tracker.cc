@@ -48,6 +48,10 @@ bool TrackerConfig::IsValid(std::string* error) const {
   if (centre.rays < 8 || centre.rays > 1024) return fail("rays must be 8-1024");
   if (adapt_rate < 0 || adapt_rate > 1) return fail("adapt rate must be 0-1");
   if (auto_motion_frames < 1 || auto_motion_frames > 30) return fail("auto motion frames must be 1-30");
+  if (luma.polarity != 1 && luma.polarity != -1) return fail("luma polarity must be +1 or -1");
+  if (luma.min_contrast_luma <= 0 || luma.clamp_luma <= luma.min_contrast_luma)
+    return fail("luma contrast limits must satisfy 0 < min < clamp");
+  if (luma.background_rate <= 0 || luma.background_rate > 1) return fail("background rate must be in (0, 1]");
   return true;
 }
 
@@ -78,11 +82,13 @@ BallObservation Tracker::Track(const Frame& frame) {
       ++lost_;
       return obs;
     }
-    if (!config_.has_color && !config_.has_pick) auto_review_left_ = config_.auto_review_frames;
+    if (!config_.has_color && !config_.has_pick && !config_.luma_mode)
+      auto_review_left_ = config_.auto_review_frames;
   } else if (auto_review_left_ > 0) {
     --auto_review_left_;
     AutoChoose(frame);
   }
+  if (luma_) luma_->SetFrame(frame);
   const double t = static_cast<double>(frame.utime) * 1e-6;
   bool ok = false;
   double px, py, speed;
@@ -106,17 +112,22 @@ BallObservation Tracker::Track(const Frame& frame) {
     radius_ = radius_ > 0 ? 0.8 * radius_ + 0.2 * obs.radius_px : obs.radius_px;
     lost_ = 0;
     last_t_ = t;
+    last_cx_ = obs.cx, last_cy_ = obs.cy;
     ++found_;
   } else {
     ++lost_;
     if (lost_ > config_.lost_frames_keep) predictor_.Reset();
   }
+  if (luma_) luma_->UpdateBackground(last_cx_, last_cy_, radius_);
   return obs;
 }
 
 bool Tracker::ChooseColor(const Frame& frame) {
   const ColorModelParams& cp = config_.color;
-  if (config_.has_color) {
+  if (config_.luma_mode) {
+    StartLumaMode(config_.luma.polarity);
+    how_ = (config_.color_name.empty() ? std::string("brightness") : config_.color_name) + how_;
+  } else if (config_.has_color) {
     color_ = ColorModel::FromBgr(config_.color_bgr[0], config_.color_bgr[1],
                                  config_.color_bgr[2], cp);
     how_ = "colour " + (config_.color_name.empty() ? std::string("given") : config_.color_name);
@@ -137,16 +148,23 @@ bool Tracker::ChooseColor(const Frame& frame) {
         nv.push_back(p.v.at<float>(j, i) / yy);
       }
     color_ = ColorModel(Median(nu), Median(nv), cp);
-    if (std::hypot(color_.nu(), color_.nv()) < 0.06)
-      throw std::invalid_argument("tracker: the picked pixel " +
-                                  Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y) +
-                                  " is nearly grey; the tracker follows a coloured ball");
     how_ = "picked pixel " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y);
+    if (std::hypot(color_.nu(), color_.nv()) < 0.06) {
+      // Nearly grey: follow its brightness instead, brighter or darker than its surroundings
+      // (the median of a 121 px square around the pick, mostly background).
+      YccPlanes around;
+      ExtractYcc(frame, cv::Rect(x - 60, y - 60, 121, 121) & cv::Rect({}, size_), 1, 0, &around);
+      std::vector<float> ys(around.y.begin<float>(), around.y.end<float>());
+      const double ball_y = p.y.at<float>(std::clamp(cy, 0, p.y.rows - 1), std::clamp(cx, 0, p.y.cols - 1));
+      const double back_y = Median(ys);
+      StartLumaMode(ball_y >= back_y ? +1 : -1);
+      how_ = "picked pixel " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y) + ", nearly grey:" + how_;
+    }
   } else if (!AutoChoose(frame)) {
     return false;
   }
   anchor_ = color_;
-  how_ += ": " + color_.ToString();
+  if (!luma_) how_ += ": " + color_.ToString();
   return true;
 }
 
@@ -253,7 +271,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
                                  static_cast<int>(std::lround(centre.y)) - hw, 2 * hw + 1,
                                  2 * hw + 1) & roi_;
   if (rect.width < 4 || rect.height < 4) return false;
-  ExtractYcc(frame, rect, 1, config_.blur_sigma_px, &planes_);
+  Planes(frame, rect, 1, config_.blur_sigma_px, &planes_);
   std::vector<Blob> blobs = SegmentBlobs(planes_, color_, config_.segment, &mask_);
   const Blob* best = nullptr;
   double best_d = 0;
@@ -273,7 +291,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
 
 bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
   ++acquisitions_;
-  ExtractYcc(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
+  Planes(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
   cv::Mat wide_mask;
   std::vector<Blob> blobs = SegmentBlobs(wide_, color_, config_.segment, &wide_mask);
   const double tol = color_.tolerance();
@@ -328,7 +346,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs)
   const cv::Rect need = cv::Rect(static_cast<int>(std::floor(cx - reach)) - 1,
                                  static_cast<int>(std::floor(cy - reach)) - 1,
                                  static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
-  if ((need & planes_.rect) != need) ExtractYcc(frame, need, 1, config_.blur_sigma_px, &planes_);
+  if ((need & planes_.rect) != need) Planes(frame, need, 1, config_.blur_sigma_px, &planes_);
   BallCentre bc = FindBallCentre(planes_, color_, cx, cy, r0, radius_, config_.centre);
   float score;
   if (bc.ok) {
@@ -362,10 +380,28 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs)
   obs->aspect_ratio = blob.box.height > 0 ? blob.box.width / blob.box.height : 0;
   obs->score = std::clamp(score, 0.0f, 1.0f);
   // Adaptation is slow by design: every 4th good frame, 4x the rate, same time constant.
-  if (bc.ok && !bc.cut && bc.inlier_fraction > 0.8 && config_.adapt_rate > 0 &&
+  if (!luma_ && bc.ok && !bc.cut && bc.inlier_fraction > 0.8 && config_.adapt_rate > 0 &&
       ++adapt_tick_ % 4 == 0)
     Adapt(bc.cx, bc.cy, bc.r);
   return true;
+}
+
+void Tracker::Planes(const Frame& frame, cv::Rect rect, int step, double blur_sigma_px,
+                     YccPlanes* out) {
+  if (luma_)
+    luma_->ContrastPlanes(rect, step, blur_sigma_px, out);
+  else
+    ExtractYcc(frame, rect, step, blur_sigma_px, out);
+}
+
+void Tracker::StartLumaMode(int polarity) {
+  LumaContrastParams params = config_.luma;
+  params.polarity = polarity;
+  luma_ = std::make_unique<LumaContrast>(params);
+  color_ = LumaContrast::BallModel(params, config_.color);
+  how_ = std::string(": brightness, ") + (polarity > 0 ? "brighter" : "darker") +
+         " than a background model by >= " + Fmt("%.0f luma (clamped at %.0f)", params.min_contrast_luma,
+                                                  params.clamp_luma);
 }
 
 void Tracker::Adapt(double cx, double cy, double r) {

@@ -9,6 +9,7 @@
 // circle fit to the rim. Once locked it only looks in a window around the prediction; the
 // whole frame (at half resolution) is searched only to (re)acquire.
 #include <deque>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "track/ball_observation.h"
 #include "track/ball_segmenter.h"
 #include "track/color_model.h"
+#include "track/luma_contrast.h"
 #include "track/motion_predictor.h"
 #include "track/ycc_planes.h"
 
@@ -29,6 +31,11 @@ struct TrackerConfig {
   bool has_color = false;
   double color_bgr[3] = {0, 0, 0};  // B, G, R 0-255
   std::string color_name;           // how the user named it, for Describe()
+  // Brightness mode for a near-colourless ball (track/luma_contrast.h): segment on luma
+  // contrast against a background model instead of chroma. Set by `--color white|black`, or
+  // by a pick on a nearly grey pixel (polarity from the pick against its surroundings).
+  bool luma_mode = false;
+  LumaContrastParams luma;
   // Region of interest, pixels; width or height 0 = whole frame.
   int roi_x = 0, roi_y = 0, roi_w = 0, roi_h = 0;
 
@@ -90,6 +97,9 @@ class Tracker {
   bool Acquire(const Frame& frame, BallObservation* obs);
   bool Refine(const Frame& frame, const Blob& blob, BallObservation* obs);
   void Adapt(double cx, double cy, double r);
+  // ExtractYcc, or the contrast planes in brightness mode.
+  void Planes(const Frame& frame, cv::Rect rect, int step, double blur_sigma_px, YccPlanes* out);
+  void StartLumaMode(int polarity);
 
   TrackerConfig config_;
   cv::Rect roi_;
@@ -109,6 +119,8 @@ class Tracker {
   int64_t adapt_tick_ = 0;
   YccPlanes planes_, wide_;
   cv::Mat mask_;
+  std::unique_ptr<LumaContrast> luma_;  // brightness mode only
+  double last_cx_ = 0, last_cy_ = 0;   // last found centre, pixels
 };
 
 }  // namespace bouncefit

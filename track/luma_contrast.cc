@@ -1,0 +1,82 @@
+#include "track/luma_contrast.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace bouncefit {
+
+namespace {
+constexpr float kContrastLuma = 128;  // the constant Y of contrast planes
+}  // namespace
+
+ColorModel LumaContrast::BallModel(const LumaContrastParams& params, ColorModelParams color) {
+  // Matches |u/128 - c/128| <= tol: u in [min_contrast, 2c - min_contrast], and u never
+  // exceeds the clamp c, so every pixel at least min_contrast beyond the background matches.
+  const double c = params.clamp_luma;
+  color.tolerance_rel = std::clamp((c - params.min_contrast_luma) / c, 0.05, 2.0);
+  color.tolerance_min = 0;
+  color.min_luma = 0;
+  color.luma_floor = 1;
+  return ColorModel(c / kContrastLuma, 0, color);
+}
+
+void LumaContrast::SetFrame(const Frame& frame) {
+  const cv::Size size = FramePixelSize(frame);
+  ExtractYcc(frame, cv::Rect(0, 0, size.width, size.height), 1, 0, &now_);
+  if (background_.size() != now_.y.size()) background_ = now_.y.clone();
+  // Exposure and white balance drift move the whole frame: the median difference over a
+  // coarse grid is that global offset, not the ball.
+  std::vector<float> d;
+  for (int j = 0; j < now_.y.rows; j += 8)
+    for (int i = 0; i < now_.y.cols; i += 8)
+      d.push_back(now_.y.at<float>(j, i) - background_.at<float>(j, i));
+  auto mid = d.begin() + static_cast<long>(d.size() / 2);
+  std::nth_element(d.begin(), mid, d.end());
+  offset_ = *mid;
+}
+
+void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
+                                  YccPlanes* out) const {
+  rect &= cv::Rect(0, 0, now_.y.cols, now_.y.rows);
+  out->rect = rect;
+  out->step = step;
+  cv::Mat diff;
+  cv::subtract(now_.y(rect), background_(rect), diff);
+  diff -= offset_;
+  if (params_.polarity < 0) diff = -diff;
+  if (step > 1)
+    cv::resize(diff, out->u, cv::Size(rect.width / step, rect.height / step), 0, 0, cv::INTER_AREA);
+  else
+    out->u = diff;
+  if (blur_sigma_px > 0) cv::GaussianBlur(out->u, out->u, cv::Size(), blur_sigma_px);
+  const float c = static_cast<float>(params_.clamp_luma);
+  cv::min(out->u, c, out->u);
+  cv::max(out->u, -c, out->u);
+  out->y = cv::Mat(out->u.size(), CV_32F, cv::Scalar(kContrastLuma));
+  out->v = cv::Mat::zeros(out->u.size(), CV_32F);
+}
+
+void LumaContrast::UpdateBackground(double cx, double cy, double r) {
+  if (background_.empty()) return;
+  const float a = static_cast<float>(params_.background_rate);
+  const double keep = r > 0 ? params_.keep_out_radii * r + 4 : -1;
+  const double keep2 = keep * keep;
+  for (int j = 0; j < background_.rows; ++j) {
+    float* pb = background_.ptr<float>(j);
+    const float* pn = now_.y.ptr<float>(j);
+    const double dy = j - cy;
+    const bool row_near = keep > 0 && std::abs(dy) < keep;
+    for (int i = 0; i < background_.cols; ++i) {
+      if (row_near) {
+        const double dx = i - cx;
+        if (dx * dx + dy * dy < keep2) continue;
+      }
+      pb[i] += a * (pn[i] - pb[i]);
+    }
+  }
+}
+
+}  // namespace bouncefit

@@ -1,0 +1,55 @@
+#pragma once
+// Brightness mode for near-colourless balls (a white ping-pong ball on a light wall): the
+// tracker's colour machinery runs unchanged on "contrast planes" in which the chroma U is the
+// luma difference of the frame against a background model, clamped to +-clamp_luma and signed
+// so that the ball's side is positive; Y is a constant and V zero. The ball colour is then a
+// point (nu > 0, 0): pixels brighter (or darker) than the background by more than
+// min_contrast_luma match, and the rim unmixing of FindBallCentre sees the ball over a flat
+// background.
+//
+// The background is a running mean of full-resolution luma, started from the first frame and
+// updated everywhere except around the ball's last known position (so a ball at rest does
+// not fade into it). A ball held still in the first frame leaves a trace of the opposite sign,
+// which the polarity ignores.
+#include <opencv2/core.hpp>
+
+#include "capture/frame.h"
+#include "track/color_model.h"
+#include "track/ycc_planes.h"
+
+namespace bouncefit {
+
+struct LumaContrastParams {
+  int polarity = +1;              // +1: ball brighter than the background, -1: darker
+  double min_contrast_luma = 10;  // least luma difference of a ball pixel, 0-255 units
+  double clamp_luma = 40;         // differences beyond this count as this, 0-255 units
+  double background_rate = 0.05;  // running-mean weight of each new frame, 0-1
+  double keep_out_radii = 1.8;    // not updated within this many ball radii (+4 px) of the ball
+};
+
+class LumaContrast {
+ public:
+  explicit LumaContrast(LumaContrastParams params) : params_(params) {}
+  // The ball "colour" in contrast planes, for the tracker's ColorModel.
+  static ColorModel BallModel(const LumaContrastParams& params, ColorModelParams color);
+
+  // Reads the frame's luma (whole frame, full resolution); starts the background on the
+  // first call. Call once per frame, before ContrastPlanes.
+  void SetFrame(const Frame& frame);
+  // Contrast planes of `rect` of the current frame, decimated by `step` (1 or 2) and blurred
+  // by `blur_sigma_px` (output pixels), in the layout of ExtractYcc.
+  void ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px, YccPlanes* out) const;
+  // Blends the current frame into the background, except within the keep-out circle around
+  // (cx, cy) of radius r (r <= 0: no keep-out).
+  void UpdateBackground(double cx, double cy, double r);
+
+  const LumaContrastParams& params() const { return params_; }
+
+ private:
+  LumaContrastParams params_;
+  YccPlanes now_;
+  cv::Mat background_;  // CV_32F, frame size
+  float offset_ = 0;    // median difference of the current frame (exposure drift), luma
+};
+
+}  // namespace bouncefit
