@@ -29,6 +29,10 @@ SimulationResult PointMassModel::Simulate(const CoefficientValues& values,
   PointMassDropConfig c;
   c.ball = ball_;
   c.g_mps2 = g_mps2_;
+  // A 1 ms RK4 step gives the same apex heights as the renderer's 0.1 ms to 1e-9 m (measured
+  // on a 1 m ping-pong drop) at a fifth of the cost: the quick fit runs before every
+  // soft-body update, inside the time to the next apex.
+  c.dt_s = 1e-3;
   for (const auto& [name, value] : values) {
     if (name == "restitution") c.ball.restitution = value;
     else if (name == "restitution_per_mps") c.ball.restitution_per_mps = value;

@@ -34,7 +34,9 @@ TEST(PointMassModel, SameHeightsAsThePhysicsItWraps) {
   ASSERT_TRUE(r.ok) << r.failure;
   const auto truth = TruthHeights(ball, 1.2, 100);
   ASSERT_EQ(r.bounce_heights_m.size(), truth.size());
-  for (size_t i = 0; i < truth.size(); ++i) EXPECT_DOUBLE_EQ(r.bounce_heights_m[i], truth[i]);
+  // The model integrates with a 1 ms step, the renderer's physics with 0.1 ms: RK4 makes
+  // the difference far below a nanometre.
+  for (size_t i = 0; i < truth.size(); ++i) EXPECT_NEAR(r.bounce_heights_m[i], truth[i], 1e-9);
   // Apex times are since release and increasing.
   for (size_t i = 1; i < r.apex_times_s.size(); ++i) EXPECT_GT(r.apex_times_s[i], r.apex_times_s[i - 1]);
   EXPECT_NEAR(r.apex_times_s[0], std::sqrt(2 * 1.2 / 9.81) + std::sqrt(2 * truth[0] / 9.81), 0.05);
