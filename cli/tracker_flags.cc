@@ -87,17 +87,17 @@ void AddTrackerFlags(CLI::App* cmd, TrackerConfig* config) {
          "--color",
          [config](const std::string& s) {
            config->color_name = s;
-           if (s == "white" || s == "black") {
+           if (s == "white" || s == "black" || s == "grey") {
              // A colourless ball: follow its brightness against the background.
              config->luma_mode = true;
-             config->luma.polarity = s == "white" ? +1 : -1;
+             config->luma.polarity = s == "white" ? +1 : s == "black" ? -1 : 0;
              return;
            }
            ParseTrackerColor(s, config->color_bgr);
            config->has_color = true;
          },
          "Ball colour: a name (" + ColorNames() + "), a ball preset, or B,G,R 0-255; "
-         "white or black (or --pick on a nearly grey ball) track its brightness against a "
+         "white, black or grey (brighter, darker, either; or --pick on a nearly grey ball) track its brightness against a "
          "background model instead. Without --pick or --color the tracker picks the "
          "saturated blob that moves")
       ->group(group);

@@ -25,6 +25,7 @@ ColorModel LumaContrast::BallModel(const LumaContrastParams& params, ColorModelP
 
 void LumaContrast::SetFrame(const Frame& frame) {
   const cv::Size size = FramePixelSize(frame);
+  if (!now_.y.empty()) previous_ = now_.y.clone();
   ExtractYcc(frame, cv::Rect(0, 0, size.width, size.height), 1, 0, &now_);
   if (background_.size() != now_.y.size()) background_ = now_.y.clone();
   // Exposure and white balance drift move the whole frame: the median difference over a
@@ -35,7 +36,18 @@ void LumaContrast::SetFrame(const Frame& frame) {
       d.push_back(now_.y.at<float>(j, i) - background_.at<float>(j, i));
   auto mid = d.begin() + static_cast<long>(d.size() / 2);
   std::nth_element(d.begin(), mid, d.end());
-  offset_ = *mid;
+  cv::subtract(now_.y, background_, diff_);
+  diff_ -= *mid;
+  // Shadows of the hand and arm, and light changes, move soft and large regions: only what
+  // stands out of its own neighbourhood (the high-passed difference) is ball-like.
+  if (params_.highpass_sigma_px > 0) {
+    cv::Mat low;
+    cv::resize(diff_, low, cv::Size(std::max(1, diff_.cols / 8), std::max(1, diff_.rows / 8)), 0,
+               0, cv::INTER_AREA);
+    cv::GaussianBlur(low, low, cv::Size(), params_.highpass_sigma_px / 8);
+    cv::resize(low, low, diff_.size(), 0, 0, cv::INTER_LINEAR);
+    diff_ -= low;
+  }
 }
 
 void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
@@ -43,10 +55,9 @@ void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
   rect &= cv::Rect(0, 0, now_.y.cols, now_.y.rows);
   out->rect = rect;
   out->step = step;
-  cv::Mat diff;
-  cv::subtract(now_.y(rect), background_(rect), diff);
-  diff -= offset_;
+  cv::Mat diff = diff_(rect).clone();
   if (params_.polarity < 0) diff = -diff;
+  if (params_.polarity == 0) diff = cv::abs(diff);
   if (step > 1)
     cv::resize(diff, out->u, cv::Size(rect.width / step, rect.height / step), 0, 0, cv::INTER_AREA);
   else
@@ -57,6 +68,20 @@ void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
   cv::max(out->u, -c, out->u);
   out->y = cv::Mat(out->u.size(), CV_32F, cv::Scalar(kContrastLuma));
   out->v = cv::Mat::zeros(out->u.size(), CV_32F);
+}
+
+double LumaContrast::MovedFraction(cv::Rect2f box) const {
+  if (previous_.size() != now_.y.size()) return 0;
+  const cv::Rect r = cv::Rect(box) & cv::Rect(0, 0, now_.y.cols, now_.y.rows);
+  if (r.area() == 0) return 0;
+  int moved = 0;
+  for (int j = r.y; j < r.y + r.height; ++j) {
+    const float* pn = now_.y.ptr<float>(j);
+    const float* pp = previous_.ptr<float>(j);
+    for (int i = r.x; i < r.x + r.width; ++i)
+      if (std::abs(pn[i] - pp[i]) > params_.motion_luma) ++moved;
+  }
+  return static_cast<double>(moved) / r.area();
 }
 
 void LumaContrast::UpdateBackground(double cx, double cy, double r) {

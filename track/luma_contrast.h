@@ -20,11 +20,13 @@
 namespace bouncefit {
 
 struct LumaContrastParams {
-  int polarity = +1;              // +1: ball brighter than the background, -1: darker
-  double min_contrast_luma = 10;  // least luma difference of a ball pixel, 0-255 units
+  int polarity = +1;              // +1: ball brighter than the background, -1: darker, 0: either
+  double min_contrast_luma = 15;  // least luma difference of a ball pixel, 0-255 units
   double clamp_luma = 40;         // differences beyond this count as this, 0-255 units
   double background_rate = 0.05;  // running-mean weight of each new frame, 0-1
-  double keep_out_radii = 1.8;    // not updated within this many ball radii (+4 px) of the ball
+  double highpass_sigma_px = 32;  // soft changes wider than this are removed (0: off), pixels
+  double keep_out_radii = 1.8;
+  double motion_luma = 12;        // frame-to-frame luma change that counts as motion, 0-255    // not updated within this many ball radii (+4 px) of the ball
 };
 
 class LumaContrast {
@@ -43,13 +45,19 @@ class LumaContrast {
   // (cx, cy) of radius r (r <= 0: no keep-out).
   void UpdateBackground(double cx, double cy, double r);
 
+  // Share of the pixels in `box` (frame pixels) whose luma changed by more than
+  // motion_luma since the previous frame: a ghost (where a ball held still in the background
+  // model has left) or a brightened patch does not move; a ball in flight does.
+  double MovedFraction(cv::Rect2f box) const;
+
   const LumaContrastParams& params() const { return params_; }
 
  private:
   LumaContrastParams params_;
   YccPlanes now_;
+  cv::Mat previous_;    // CV_32F: the previous frame's luma
   cv::Mat background_;  // CV_32F, frame size
-  float offset_ = 0;    // median difference of the current frame (exposure drift), luma
+  cv::Mat diff_;        // CV_32F: current frame minus background, drift and shadows removed
 };
 
 }  // namespace bouncefit

@@ -48,7 +48,7 @@ bool TrackerConfig::IsValid(std::string* error) const {
   if (centre.rays < 8 || centre.rays > 1024) return fail("rays must be 8-1024");
   if (adapt_rate < 0 || adapt_rate > 1) return fail("adapt rate must be 0-1");
   if (auto_motion_frames < 1 || auto_motion_frames > 30) return fail("auto motion frames must be 1-30");
-  if (luma.polarity != 1 && luma.polarity != -1) return fail("luma polarity must be +1 or -1");
+  if (luma.polarity < -1 || luma.polarity > 1) return fail("luma polarity must be -1, 0 or +1");
   if (luma.min_contrast_luma <= 0 || luma.clamp_luma <= luma.min_contrast_luma)
     return fail("luma contrast limits must satisfy 0 < min < clamp");
   if (luma.background_rate <= 0 || luma.background_rate > 1) return fail("background rate must be in (0, 1]");
@@ -118,7 +118,16 @@ BallObservation Tracker::Track(const Frame& frame) {
     ++lost_;
     if (lost_ > config_.lost_frames_keep) predictor_.Reset();
   }
-  if (luma_) luma_->UpdateBackground(last_cx_, last_cy_, radius_);
+  if (luma_) {
+    // The background is kept from absorbing the ball only while it moves or has just come to
+    // rest: a lock on something static (a patch of wall that brightened) fades out.
+    if (ok && std::hypot(obs.cx - still_x_, obs.cy - still_y_) > 0.5 * radius_ + 1)
+      still_x_ = obs.cx, still_y_ = obs.cy, still_frames_ = 0;
+    else
+      ++still_frames_;
+    const bool keep = still_frames_ <= config_.luma_still_frames;
+    luma_->UpdateBackground(last_cx_, last_cy_, keep ? radius_ : 0);
+  }
   return obs;
 }
 
@@ -275,6 +284,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
   std::vector<Blob> blobs = SegmentBlobs(planes_, color_, config_.segment, &mask_);
   const Blob* best = nullptr;
   double best_d = 0;
+  bool best_moved = false;
   for (const Blob& b : blobs) {
     const double r = EquivalentRadius(b);
     const double d = std::hypot(b.centroid.x - centre.x, b.centroid.y - centre.y);
@@ -282,7 +292,11 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
     if (radius_ > 0 && !b.touches_edge &&
         std::abs(r - radius_) > config_.radius_change * radius_ + 1.5)
       continue;
-    if (!best || d < best_d) best = &b, best_d = d;
+    // Brightness mode: a blob that moves beats one that does not (the ghost of a ball held
+    // still, left in the background model); a ball at rest is still followed.
+    const bool moved = luma_ && luma_->MovedFraction(b.box) >= 0.15;
+    if (!best || (moved && !best_moved) || (moved == best_moved && d < best_d))
+      best = &b, best_d = d, best_moved = moved;
   }
   if (!best) return false;
   const Blob chosen = *best;
@@ -302,6 +316,9 @@ bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
   for (size_t k = 0; k < blobs.size(); ++k) {
     const Blob& b = blobs[k];
     const double r = EquivalentRadius(b);
+    // Brightness mode acquires only what moves: not the ghost a ball held still leaves in
+    // the background model, nor a patch of wall the light changed.
+    if (luma_ && luma_->MovedFraction(b.box) < 0.15) continue;
     // Colour first (a similar-hue object is a worse match), then shape, size, prediction.
     double score = 3 * b.mean_distance / tol + std::abs(b.fill - 0.785);
     if (radius_ > 0) score += std::abs(r - radius_) / radius_;
@@ -399,7 +416,7 @@ void Tracker::StartLumaMode(int polarity) {
   params.polarity = polarity;
   luma_ = std::make_unique<LumaContrast>(params);
   color_ = LumaContrast::BallModel(params, config_.color);
-  how_ = std::string(": brightness, ") + (polarity > 0 ? "brighter" : "darker") +
+  how_ = std::string(": brightness, ") + (polarity > 0 ? "brighter" : polarity < 0 ? "darker" : "brighter or darker") +
          " than a background model by >= " + Fmt("%.0f luma (clamped at %.0f)", params.min_contrast_luma,
                                                   params.clamp_luma);
 }

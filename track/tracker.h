@@ -36,6 +36,7 @@ struct TrackerConfig {
   // by a pick on a nearly grey pixel (polarity from the pick against its surroundings).
   bool luma_mode = false;
   LumaContrastParams luma;
+  int luma_still_frames = 15;       // a ball still for longer may fade into the background
   // Region of interest, pixels; width or height 0 = whole frame.
   int roi_x = 0, roi_y = 0, roi_w = 0, roi_h = 0;
 
@@ -121,6 +122,8 @@ class Tracker {
   cv::Mat mask_;
   std::unique_ptr<LumaContrast> luma_;  // brightness mode only
   double last_cx_ = 0, last_cy_ = 0;   // last found centre, pixels
+  double still_x_ = 0, still_y_ = 0;   // brightness mode: where the ball last moved to
+  int64_t still_frames_ = 0;           // ... and frames since
 };
 
 }  // namespace bouncefit
