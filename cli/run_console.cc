@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <vector>
 
 #include "msgs/msg_json.h"
 
@@ -91,8 +92,14 @@ void RunConsole::OnFit(const fit_update_t& m, int64_t published_utime) {
   if (mode_ != ConsoleMode::kHuman) return;
   std::string line = Format("fit   after #%d%s  %s/%s", m.after_bounce, m.final ? " (final)" : "",
                             m.model.c_str(), m.method.c_str());
-  const int shown = std::min(m.num_coeffs, 4);  // the main ones; the report has them all
-  for (int i = 0; i < shown; ++i) line += Format("  %s=%.4g", m.names[i].c_str(), m.values[i]);
+  // The few main ones: those the data determines first; the report has them all.
+  std::vector<int> order;
+  for (int pass = 0; pass < 2; ++pass)
+    for (int i = 0; i < m.num_coeffs; ++i)
+      if (static_cast<bool>(m.identifiable[i]) == (pass == 0)) order.push_back(i);
+  const int shown = std::min(m.num_coeffs, 4);
+  for (int k = 0; k < shown; ++k)
+    line += Format("  %s=%.4g", m.names[order[k]].c_str(), m.values[order[k]]);
   if (m.num_coeffs > shown) line += Format("  (+%d more)", m.num_coeffs - shown);
   line += Format("  residual %.2f mm  %d evals  %.0f ms", m.residual_m * 1e3, m.evaluations,
                  m.wall_time_s * 1e3);
