@@ -1,10 +1,242 @@
+// bouncefit simulate: run the Bullet soft-body ball (fit/soft_ball_model.h) for given
+// coefficients and print its bounce heights and trajectory; optionally render it as a clip
+// with synth's renderer.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
 #include "cli/commands.h"
+#include "fit/ball_preset.h"
+#include "fit/fit_models.h"
+#include "fit/soft_ball_model.h"
+#include "replay/synth_clip.h"
 
 namespace bouncefit::cli {
+namespace {
+
+struct SimulateOptions {
+  std::string coeffs;
+  std::string ball = "pingpong";
+  double diameter_m = 0, mass_kg = 0;
+  double drop_m = 1.0;
+  double duration_s = 6.0;
+  double min_height_m = 0.01;
+  double rate_hz = 120;
+  bool csv = false, json = false, list = false, no_trajectory = false;
+  std::string render;
+};
+
+std::string G(double v, int digits = 6) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+// --coeffs: "preset" (the ball's table in fit/presets/), a JSON file, or k=v,k=v.
+CoefficientValues ReadCoefficients(const std::string& text, const std::string& ball,
+                                   const SoftBallModel& model) {
+  if (text.empty()) return {};
+  std::filesystem::path file;
+  if (text == "preset") {
+    file = SoftBallPresetFile(ball);
+    if (file.empty()) throw std::runtime_error("no stored coefficients for ball '" + ball + "'");
+  } else if (text.find('=') == std::string::npos) {
+    file = text;
+  }
+  if (file.empty()) return ParseCoefficientList(text);
+  if (!std::filesystem::exists(file)) throw std::runtime_error("cannot read " + file.string());
+  // The file's time step and iterations, when it names them, must be the model's: the
+  // coefficients hold for those only.
+  std::ifstream in(file);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception&) {
+    throw std::runtime_error(file.string() + ": not JSON");
+  }
+  if (j.is_object() && j.contains("time_step_s") && j["time_step_s"].is_number() &&
+      std::abs(j["time_step_s"].get<double>() - model.config().time_step_s) > 1e-12)
+    throw std::runtime_error(file.string() + ": coefficients for time step " +
+                             G(j["time_step_s"].get<double>()) + " s, the model steps " +
+                             G(model.config().time_step_s) + " s");
+  if (j.is_object() && j.contains("position_iterations") && j["position_iterations"].is_number() &&
+      j["position_iterations"].get<int>() != model.config().position_iterations)
+    throw std::runtime_error(file.string() + ": coefficients for " +
+                             std::to_string(j["position_iterations"].get<int>()) +
+                             " position iterations, the model uses " +
+                             std::to_string(model.config().position_iterations));
+  const CoefficientValues v = LoadCoefficientTable(file);
+  if (v.empty()) throw std::runtime_error(file.string() + ": no coefficients in it");
+  return v;
+}
+
+void ListCoefficients(const SoftBallModel& model) {
+  std::printf("%-28s %-14s %10s %10s %10s  %s\n", "name", "unit", "default", "lower", "upper",
+              "what it is");
+  for (const auto& s : model.Coefficients())
+    std::printf("%-28s %-14s %10s %10s %10s  %s%s\n", s.name.c_str(),
+                s.unit.empty() ? "-" : s.unit.c_str(), G(s.default_value).c_str(),
+                G(s.lower).c_str(), G(s.upper).c_str(), s.discrete ? "(integer) " : "",
+                s.description.c_str());
+  std::printf("fixed for this model: time step %s s, %d position iterations, gravity %s m/s^2\n",
+              G(model.config().time_step_s).c_str(), model.config().position_iterations,
+              G(model.config().gravity_mps2).c_str());
+}
+
+void Run(const SimulateOptions& o) {
+  if (o.csv && o.json) throw std::invalid_argument("--csv and --json exclude each other");
+  if (o.diameter_m < 0) throw std::invalid_argument("--diameter must be > 0 m");
+  if (o.mass_kg < 0) throw std::invalid_argument("--mass must be > 0 kg");
+  if (!(o.rate_hz > 0)) throw std::invalid_argument("--rate must be > 0 Hz");
+  const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);
+  const SoftBallModel model(ball);
+  if (o.list) {
+    ListCoefficients(model);
+    return;
+  }
+  const CoefficientValues given = ReadCoefficients(o.coeffs, o.ball, model);
+  std::string error;
+  const CoefficientValues values = model.Complete(given, &error);
+  if (!error.empty()) throw std::invalid_argument(error);
+
+  SimulationOptions so;
+  so.drop_height_m = o.drop_m;
+  so.duration_s = o.duration_s;
+  so.min_bounce_height_m = o.min_height_m;
+  so.record_trajectory = !o.no_trajectory || !o.render.empty();
+  so.trajectory_rate_hz = o.rate_hz;
+  if (!o.render.empty()) {
+    // The renderer interpolates between samples: give it every step, and the whole
+    // duration (no early stop).
+    so.trajectory_rate_hz = 1 / model.config().time_step_s;
+    so.min_bounce_height_m = -1;
+  }
+  SimulationResult r = model.Simulate(values, so);
+  if (!r.ok) throw std::runtime_error("simulation failed: " + r.failure);
+  if (!o.render.empty()) {  // ran without early stop for the clip: report as asked
+    size_t n = 0;
+    while (n < r.bounce_heights_m.size() && r.bounce_heights_m[n] >= o.min_height_m) ++n;
+    r.bounce_heights_m.resize(n);
+    r.apex_times_s.resize(n);
+  }
+
+  std::vector<TrajectorySample> printed;  // at --rate
+  if (!o.no_trajectory) {
+    const double step = 1 / o.rate_hz;
+    double next = 0;
+    for (const auto& s : r.trajectory)
+      if (s.t_s >= next - 1e-9) {
+        printed.push_back(s);
+        next += step;
+      }
+  }
+
+  if (o.json) {
+    nlohmann::ordered_json j;
+    j["model"] = model.name();
+    j["ball"] = ball.name;
+    j["diameter_m"] = ball.diameter_m;
+    j["mass_kg"] = ball.mass_kg;
+    j["drop_height_m"] = o.drop_m;
+    j["time_step_s"] = model.config().time_step_s;
+    j["position_iterations"] = model.config().position_iterations;
+    nlohmann::ordered_json c;
+    for (const auto& s : model.Coefficients()) c[s.name] = values.at(s.name);
+    j["coefficients"] = c;
+    j["bounce_heights_m"] = r.bounce_heights_m;
+    j["apex_times_s"] = r.apex_times_s;
+    j["impact_times_s"] = r.impact_times_s;
+    j["wall_time_s"] = r.wall_time_s;
+    nlohmann::ordered_json traj = nlohmann::ordered_json::array();
+    for (const auto& s : printed)
+      traj.push_back({{"t_s", s.t_s},
+                      {"bottom_height_m", s.bottom_height_m},
+                      {"center_height_m", s.center_height_m},
+                      {"width_height_ratio", s.width_height_ratio}});
+    j["trajectory"] = traj;
+    std::printf("%s\n", j.dump(2).c_str());
+  } else if (o.csv) {
+    std::printf("bounce,apex_t_s,height_m\n");
+    for (size_t i = 0; i < r.bounce_heights_m.size(); ++i)
+      std::printf("%zu,%.6f,%.6f\n", i + 1, r.apex_times_s[i], r.bounce_heights_m[i]);
+    if (!o.no_trajectory) {
+      std::printf("\nt_s,bottom_height_m,center_height_m,width_height_ratio\n");
+      for (const auto& s : printed)
+        std::printf("%.6f,%.6f,%.6f,%.5f\n", s.t_s, s.bottom_height_m, s.center_height_m,
+                    s.width_height_ratio);
+    }
+  } else {
+    std::printf("%s, %s (%s m, %s kg) dropped from %s m; time step %s s, %d iterations; "
+                "%s s in %.3f s\n",
+                model.name().c_str(), ball.name.c_str(), G(ball.diameter_m).c_str(),
+                G(ball.mass_kg).c_str(), G(o.drop_m).c_str(),
+                G(model.config().time_step_s).c_str(), model.config().position_iterations,
+                G(o.duration_s).c_str(), r.wall_time_s);
+    std::printf("bounce heights (m):");
+    for (double h : r.bounce_heights_m) std::printf(" %.4f", h);
+    std::printf("%s\n", r.bounce_heights_m.empty() ? " none" : "");
+    std::printf("apex times (s):    ");
+    for (double t : r.apex_times_s) std::printf(" %.4f", t);
+    std::printf("\n");
+    if (!o.no_trajectory) {
+      std::printf("%10s %12s %12s %12s\n", "t_s", "bottom_m", "centre_m", "width/height");
+      for (const auto& s : printed)
+        std::printf("%10.4f %12.5f %12.5f %12.4f\n", s.t_s, s.bottom_height_m,
+                    s.center_height_m, s.width_height_ratio);
+    }
+  }
+
+  if (!o.render.empty()) {
+    SynthClipConfig clip;
+    clip.ball = ball;
+    clip.drop_height_m = o.drop_m;
+    clip.duration_s = clip.hold_s + o.duration_s;
+    clip.out = o.render;
+    const SynthTrajectory t = SynthTrajectoryFromSimulation(r, o.drop_m, model.name());
+    const SynthClipResult c = RenderSynthTrajectoryClip(clip, t);
+    std::fprintf(o.json || o.csv ? stderr : stdout, "simulate: rendered %s (%d frames at %g fps)\n",
+                 c.clip_path.string().c_str(), c.truth.frame_count, c.truth.fps);
+  }
+}
+
+}  // namespace
 
 void AddSimulateCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("simulate", "Simulate the soft-body ball model for given coefficients");
-  cmd->callback([] { NotYetAvailable("simulate", 6); });
+  auto* cmd = app.add_subcommand(
+      "simulate",
+      "Simulate the Bullet soft-body ball (docs/MODEL.md) for given coefficients: prints its "
+      "bounce heights (ball bottom above the floor, m, measured from 120 Hz samples like the "
+      "detector) and its trajectory; --render draws it as a clip.");
+  auto o = std::make_shared<SimulateOptions>();
+  cmd->add_option("--coeffs", o->coeffs,
+                  "Coefficients: a JSON file ({\"coefficients\": {name: value}}), name=value,... "
+                  "or 'preset' (the ball's stored table); missing ones take their defaults");
+  cmd->add_option("--ball", o->ball, "Ball preset: " + BallPresetNames())->capture_default_str();
+  cmd->add_option("--diameter", o->diameter_m, "Override the preset's diameter, metres");
+  cmd->add_option("--mass", o->mass_kg, "Override the preset's mass, kilograms");
+  cmd->add_option("--drop,--drop-height", o->drop_m,
+                  "Ball bottom above the floor at release, metres")
+      ->capture_default_str();
+  cmd->add_option("--duration", o->duration_s, "Simulated time at most, seconds")
+      ->capture_default_str();
+  cmd->add_option("--min-height", o->min_height_m,
+                  "Stop once bounces fall below this height, metres")
+      ->capture_default_str();
+  cmd->add_option("--rate", o->rate_hz, "Trajectory sampling rate, Hz")->capture_default_str();
+  cmd->add_flag("--no-trajectory", o->no_trajectory, "Print the bounce heights only");
+  cmd->add_flag("--csv", o->csv, "CSV: a bounce table, a blank line, a trajectory table");
+  cmd->add_flag("--json", o->json, "One JSON object: model, coefficients, heights, trajectory");
+  cmd->add_flag("--list-coeffs", o->list,
+                "List the coefficients: name, unit, default, bounds, what each one is");
+  cmd->add_option("--render", o->render,
+                  "Also render the simulated drop as a clip (.avi or .mp4) with synth's renderer");
+  cmd->callback([o] { Run(*o); });
 }
 
 }  // namespace bouncefit::cli

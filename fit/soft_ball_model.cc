@@ -73,8 +73,8 @@ std::vector<CoefficientSpec> MakeSpecs() {
       {"floor_restitution", "", 0.0, 0.0, 1.0, false,
        "btCollisionObject restitution of the floor; soft-rigid contacts ignore it (no effect)"},
       {"rebound_boost", "", 0.0, 0.0, 1.0, false,
-       "artificial, not Bullet: upward velocity given to every node at maximum compression, as "
-       "a fraction of the impact speed (the paper's 'artificial extra force')"},
+       "artificial, not Bullet: upward velocity given to every node when the ball leaves the "
+       "floor, as a fraction of the impact speed (the paper's 'artificial extra force')"},
   };
 }
 
@@ -529,7 +529,7 @@ SimulationResult SoftBallModel::Simulate(const CoefficientValues& values,
       TrajectorySample ts;
       ts.t_s = t;
       ts.center_height_m = cy;
-      ts.bottom_height_m = bottom;
+      ts.bottom_height_m = s.min_y;  // the mesh's lowest point (deformed, sagging, ...)
       const double height = s.max_y - s.min_y;
       ts.width_height_ratio = height > 0 ? (s.max_x - s.min_x) / height / built.rest_width_height : 1;
       result.trajectory.push_back(ts);

@@ -8,6 +8,8 @@
 // video: the ball's centre is sampled at the camera rate, impacts are the minima of that
 // curve, and each apex is a least-squares parabola (FitArcApex) through the samples around
 // the top of its arc. Heights are the ball's bottom (centre - radius) above the floor.
+// The recorded trajectory gives the centre (of mass), the mesh's lowest point as the bottom
+// and the width/height ratio of the mesh's extents (1 for the undeformed mesh).
 //
 // Simulate() is const and thread-safe: every call builds its own Bullet world; meshes come
 // read-only from the TetGen cache. The same coefficients give the same heights to the last
