@@ -7,8 +7,10 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <thread>
 
@@ -185,6 +187,60 @@ TEST(Run, ShowsPeaksAndFitsLiveInATerminal) {
     EXPECT_NE(s->find("replay"), std::string::npos) << *s;
   }
   EXPECT_NE(screen.find("run: done"), std::string::npos) << screen;
+}
+
+// bounce index -> height (m) as printed to 4 decimals, from `detect` lines ("peak  seq 0
+// bounce  2: 0.4596 m ...") or from `run --json` peak events.
+std::map<int, std::string> PeaksFromDetectOutput(const std::string& out) {
+  std::map<int, std::string> peaks;
+  std::istringstream in(out);
+  std::string line;
+  std::smatch m;
+  const std::regex re("^peak +seq \\d+ bounce +(\\d+): ([0-9.]+) m");
+  while (std::getline(in, line))
+    if (std::regex_search(line, m, re)) peaks[std::stoi(m[1])] = m[2];
+  return peaks;
+}
+
+std::map<int, std::string> PeaksFromRunJson(const std::string& out) {
+  std::map<int, std::string> peaks;
+  std::istringstream in(out);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto j = nlohmann::json::parse(line, nullptr, false);
+    if (j.is_discarded() || j.value("event", "") != "peak") continue;
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4f", j["height_m"].get<double>());
+    peaks[j["bounce"].get<int>()] = text;
+  }
+  return peaks;
+}
+
+// The same peaks whether the nodes share one process (`run`) or run as two processes
+// (`capture` and `detect`) talking over UDP multicast.
+TEST(Run, SamePeaksAsCaptureAndDetectInTwoProcesses) {
+  const fs::path dir = testing::ScratchDir("two_processes");
+  const std::string url = testing::UniqueUdpmUrl();
+  const std::string clip = PingPongClip().string();
+  std::string detect_out, capture_out, run_out;
+  // detect listens first, and exits once no box came for 3 s.
+  const std::string script =
+      BouncefitExe() + " detect --ball pingpong --lcm-url '" + url + "' --exit-after-idle 3 > " +
+      (dir / "detect.txt").string() + " 2>&1 & D=$!; sleep 1; " + BouncefitExe() +
+      " capture --replay " + clip + " --lcm-url '" + url + "' --speed 0 --quiet; wait $D";
+  ASSERT_EQ(RunCommand("bash -c \"" + script + "\"", &capture_out), 0) << capture_out;
+  std::ifstream f(dir / "detect.txt");
+  detect_out.assign(std::istreambuf_iterator<char>(f), {});
+  ASSERT_EQ(RunCommand(BouncefitExe() + " run " + clip + " --out " + (dir / "run").string() +
+                           " --speed 0 --lcm-url memq:// --no-fit --json",
+                       &run_out),
+            0)
+      << run_out;
+
+  const auto two = PeaksFromDetectOutput(detect_out);
+  const auto one = PeaksFromRunJson(run_out);
+  ASSERT_GE(one.size(), 5u) << run_out;
+  EXPECT_EQ(two, one) << "detect printed:\n" << detect_out;
 }
 
 // `watch` in its own terminal attaches to a `run` in another process and shows its peaks
