@@ -15,6 +15,10 @@
 // read-only from the TetGen cache. The same coefficients give the same heights to the last
 // bit. A diverging run (NaN, explosion, ball through the floor, energy growth) is reported
 // as ok = false with the reason, never a crash or a hang.
+//
+// The heights are chaotic in the coefficients: a change of a few parts per million moves the
+// second and later bounces by percent (docs/MODEL.md, "chaos floor"). Fitters must treat
+// them as noisy.
 #include <string>
 #include <vector>
 
