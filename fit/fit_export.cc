@@ -1,5 +1,7 @@
 #include "fit/fit_export.h"
 
+#include "fit/soft_ball_model.h"
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -64,7 +66,9 @@ std::string BtSoftBodySnippet(const FitUpdate& u, const BallPreset& ball) {
     for (const auto& [name, v] : u.values) s << "// " << name << " = " << G(v) << "\n";
     return s.str();
   }
-  const double r = ball.radius_m(), m = ball.mass_kg, g = 9.81;
+  // The fixed settings of the model the coefficients were fitted with.
+  const SoftBallModelConfig model;
+  const double r = ball.radius_m(), m = ball.mass_kg, g = model.gravity_mps2;
   const double pi = 3.14159265358979323846;
   const double volume0 = 4.0 / 3.0 * pi * r * r * r;
   const double pressure = Value(u, "pressure", 0);
@@ -79,7 +83,7 @@ std::string BtSoftBodySnippet(const FitUpdate& u, const BallPreset& ball) {
     << "// Step with: world->stepSimulation(kFixedTimeStep, 0);\n"
     << "inline void ConfigureFittedBall(btSoftBody* sb, btSoftBodyWorldInfo* info) {\n"
     << "  info->m_gravity = btVector3(0, btScalar(-" << G(g) << "), 0);  // soft bodies use this\n"
-    << "  info->air_density = btScalar(1.2);\n"
+    << "  info->air_density = btScalar(" << G(model.air_density_kgpm3) << ");\n"
     << "  btSoftBody::Material* mat = sb->m_materials[0];\n"
     << "  mat->m_kLST = btScalar(" << G(Value(u, "linear_stiffness", 1)) << ");\n"
     << "  mat->m_kAST = btScalar(" << G(Value(u, "angular_stiffness", 1))
@@ -107,16 +111,21 @@ std::string BtSoftBodySnippet(const FitUpdate& u, const BallPreset& ball) {
     << "  k.viterations = 0;\n"
     << "  k.diterations = 0;\n"
     << "  k.collisions = btSoftBody::fCollision::SDF_RS;\n"
-    << "  sb->getCollisionShape()->setMargin(btScalar(" << G(0.05 * r) << "));\n"
-    << "  info->m_sparsesdf.setDefaultVoxelsz(btScalar(" << G(0.25 * r) << "));\n"
+    << "  sb->getCollisionShape()->setMargin(btScalar(" << G(model.margin_per_radius * r)
+    << "));  // put the floor's top face this much below y = 0\n"
+    << "  info->m_sparsesdf.setDefaultVoxelsz(btScalar(" << G(model.sdf_voxel_per_radius * r)
+    << "));\n"
     << "  info->m_sparsesdf.Reset();\n"
     << "  sb->setPose(true, false);  // rest volume for kVC\n"
-    << "}\n";
+    << "}\n"
+    << "// Before release the fit let the ball float weightless for " << G(model.settle_time_s)
+    << " s with kDP = " << G(model.settle_damping) << ",\n"
+    << "// so pressure and links start in equilibrium; do the same.\n";
   const double boost = Value(u, "rebound_boost", 0);
   s << "// Artificial rebound boost (not Bullet; the paper's extra force): "
     << (boost > 0 ? "" : "0, nothing to do.") << "\n";
   if (boost > 0)
-    s << "// once per contact, when the centre-of-mass velocity turns upward, add\n"
+    s << "// once per contact, when the ball leaves the floor, add to every node\n"
       << "//   sb->addVelocity(btVector3(0, btScalar(" << G(boost)
       << ") * impact_speed, 0));\n"
       << "// impact_speed = downward speed of the centre of mass just before contact.\n";
