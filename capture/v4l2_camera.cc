@@ -467,18 +467,7 @@ std::optional<Frame> V4l2Camera::Next() {
   // state): give up at the same timeout as for silence, instead of spinning.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(config_.timeout_ms);
   for (;;) {
-    pollfd p{fd_, POLLIN, 0};
-    const int r = io_.Poll(&p, 1, config_.timeout_ms);
-    if (r < 0) {
-      if (errno == EINTR) continue;
-      Fail("poll", errno);
-    }
-    if (r == 0) {
-      failed_ = true;
-      throw std::runtime_error(config_.device + ": no frame for " +
-                               Fixed(config_.timeout_ms / 1000.0, 1) + " s (after " +
-                               std::to_string(delivered_) + " frames)");
-    }
+    WaitReadable();
     v4l2_buffer b{};
     b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     b.memory = V4L2_MEMORY_MMAP;
@@ -538,21 +527,28 @@ std::optional<Frame> V4l2Camera::Next() {
   }
 }
 
-std::optional<Frame> V4l2Camera::NextRead() {
-  int consecutive_errors = 0;
+// Waits until the device has a frame; a silent device for timeout_ms is an error (with the
+// count of frames already delivered, which stay valid).
+void V4l2Camera::WaitReadable() {
   for (;;) {
     pollfd p{fd_, POLLIN, 0};
     const int r = io_.Poll(&p, 1, config_.timeout_ms);
+    if (r > 0) return;
     if (r < 0) {
       if (errno == EINTR) continue;
       Fail("poll", errno);
     }
-    if (r == 0) {
-      failed_ = true;
-      throw std::runtime_error(config_.device + ": no frame for " +
-                               Fixed(config_.timeout_ms / 1000.0, 1) + " s (after " +
-                               std::to_string(delivered_) + " frames)");
-    }
+    failed_ = true;
+    throw std::runtime_error(config_.device + ": no frame for " +
+                             Fixed(config_.timeout_ms / 1000.0, 1) + " s (after " +
+                             std::to_string(delivered_) + " frames)");
+  }
+}
+
+std::optional<Frame> V4l2Camera::NextRead() {
+  int consecutive_errors = 0;
+  for (;;) {
+    WaitReadable();
     const ssize_t n = io_.Read(fd_, read_buffer_.data(), read_buffer_.size());
     if (n < 0) {
       const int err = errno;

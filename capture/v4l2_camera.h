@@ -119,6 +119,7 @@ class V4l2Camera final : public FrameSource {
   std::optional<Frame> ToFrame(const uint8_t* data, std::size_t size, int64_t utime,
                                int64_t sequence);
   std::optional<Frame> NextRead();
+  void WaitReadable();
   [[noreturn]] void Fail(const std::string& what, int err);
   void CountSequence(int64_t sequence);
 
