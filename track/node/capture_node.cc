@@ -22,26 +22,6 @@ int64_t WallMicros() {  // the clock lcm-logger stamps events with
 
 }  // namespace
 
-ball_box_t ToBallBox(const BallObservation& obs) {
-  ball_box_t m{};
-  m.utime = obs.utime;
-  m.frame = obs.frame;
-  m.found = obs.found;
-  if (obs.found) {
-    m.x = obs.x;
-    m.y = obs.y;
-    m.w = obs.w;
-    m.h = obs.h;
-    m.cx = obs.cx;
-    m.cy = obs.cy;
-    m.radius_px = obs.radius_px;
-    m.pixel_count = obs.pixel_count;
-    m.aspect_ratio = obs.aspect_ratio;
-    m.score = obs.score;
-  }
-  return m;
-}
-
 CaptureNode::CaptureNode(FrameSource& source, Tracker& tracker, LcmBus* bus,
                          CaptureNodeConfig config)
     : source_(source), tracker_(tracker), bus_(bus), config_(std::move(config)) {}

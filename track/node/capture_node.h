@@ -15,6 +15,7 @@
 #include "capture/frame_recorder.h"
 #include "capture/frame_source.h"
 #include "msgs/channels.h"
+#include "track/node/ball_box_msg.h"
 #include "track/ball_observation.h"
 #include "track/tracker.h"
 
@@ -43,7 +44,6 @@ struct CaptureStats {
   double stream_s() const { return (last_utime - first_utime) * 1e-6; }
 };
 
-ball_box_t ToBallBox(const BallObservation& obs);
 
 class CaptureNode {
  public:

@@ -16,26 +16,6 @@ int64_t SteadyMicros() {
 
 }  // namespace
 
-BallObservation FromBallBox(const ball_box_t& m) {
-  BallObservation o;
-  o.utime = m.utime;
-  o.frame = m.frame;
-  o.found = m.found;
-  if (m.found) {
-    o.x = m.x;
-    o.y = m.y;
-    o.w = m.w;
-    o.h = m.h;
-    o.cx = m.cx;
-    o.cy = m.cy;
-    o.radius_px = m.radius_px;
-    o.pixel_count = m.pixel_count;
-    o.aspect_ratio = m.aspect_ratio;
-    o.score = m.score;
-  }
-  return o;
-}
-
 calibration_t ToCalibrationMsg(const Calibration& c) {
   calibration_t m{};
   m.utime = c.utime;

@@ -14,6 +14,7 @@
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/calibration_t.hpp"
 #include "msgs/channels.h"
+#include "track/node/ball_box_msg.h"
 #include "track/ball_observation.h"
 #include "track/bounce_detector.h"
 
@@ -37,7 +38,6 @@ struct DetectStats {
   double detect_s = 0;         // time spent in the detector
 };
 
-BallObservation FromBallBox(const ball_box_t& box);
 calibration_t ToCalibrationMsg(const Calibration& c);
 bounce_peak_t ToBouncePeakMsg(const BouncePeak& p);
 
