@@ -275,13 +275,8 @@ void Run(RunOptions o) {
     drops.push_back({{"sequence", d.sequence},
                      {"end", d.end_reason},
                      {"impacts", impacts},
-                     {"restitution_intercept", std::isfinite(d.restitution_intercept)
-                                                   ? nlohmann::json(d.restitution_intercept)
-                                                   : nlohmann::json()},
-                     {"restitution_slope_per_mps",
-                      std::isfinite(d.restitution_slope_per_mps)
-                          ? nlohmann::json(d.restitution_slope_per_mps)
-                          : nlohmann::json()}});
+                     {"restitution_intercept", FiniteOrNull(d.restitution_intercept)},
+                     {"restitution_slope_per_mps", FiniteOrNull(d.restitution_slope_per_mps)}});
   }
   summary["drops"] = drops;
   if (final_fit) summary["final_fit"] = FitUpdateToJson(*final_fit, ball);

@@ -31,6 +31,15 @@ std::string Cell(double v, const char* format) {
   return buf;
 }
 
+// A reader never sees half a file: write a temporary, then rename over the old one.
+void WriteJsonAtomically(const std::filesystem::path& path, const nlohmann::json& j) {
+  const std::string tmp = path.string() + ".tmp";
+  std::ofstream f = OpenForWrite(tmp);
+  f << j.dump(2) << '\n';
+  f.close();
+  std::filesystem::rename(tmp, path);
+}
+
 }  // namespace
 
 RunOutput::RunOutput(const std::filesystem::path& dir)
@@ -57,11 +66,7 @@ void RunOutput::OnBox(const ball_box_t& m) {
 }
 
 void RunOutput::OnCalibration(const calibration_t& m) {
-  const auto path = dir_ / "calibration.json";
-  std::ofstream f = OpenForWrite(path.string() + ".tmp");
-  f << ToJson(m, t0_).dump(2) << '\n';
-  f.close();
-  std::filesystem::rename(path.string() + ".tmp", path);
+  WriteJsonAtomically(dir_ / "calibration.json", ToJson(m, t0_));
 }
 
 void RunOutput::OnPeak(const bounce_peak_t& m) {
@@ -80,11 +85,7 @@ void RunOutput::OnFit(const fit_update_t& m, int64_t published_utime) {
 }
 
 void RunOutput::WriteSummary(const nlohmann::json& summary) {
-  const auto path = dir_ / "summary.json";
-  std::ofstream f = OpenForWrite(path.string() + ".tmp");
-  f << summary.dump(2) << '\n';
-  f.close();
-  std::filesystem::rename(path.string() + ".tmp", path);
+  WriteJsonAtomically(dir_ / "summary.json", summary);
 }
 
 std::pair<int64_t, int64_t> RunOutput::CloseLog() {

@@ -5,16 +5,17 @@
 namespace bouncefit {
 namespace {
 
-// JSON has no NaN: unknown values are null.
-nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-
 nlohmann::json Numbers(const std::vector<double>& v) {
   nlohmann::json a = nlohmann::json::array();
-  for (double x : v) a.push_back(Number(x));
+  for (double x : v) a.push_back(FiniteOrNull(x));
   return a;
 }
 
 }  // namespace
+
+nlohmann::json FiniteOrNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
 
 double SecondsSince(int64_t utime, int64_t t0_utime) {
   return static_cast<double>(utime - t0_utime) * 1e-6;
@@ -32,12 +33,12 @@ nlohmann::json ToJson(const ball_box_t& m, int64_t t0) {
 
 nlohmann::json ToJson(const calibration_t& m, int64_t t0) {
   return {{"t_s", SecondsSince(m.utime, t0)},
-          {"px_per_m", Number(m.px_per_m)},
-          {"px_per_m_sigma", Number(m.px_per_m_sigma)},
-          {"roll_rad", Number(m.roll_rad)},
-          {"roll_sigma_rad", Number(m.roll_sigma_rad)},
-          {"floor_px", Number(m.floor_px)},
-          {"floor_sigma_px", Number(m.floor_sigma_px)},
+          {"px_per_m", FiniteOrNull(m.px_per_m)},
+          {"px_per_m_sigma", FiniteOrNull(m.px_per_m_sigma)},
+          {"roll_rad", FiniteOrNull(m.roll_rad)},
+          {"roll_sigma_rad", FiniteOrNull(m.roll_sigma_rad)},
+          {"floor_px", FiniteOrNull(m.floor_px)},
+          {"floor_sigma_px", FiniteOrNull(m.floor_sigma_px)},
           {"method", m.method},
           {"samples", m.samples}};
 }
@@ -49,10 +50,10 @@ nlohmann::json ToJson(const bounce_peak_t& m, int64_t t0) {
   return {{"sequence", m.sequence},
           {"bounce", m.bounce},
           {"t_s", SecondsSince(m.apex_utime, t0)},
-          {"height_m", Number(m.height_m)},
-          {"height_px", Number(m.height_px)},
-          {"height_sigma_m", Number(m.height_sigma_m)},
-          {"flight_height_m", Number(m.flight_height_m)},
+          {"height_m", FiniteOrNull(m.height_m)},
+          {"height_px", FiniteOrNull(m.height_px)},
+          {"height_sigma_m", FiniteOrNull(m.height_sigma_m)},
+          {"flight_height_m", FiniteOrNull(m.flight_height_m)},
           {"impact_before_t_s", time_or_null(m.impact_before_utime)},
           {"impact_after_t_s", time_or_null(m.impact_after_utime)},
           {"emitted_t_s", SecondsSince(m.emitted_utime, t0)}};
@@ -62,8 +63,8 @@ nlohmann::json ToJson(const fit_update_t& m, int64_t t0) {
   nlohmann::json coeffs = nlohmann::json::array();
   for (int i = 0; i < m.num_coeffs; ++i) {
     coeffs.push_back({{"name", m.names[i]},
-                      {"value", Number(m.values[i])},
-                      {"sigma", Number(m.sigmas[i])},
+                      {"value", FiniteOrNull(m.values[i])},
+                      {"sigma", FiniteOrNull(m.sigmas[i])},
                       {"identifiable", static_cast<bool>(m.identifiable[i])}});
   }
   return {{"t_s", SecondsSince(m.utime, t0)},
@@ -75,7 +76,7 @@ nlohmann::json ToJson(const fit_update_t& m, int64_t t0) {
           {"coefficients", coeffs},
           {"recorded_m", Numbers(m.recorded_m)},
           {"simulated_m", Numbers(m.simulated_m)},
-          {"residual_m", Number(m.residual_m)},
+          {"residual_m", FiniteOrNull(m.residual_m)},
           {"evaluations", m.evaluations},
           {"wall_time_s", m.wall_time_s},
           {"time_step_s", m.time_step_s},

@@ -14,6 +14,9 @@ namespace bouncefit {
 
 double SecondsSince(int64_t utime, int64_t t0_utime);
 
+// JSON has no NaN or infinity: an unknown value is null.
+nlohmann::json FiniteOrNull(double v);
+
 nlohmann::json ToJson(const ball_box_t& m, int64_t t0_utime);
 nlohmann::json ToJson(const calibration_t& m, int64_t t0_utime);
 nlohmann::json ToJson(const bounce_peak_t& m, int64_t t0_utime);

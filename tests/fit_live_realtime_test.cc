@@ -15,21 +15,14 @@
 #include "fit/fit_worker.h"
 #include "fit/point_mass_drop.h"
 #include "fit/point_mass_model.h"
+#include "tests/point_mass_truth.h"
 
 namespace bouncefit {
 namespace {
 
-PointMassDropResult Truth(const BallPreset& ball, double drop) {
-  PointMassDropConfig c;
-  c.ball = ball;
-  c.drop_height_m = drop;
-  c.end_time_s = 20;
-  return SimulatePointMassDrop(c);
-}
-
 TEST(LiveFit, FirstFiveUpdatesBeforeTheNextApex) {
   const BallPreset ball = ResolveBallPreset("pingpong");
-  const auto truth = Truth(ball, 1.0);
+  const auto truth = testing::PointMassTruth(ball, 1.0);
   auto model = MakeFitModel("bullet-softbody", ball);
   PointMassModel quick(ball);
   FitSessionConfig cfg;

@@ -14,24 +14,17 @@
 #include "fit/fit_worker.h"
 #include "fit/point_mass_drop.h"
 #include "fit/point_mass_model.h"
+#include "tests/point_mass_truth.h"
 
 namespace bouncefit {
 namespace {
-
-PointMassDropResult Truth(const BallPreset& ball, double drop) {
-  PointMassDropConfig c;
-  c.ball = ball;
-  c.drop_height_m = drop;
-  c.end_time_s = 20;
-  return SimulatePointMassDrop(c);
-}
 
 class FinalFit : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(FinalFit, RmsWithinOnePercentOfTheDropOverAllBouncesAboveOneCentimetre) {
   const BallPreset ball = ResolveBallPreset(GetParam());
   const double drop = 1.0;
-  const auto truth = Truth(ball, drop);
+  const auto truth = testing::PointMassTruth(ball, drop);
   auto model = MakeFitModel("bullet-softbody", ball);
   PointMassModel quick(ball);
   FitSessionConfig cfg;

@@ -8,16 +8,13 @@
 #include "fit/fit_session.h"
 #include "fit/point_mass_drop.h"
 #include "fit/point_mass_model.h"
+#include "tests/point_mass_truth.h"
 
 namespace bouncefit {
 namespace {
 
 std::vector<double> TruthHeights(const BallPreset& ball, double drop, int n) {
-  PointMassDropConfig c;
-  c.ball = ball;
-  c.drop_height_m = drop;
-  c.end_time_s = 20;
-  const auto r = SimulatePointMassDrop(c);
+  const auto r = testing::PointMassTruth(ball, drop);
   std::vector<double> h;
   for (size_t i = 1; i < r.apex_heights_m.size() && static_cast<int>(h.size()) < n; ++i)
     if (r.apex_heights_m[i] >= 0.01) h.push_back(r.apex_heights_m[i]);

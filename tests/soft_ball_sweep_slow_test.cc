@@ -17,16 +17,13 @@
 #include "fit/ball_preset.h"
 #include "fit/point_mass_drop.h"
 #include "fit/soft_ball_model.h"
+#include "tests/point_mass_truth.h"
 
 namespace bouncefit {
 namespace {
 
 std::vector<double> PresetHeights(const BallPreset& ball, double drop, int n) {
-  PointMassDropConfig c;
-  c.ball = ball;
-  c.drop_height_m = drop;
-  c.end_time_s = 30;
-  const PointMassDropResult r = SimulatePointMassDrop(c);
+  const PointMassDropResult r = testing::PointMassTruth(ball, drop, 30);
   std::vector<double> h;
   for (size_t i = 1; i < r.apex_heights_m.size() && int(h.size()) < n; ++i)
     h.push_back(r.apex_heights_m[i]);
