@@ -18,6 +18,21 @@ double Median(std::vector<double> v) {
   return *mid;
 }
 
+// How far a least-squares line through (t, v) moves from the first time to the last.
+double LineDrift(const std::vector<double>& t, const std::vector<double>& v) {
+  const double n = static_cast<double>(t.size());
+  double st = 0, sv = 0, stt = 0, stv = 0;
+  for (size_t i = 0; i < t.size(); ++i) {
+    st += t[i];
+    sv += v[i];
+    stt += t[i] * t[i];
+    stv += t[i] * v[i];
+  }
+  const double den = n * stt - st * st;
+  if (!(den > 0)) return 0;
+  return (n * stv - st * sv) / den * (t.back() - t.front());
+}
+
 }  // namespace
 
 bool BounceDetectorConfig::IsValid(std::string* error) const {
@@ -33,6 +48,8 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
   if (!(min_apex_px >= 0)) return fail("minimum apex must be >= 0 px");
   if (!(lost_s > 0)) return fail("lost time must be > 0 s");
   if (!(hold_window_s >= 0)) return fail("hold window must be >= 0 s");
+  if (!(max_hold_drift > 0)) return fail("hold drift must be > 0");
+  if (fall_start_samples < 4) return fail("a fall start needs >= 4 samples");
   if (impact_confirm_samples < 1) return fail("impact confirmation needs >= 1 sample");
   if (bounce0_rising_samples < 1) return fail("bounce 0 needs >= 1 rising sample");
   return true;
@@ -139,17 +156,22 @@ std::vector<DetectorEvent> BounceDetector::Finish() {
 void BounceDetector::OnWaiting(const Sample& s, std::vector<DetectorEvent>& ev) {
   hold_.push_back(s);
   while (!hold_.empty() && hold_.front().t < s.t - 1.0) hold_.erase(hold_.begin());
+  if (!ReleasedFromHold(s, ev)) FallFromUnseenRelease(s, ev);
+}
+
+bool BounceDetector::ReleasedFromHold(const Sample& s, std::vector<DetectorEvent>& ev) {
   const size_t n = hold_.size();
-  if (n < 5) return;
+  if (n < 5) return false;
   const Sample& a = hold_[n - 2];
   const Sample& b = hold_[n - 1];
-  std::vector<double> wu, ww;
+  std::vector<double> wt, wu, ww;
   for (size_t i = 0; i + 2 < n; ++i) {
     if (hold_[i].t < b.t - 0.5) continue;
+    wt.push_back(hold_[i].t);
     wu.push_back(Down(hold_[i]));
     ww.push_back(Floor(hold_[i]));
   }
-  if (wu.size() < 3) return;
+  if (wu.size() < 3) return false;
   const double ref_u = Median(wu), ref_w = Median(ww);
   const double thr = std::max(config_.release_px, Gate());
   auto still = [&](const Sample& q) {
@@ -163,12 +185,17 @@ void BounceDetector::OnWaiting(const Sample& s, std::vector<DetectorEvent>& ev) 
     ++near;
     ss += (wu[i] - ref_u) * (wu[i] - ref_u);
   }
-  if (static_cast<double>(near) < 0.9 * static_cast<double>(wu.size())) return;
+  if (static_cast<double>(near) < 0.9 * static_cast<double>(wu.size())) return false;
+  // ... and not drifting: the first frames of a fall whose release was not seen are close
+  // together too, but move the same way every frame. Taken for a hold they would make a
+  // release arc held at the wrong place, and their spread the noise (gates a few times
+  // too wide: a slow rebound then passes for more of the fall).
+  if (std::abs(LineDrift(wt, wu)) > config_.max_hold_drift * thr) return false;
   if (!sigma_measured_)
     sigma_ = std::max(config_.noise_floor_px, std::sqrt(ss / static_cast<double>(near)));
-  if (std::abs(Floor(a) - ref_w) > thr || std::abs(Floor(b) - ref_w) > thr) return;
+  if (std::abs(Floor(a) - ref_w) > thr || std::abs(Floor(b) - ref_w) > thr) return false;
   const double da = Down(a) - ref_u, db = Down(b) - ref_u;
-  if (!(db > thr && da > 0.5 * thr && db > da)) return;
+  if (!(db > thr && da > 0.5 * thr && db > da)) return false;
 
   // Released: the release arc is the end of the hold plus the samples moving down.
   Arc arc;
@@ -178,9 +205,51 @@ void BounceDetector::OnWaiting(const Sample& s, std::vector<DetectorEvent>& ev) 
       arc.samples.push_back(hold_[i]);
   arc.samples.push_back(a);
   arc.samples.push_back(b);
+  StartSequence(std::move(arc), s, ev);
+  return true;
+}
+
+bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<DetectorEvent>& ev) {
+  const auto m = static_cast<size_t>(config_.fall_start_samples);
+  if (hold_.size() < m) return false;
+  const std::vector<Sample> fall(hold_.end() - static_cast<long>(m), hold_.end());
+  const double thr = std::max(config_.release_px, Gate());
+  // Frame after frame, each a little further down the same vertical line than the last...
+  for (size_t i = 1; i < m; ++i) {
+    if (fall[i].t - fall[i - 1].t > 3 * frame_dt_) return false;
+    if (std::abs(Floor(fall[i]) - Floor(fall[0])) > thr) return false;
+    if (!(Down(fall[i]) > Down(fall[i - 1]))) return false;
+  }
+  // ... by more than a hold's jitter, faster and faster, smoothly (a parabola, not a hand).
+  if (Down(fall.back()) - Down(fall.front()) < 2 * thr) return false;
+  const auto rows = static_cast<Eigen::Index>(m);
+  Eigen::MatrixXd a(rows, 3);
+  Eigen::VectorXd b(rows);
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    const double dt = fall[static_cast<size_t>(i)].t - fall.back().t;
+    a(i, 0) = 1;
+    a(i, 1) = dt;
+    a(i, 2) = dt * dt;
+    b(i) = Down(fall[static_cast<size_t>(i)]);
+  }
+  const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
+  if (!(c(2) > 0)) return false;
+  const double rms = std::sqrt((a * c - b).squaredNorm() / static_cast<double>(m));
+  if (rms > Gate()) return false;
+
+  // Released out of sight: a release arc from rest whose vertex is fitted, not seen.
+  Arc arc;
+  arc.held = false;
+  arc.samples = fall;
+  StartSequence(std::move(arc), s, ev);
+  return true;
+}
+
+void BounceDetector::StartSequence(Arc release, const Sample& s, std::vector<DetectorEvent>& ev) {
+  release.release = true;
   hold_.clear();
   arcs_.clear();
-  arcs_.push_back(arc);
+  arcs_.push_back(std::move(release));
   pending_up_.clear();
   pending_off_.clear();
   peaks_.clear();
@@ -315,7 +384,7 @@ void BounceDetector::RefitArc(Arc& arc) {
   };
   // The first sample after an impact may straddle it (the exposure sees the ball fall and
   // rise): while the arc is young, drop it if the others put it off the arc.
-  if (!arc.held && arc.samples.size() >= 3 && arc.samples.size() <= 8) {
+  if (!arc.release && arc.samples.size() >= 3 && arc.samples.size() <= 8) {
     FlightArcParams rest;
     if (fit(1, &rest, nullptr)) {
       double x, y;
@@ -394,7 +463,7 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     pending_off_.clear();
     misses_ = 0;
     RefitArc(cur);
-    if (!bounce0_emitted_ && arcs_.size() == 2 &&
+    if (!bounce0_emitted_ && arcs_.size() == 2 && arcs_[0].held &&
         static_cast<int>(arcs_[1].samples.size()) >= config_.bounce0_rising_samples) {
       Recalibrate(s.utime, ev);  // the rising branch pins drag against gravity
       EmitPeak(0, s.utime, ev);
@@ -478,7 +547,7 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
     const double h = calibration_.calibration.floor_centre_px() - arcs_[idx - 1].fit.u_apex;
     if (h >= MinApexPx()) EmitPeak(idx - 1, s.utime, ev);
   }
-  if (!bounce0_emitted_ && idx == 1 &&
+  if (!bounce0_emitted_ && idx == 1 && arcs_[0].held &&
       static_cast<int>(arcs_[1].samples.size()) >= config_.bounce0_rising_samples)
     EmitPeak(0, s.utime, ev);
 }
@@ -505,6 +574,8 @@ void BounceDetector::TryEmitApex(double t, int64_t utime, bool have_sample,
 void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& ev) {
   const Calibration& cal = calibration_.calibration;
   if (j >= arcs_.size() || !cal.valid() || !cal.has_floor || !arcs_[j].fit_ok) return;
+  // Peaks go out in bounce order: a release height still pending goes first.
+  if (j > 0 && !bounce0_emitted_) EmitPeak(0, utime, ev);
   Arc& arc = arcs_[j];
   BouncePeak p;
   p.utime = utime;
@@ -512,7 +583,8 @@ void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent
   p.bounce = static_cast<int>(j);
   p.apex_utime = ToUtime(arc.fit.t_apex);
   p.height_px = cal.floor_centre_px() - arc.fit.u_apex;
-  if (config_.use_arc_apex && !arc.held) {
+  // The release arc's apex is its fitted vertex (seen held, or extrapolated from the fall).
+  if (config_.use_arc_apex && !arc.release) {
     // Heights above the floor with the drag's departure from a parabola removed.
     const FlightGlobals& g = calibration_.flight.globals;
     std::vector<double> ts, hs;
@@ -549,6 +621,8 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
   if (sequence_ >= 0 && !arcs_.empty()) {
     // A last look with every arc: final heights, flight-time heights, restitution.
     if (arcs_.size() >= 2) Recalibrate(last_utime_, ev);
+    // A release not seen held waits for the first rebound's apex; it has none (too low).
+    if (!bounce0_emitted_ && arcs_.size() >= 2 && !arcs_[0].held) EmitPeak(0, last_utime_, ev);
     SequenceSummary sum;
     sum.sequence = sequence_;
     sum.end_reason = reason;

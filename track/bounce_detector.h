@@ -19,6 +19,10 @@
 // it: in the first drop of a stream it is emitted when the first impact is confirmed (its
 // latency from the release is the fall time plus a few frames, reported as such); in later
 // drops the floor and scale are known and it is emitted as soon as the release is.
+// When the tracker found the ball only once it was falling (no hold seen), the release arc
+// is a fall from rest whose vertex is fitted, and the fall alone does not tell G from drag:
+// bounce 0 then waits for the scale the first rebound's rise pins, and goes out just before
+// the first rebound's apex (or at the end of the drop if that rebound is too low).
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -85,11 +89,17 @@ struct BounceDetectorConfig {
   double noise_floor_px = 0.05; // lower bound on the noise estimate
   double initial_noise_px = 0.3;  // until the first fit measures it
   double release_px = 1.5;      // a move down of at least this (and the gate) starts a drop
+  double max_hold_drift = 0.5;  // a hold drifts less than this fraction of that move
+  // No hold seen (the tracker found the ball only once it fell): this many samples, each
+  // further down than the last, accelerating, over twice that move, start a drop whose
+  // release height is the fitted vertex of the fall.
+  int fall_start_samples = 5;
   double min_apex_px = 1.0;     // rebounds lower than this (or 5 noise sigmas) mean rest
   double lost_s = 1.0;          // the ball unseen this long ends the drop
   double hold_window_s = 0.25;  // hold samples kept in the release arc
   int impact_confirm_samples = 2;  // samples off the falling arc, upwards, that make an impact
   int bounce0_rising_samples = 8;  // rising samples after the first impact before bounce 0
+                                   // (release seen held; otherwise see the top comment)
   // Apex height of bounces >= 1: true = FitArcApex (track/arc_apex.h, the parabola shared
   // with the models) through the arc's samples within arc_apex_window_s of the fitted
   // vertex, drag's departure from a parabola removed; false (or too few samples there) =
@@ -127,6 +137,7 @@ class BounceDetector {
   struct Arc {
     std::vector<Sample> samples;
     bool held = false;
+    bool release = false;  // the first arc of a drop: a fall from rest (held seen or not)
     bool apex_emitted = false;
     bool fit_ok = false;
     FlightArcParams fit;
@@ -135,6 +146,9 @@ class BounceDetector {
   enum class Phase { kWaiting, kFlight, kRest };
 
   void OnWaiting(const Sample& s, std::vector<DetectorEvent>& ev);
+  bool ReleasedFromHold(const Sample& s, std::vector<DetectorEvent>& ev);
+  bool FallFromUnseenRelease(const Sample& s, std::vector<DetectorEvent>& ev);
+  void StartSequence(Arc release, const Sample& s, std::vector<DetectorEvent>& ev);
   void OnFlight(const Sample& s, std::vector<DetectorEvent>& ev);
   void OnRest(const Sample& s, std::vector<DetectorEvent>& ev);
   bool Predict(const Arc& arc, double t, double* u, double* w, double* v_down) const;
