@@ -1,11 +1,12 @@
 // The streaming bounce detector on tracker-like observations of point-mass drops with drag
 // (the synth physics): every apex found, no false peaks, heights within max(2 mm, 1%) with
-// the detector's own calibration, latency bounded; hold, gaps, second drop, noise.
+// the detector's own calibration, latency bounded; hold (seen or not), gaps, second drop, noise.
 #include "track/bounce_detector.h"
 
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <ostream>
 #include <random>
 
 #include "tests/detect_sim.h"
@@ -127,6 +128,24 @@ TEST(BounceDetector, MissingFramesAndAnApexOutOfView) {
   EXPECT_LE(testing::MaxOf(s.latency_frames), 4.0) << s.report;
 }
 
+// A stream of two drops: the first clip; picked up, one second with no ball; then the
+// second clip (options `b`, its clock continuing the stream's), returned in *second.
+std::vector<BallObservation> ThenDropAgain(const testing::SimClip& first, SimOptions b,
+                                           testing::SimClip* second) {
+  const double fps = first.options.fps;
+  const auto blank = static_cast<int>(std::lround(fps));
+  b.start_s = static_cast<double>(first.obs.size()) / fps + 1.0;
+  *second = MakeSimClip(b, static_cast<int64_t>(first.obs.size()) + blank);
+  std::vector<BallObservation> obs = first.obs;
+  for (int i = 0; i < blank; ++i) {
+    BallObservation none;
+    none.utime = first.obs.back().utime + std::llround((i + 1) * 1e6 / fps);
+    obs.push_back(none);
+  }
+  obs.insert(obs.end(), second->obs.begin(), second->obs.end());
+  return obs;
+}
+
 TEST(BounceDetector, SecondDropIsANewSequence) {
   SimOptions a;
   a.ball = "wiffle";
@@ -137,15 +156,8 @@ TEST(BounceDetector, SecondDropIsANewSequence) {
   b.hold_s = 0.6;
   b.seed = 9;
   // Picked up: one second with no ball, then held at the new height and dropped.
-  b.start_s = static_cast<double>(first.obs.size()) / a.fps + 1.0;
-  const auto second = MakeSimClip(b, static_cast<int64_t>(first.obs.size()) + 120);
-  std::vector<BallObservation> obs = first.obs;
-  for (int i = 0; i < 120; ++i) {
-    BallObservation none;
-    none.utime = first.obs.back().utime + std::llround((i + 1) * 1e6 / a.fps);
-    obs.push_back(none);
-  }
-  obs.insert(obs.end(), second.obs.begin(), second.obs.end());
+  testing::SimClip second;
+  const auto obs = ThenDropAgain(first, b, &second);
   BounceDetector d{BounceDetectorConfig{}};
   const auto peaks = RunDetector(d, obs);
   std::vector<BouncePeak> p0, p1;
@@ -161,6 +173,37 @@ TEST(BounceDetector, SecondDropIsANewSequence) {
   EXPECT_LT((p1.front().emitted_utime - p1.front().apex_utime) * 1e-6 * a.fps, 8.0);
   ASSERT_EQ(d.Summaries().size(), 2u);
   EXPECT_EQ(d.Summaries()[0].end_reason, "rest");
+}
+
+// A second drop whose hold and first frames were not seen: the scale and floor are known from
+// the first, so its release height (the fitted vertex) goes out soon after the fall is found.
+TEST(BounceDetector, SecondDropWithoutAHoldSeen) {
+  testing::SimOptions a;
+  a.ball = "softball";
+  a.drop_m = 1.2;
+  const auto first = testing::MakeSimClip(a);
+  testing::SimOptions b = a;
+  b.drop_m = 0.9;
+  b.hold_s = 0.6;
+  b.seed = 4;
+  b.gaps = {{0.0, b.hold_s + 5.5 / b.fps}};
+  testing::SimClip second;
+  const auto obs = ThenDropAgain(first, b, &second);
+  BounceDetector d{BounceDetectorConfig{}};
+  const auto peaks = testing::RunDetector(d, obs);
+  std::vector<BouncePeak> p1;
+  for (const auto& p : peaks)
+    if (p.sequence == 1) p1.push_back(p);
+  const auto s1 = testing::ScorePeaks(second, p1);
+  std::printf("%s", s1.report.c_str());
+  ASSERT_FALSE(p1.empty());
+  EXPECT_EQ(p1.front().bounce, 0);
+  EXPECT_EQ(s1.found_over_1cm, s1.truth_over_1cm) << s1.report;
+  EXPECT_EQ(s1.false_peaks, 0) << s1.report;
+  EXPECT_TRUE(s1.within_tolerance) << s1.report;
+  // First seen 6 frames after the release, a fall after 5 samples: a dozen frames, not the
+  // fall time (~50 frames) as in a first drop.
+  EXPECT_LT((p1.front().emitted_utime - p1.front().apex_utime) * 1e-6 * a.fps, 14.0);
 }
 
 TEST(BounceDetector, NoiseOutliersAndALongJitteryHoldMakeNoPeaks) {
@@ -248,6 +291,61 @@ TEST(BounceDetector, ReleaseAtTheFirstFrameWithoutAHold) {
   EXPECT_EQ(s.false_peaks, 0) << s.report;
   EXPECT_TRUE(s.within_tolerance) << s.report;
 }
+
+}  // namespace
+}  // namespace bouncefit
+
+namespace bouncefit {
+namespace {
+
+// `bouncefit run` without --color: the tracker locks on the ball only once it moves, a few
+// frames after the release, so the hold is never seen. The release arc is then a fall from
+// rest whose start was missed: bounce 0 is its fitted vertex, the rebounds are as usual.
+struct UnseenHold {
+  std::string ball;
+  int frames_missed;  // frames after the release with no detection
+  double roll_deg;
+};
+
+void PrintTo(const UnseenHold& c, std::ostream* os) {
+  *os << c.ball << ", " << c.frames_missed << " frames missed, roll " << c.roll_deg;
+}
+
+class DetectorUnseenHold : public ::testing::TestWithParam<UnseenHold> {};
+
+TEST_P(DetectorUnseenHold, ReleaseHeightIsTheVertexOfTheFall) {
+  const UnseenHold c = GetParam();
+  testing::SimOptions o;
+  o.ball = c.ball;
+  o.drop_m = 1.0;
+  o.roll_deg = c.roll_deg;
+  o.hold_s = 0.5;
+  o.seed = static_cast<unsigned>(3 + c.frames_missed);
+  // Nothing seen during the hold nor the first frames of the fall.
+  o.gaps = {{0.0, o.hold_s + (c.frames_missed + 0.5) / o.fps}};
+  const auto clip = testing::MakeSimClip(o);
+  BounceDetector d{BounceDetectorConfig{}};
+  const auto peaks = testing::RunDetector(d, clip.obs);
+  const auto s = testing::ScorePeaks(clip, peaks);
+  std::printf("%s", s.report.c_str());
+  ASSERT_FALSE(peaks.empty()) << "no peak at all";
+  EXPECT_EQ(peaks.front().bounce, 0) << s.report;
+  EXPECT_EQ(s.found_over_1cm, s.truth_over_1cm) << s.report;
+  EXPECT_EQ(s.false_peaks, 0) << s.report;
+  EXPECT_TRUE(s.within_tolerance) << s.report;
+  EXPECT_TRUE(d.calibrated());
+  EXPECT_LT(std::abs(d.calibration().px_per_m / o.px_per_m - 1), 0.01);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    FirstFramesAfterReleaseMissed, DetectorUnseenHold,
+    ::testing::Values(UnseenHold{"softball", 5, 0}, UnseenHold{"softball", 2, 1.5},
+                      UnseenHold{"softball", 8, 0}, UnseenHold{"wiffle", 5, -1},
+                      UnseenHold{"wiffle", 2, 0}, UnseenHold{"wiffle", 3, 0},
+                      UnseenHold{"airball", 5, 0}),
+    [](const ::testing::TestParamInfo<UnseenHold>& i) {
+      return i.param.ball + "_" + std::to_string(i.param.frames_missed) + "_frames_missed";
+    });
 
 }  // namespace
 }  // namespace bouncefit
