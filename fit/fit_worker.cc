@@ -25,7 +25,9 @@ void FitWorker::Submit(const PeakInput& peak) {
 void FitWorker::Finish() {
   std::lock_guard<std::mutex> lock(mutex_);
   finish_requested_ = true;
-  if (running_) running_->Cancel();
+  // Cut a per-bounce update short for the final fit, but never the final fit itself (the
+  // end of a stream asks for it twice: at the drop's end and at the stream's).
+  if (running_ && !running_final_) running_->Cancel();
   wake_.notify_one();
 }
 
@@ -62,6 +64,26 @@ void FitWorker::Deliver(const FitUpdate& u) {
   if (on_update_) on_update_(u);
 }
 
+void FitWorker::DeliverFinal(const CancelToken* token) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    running_final_ = true;
+  }
+  FitUpdate u;
+  try {
+    u = session_->FinalUpdate(token);
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    running_final_ = false;
+    throw;
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    running_final_ = false;
+  }
+  Deliver(u);
+}
+
 void FitWorker::Loop() {
   bool final_done = false;
   for (;;) {
@@ -84,7 +106,7 @@ void FitWorker::Loop() {
         if (p.sequence != session_->sequence()) {
           // A new drop: the previous one is over, fit it thoroughly (a later peak may cut
           // it short; it is delivered anyway as the drop's last word).
-          if (session_->CanFit() && !final_done) Deliver(session_->FinalUpdate(token.get()));
+          if (session_->CanFit() && !final_done) DeliverFinal(token.get());
           session_->Reset(p.sequence);
           final_done = false;
           need_fit = false;
@@ -121,7 +143,7 @@ void FitWorker::Loop() {
           token = running_ = std::make_shared<CancelToken>();
           if (!pending_.empty()) token->Cancel();
         }
-        Deliver(session_->FinalUpdate(token.get()));
+        DeliverFinal(token.get());
         final_done = true;
       }
     } catch (const std::exception& e) {

@@ -53,6 +53,7 @@ class FitWorker {
  private:
   void Loop();
   void Deliver(const FitUpdate& u);
+  void DeliverFinal(const CancelToken* token);  // FinalUpdate, marked as running_final_
 
   std::unique_ptr<FitSession> session_;
   Callback on_update_;
@@ -64,6 +65,7 @@ class FitWorker {
   bool stop_ = false;
   bool busy_ = false;
   std::shared_ptr<CancelToken> running_;
+  bool running_final_ = false;  // the running fit is a final one: Finish() lets it end
   std::thread thread_;
   Stats stats_;
 };

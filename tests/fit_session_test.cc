@@ -135,6 +135,38 @@ TEST(FitWorker, NewerBounceSupersedesTheRunningUpdateNeverQueues) {
   EXPECT_LT(to_update2, 30 * 0.040 + 12 * 0.040);
 }
 
+// The end of a stream asks for the final fit twice (the drop ends, then the stream): the
+// second Finish() must not cut the running final fit short (it once ran 6 of 160 sims).
+TEST(FitWorker, SecondFinishLetsTheRunningFinalFitEnd) {
+  const auto ball = *FindBallPreset("tennis");
+  SlowModel slow(ball, 10ms);
+  FitSessionConfig cfg;
+  cfg.max_evaluations_per_bounce = 4;
+  cfg.max_evaluations_final = 40;
+  cfg.threads = 2;
+  cfg.quick_fit = false;
+  Collected got;
+  FitWorker worker(std::make_unique<FitSession>(slow, nullptr, cfg),
+                   [&](const FitUpdate& u) { got.Add(u); });
+  worker.Start();
+  const auto h = DropHeights(ball, 1.0, 3);
+  for (int b = 0; b <= 3; ++b) worker.Submit({0, b, h[b], 0.001, b});
+  worker.WaitIdle();
+  const int before_final = slow.started.load();
+  worker.Finish();
+  ASSERT_TRUE(WaitFor([&] { return slow.started.load() >= before_final + 3; }, 5s));
+  worker.Finish();  // the stream's end, while the final fit runs
+  worker.WaitIdle();
+  int finals = 0;
+  for (const auto& u : got.Get())
+    if (u.final) {
+      ++finals;
+      EXPECT_FALSE(u.cancelled);
+      EXPECT_GT(u.evaluations, 10) << "the final fit was cut short";
+    }
+  EXPECT_EQ(finals, 1);
+}
+
 TEST(FitWorker, NewSequenceFinalisesThePreviousDrop) {
   const auto ball = *FindBallPreset("wiffle");
   PointMassModel model(ball);
