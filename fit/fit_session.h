@@ -56,7 +56,7 @@ struct FitUpdate {
 struct FitSessionConfig {
   std::string method = "nlopt";     // "nlopt" (default) or "paper"
   int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
-  int max_evaluations_final = 160;      // final fit budget, plus the Jacobian
+  int max_evaluations_final = 400;      // final fit budget, plus the Jacobian (chaotic heights: docs/MODEL.md)
   int max_evaluations_quick = 120;      // point-mass estimate budget
   // Per-bounce update: "gauss-newton" (default: one parallel Gauss-Newton step, two rounds of
   // simulations, so it is out before the next apex) or "search" (`method` with the

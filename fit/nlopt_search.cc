@@ -199,6 +199,12 @@ SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& sta
     }
   }
 
+  // 4. Local sampling with what is left of the budget.
+  if (o.sample_after && !f.stopped()) {
+    x = f.best_x();
+    LocalSampling(f, active, &x, o.sampling);
+  }
+
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   SearchResult r = f.MakeResult(active.size() >= 2 ? "nlopt-bobyqa" : "nlopt-cobyla", wall);

@@ -11,9 +11,13 @@
 //    while restarts gain (each restart's initial points evaluated in parallel).
 // 3. Discrete coefficients: neighbouring levels tried in parallel at the optimum; a better
 //    level gets one more, shorter continuous round.
+// 4. What is left of the budget: local sampling around the best point
+//    (fit/local_sampling.h), where the soft body's chaotic heights leave BOBYQA's quadratic
+//    model nothing to follow.
 #include <string>
 
 #include "fit/fit_objective.h"
+#include "fit/local_sampling.h"
 
 namespace bouncefit {
 
@@ -26,6 +30,8 @@ struct NloptSearchOptions {
   bool search_discrete = true;  // try neighbouring levels of discrete coefficients
   int max_restarts = 6;         // BOBYQA restarts from the best point while they gain
   double restart_min_gain = 0.02;  // a restart must lower the objective by this fraction
+  bool sample_after = true;     // spend what is left of the budget on local sampling
+  LocalSamplingOptions sampling;
 };
 
 SearchResult NloptSearch(const FitProblem& problem, const CoefficientValues& start,
