@@ -61,6 +61,7 @@ FitSession::FitSession(const BallModel& model, const BallModel* quick_model,
     for (const auto& s : specs) found = found || s.name == name;
     if (found) current_[name] = v;
   }
+  final_start_ = current_;
   if (quick_model_)
     for (const auto& s : quick_model_->Coefficients()) quick_current_[s.name] = s.default_value;
   const auto free = FreeSpecs();
@@ -69,6 +70,7 @@ FitSession::FitSession(const BallModel& model, const BallModel* quick_model,
       if (s.name == name && !Contains(live_order_, name)) live_order_.push_back(name);
   for (const auto& s : free)
     if (!Contains(live_order_, s.name)) live_order_.push_back(s.name);
+  initial_live_order_ = live_order_;
 }
 
 void FitSession::Reset(int sequence) {
@@ -268,15 +270,43 @@ FitUpdate FitSession::Update(const CancelToken* cancel) {
 
 FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   const auto t0 = std::chrono::steady_clock::now();
-  FitProblem p = MakeProblem(FreeSpecs(), current_);
+  // From the start of the drop (the table, or the previous drop's final fit), not from the
+  // per-bounce updates': which of those finished depends on timing, and on chaotic heights a
+  // different start is a different answer. The same peaks give the same final fit.
+  // First what the per-bounce updates do, deterministically: Gauss-Newton rounds on the
+  // most influential coefficients (one per bounce, at most two), from that start.
+  CoefficientValues start = final_start_;
+  int lead_evals = 0;
+  {
+    const auto specs = FreeSpecs();
+    std::vector<CoefficientSpec> lead;
+    const int want = std::max(1, std::min(3, static_cast<int>(FittedHeights().size())));
+    for (const auto& name : initial_live_order_) {
+      if (static_cast<int>(lead.size()) >= want) break;
+      for (const auto& s : specs)
+        if (s.name == name) lead.push_back(s);
+    }
+    SearchOptions lo;
+    lo.max_evaluations = config_.max_evaluations_final / 10;
+    lo.threads = config_.threads;
+    lo.cancel = cancel;
+    LiveStepOptions ls;
+    ls.rounds = 4;
+    const SearchResult lr = LiveStep(MakeProblem(lead, final_start_), final_start_, lo, ls);
+    lead_evals = lr.evaluations;
+    if (lr.evaluations > 0) start = lr.values;
+  }
+  FitProblem p = MakeProblem(FreeSpecs(), start);
   SearchOptions o;
-  o.max_evaluations = config_.max_evaluations_final;
+  o.max_evaluations = std::max(1, config_.max_evaluations_final - lead_evals);
   o.threads = config_.threads;
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
-  SearchResult r = config_.method == "paper" ? PaperSearch(p, current_, o)
-                                             : NloptSearch(p, current_, o);
+  SearchResult r = config_.method == "paper" ? PaperSearch(p, start, o)
+                                             : NloptSearch(p, start, o);
+  r.evaluations += lead_evals;
   if (r.evaluations > 0) current_ = r.values;
+  if (r.evaluations > 0 && !r.cancelled) final_start_ = r.values;
   // Uncertainty from the Jacobian at the answer (its own budget: 2 runs per coefficient).
   std::vector<std::vector<double>> jac;
   int extra = 0;

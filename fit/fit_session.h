@@ -6,7 +6,9 @@
 // sum (r_i - s_i)^2 inside the coefficients' bounds), warm-started from the previous
 // answer. QuickUpdate() is the point-mass estimate (restitution, its speed dependence and
 // drag), milliseconds. FinalUpdate() is the thorough fit at the end of a drop: every free
-// coefficient, a larger budget, and uncertainties from the heights Jacobian at the answer.
+// coefficient, a larger budget, and uncertainties from the heights Jacobian at the answer;
+// it starts where the drop's fits started (not from the per-bounce updates), so the same
+// peaks give the same final fit.
 // Updates take a cancellation token checked between simulations: a cancelled update
 // returns with `cancelled` set and its best point kept as the next warm start.
 //
@@ -132,8 +134,10 @@ class FitSession {
   std::vector<double> sigmas_;
   int64_t last_utime_ = 0;
   CoefficientValues current_;     // warm start of the model
+  CoefficientValues final_start_; // start of the next final fit: the table or the last final
   CoefficientValues quick_current_;
   std::vector<std::string> live_order_;  // free coefficients, most sensitive first
+  std::vector<std::string> initial_live_order_;  // as configured: the final fit's lead
 };
 
 // Where the coefficients of a model hold: time step and solver iterations, read from
