@@ -3,9 +3,8 @@
 // with synth's renderer.
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -38,42 +37,32 @@ std::string G(double v, int digits = 6) {
   return buf;
 }
 
-// --coeffs: "preset" (the ball's table in fit/presets/), a JSON file, or k=v,k=v.
+// --coeffs: "preset" (the ball's stored table, fit/fit_models.h), a JSON file, or k=v,k=v.
 CoefficientValues ReadCoefficients(const std::string& text, const std::string& ball,
                                    const SoftBallModel& model) {
   if (text.empty()) return {};
-  std::filesystem::path file;
+  std::optional<CoefficientTable> table;
   if (text == "preset") {
-    file = SoftBallPresetFile(ball);
-    if (file.empty()) throw std::runtime_error("no stored coefficients for ball '" + ball + "'");
+    table = SoftBallPresetTable(ball);
+    if (!table) throw std::runtime_error("no stored coefficients for ball '" + ball + "'");
   } else if (text.find('=') == std::string::npos) {
-    file = text;
+    table = LoadCoefficientTable(text);
   }
-  if (file.empty()) return ParseCoefficientList(text);
-  if (!std::filesystem::exists(file)) throw std::runtime_error("cannot read " + file.string());
-  // The file's time step and iterations, when it names them, must be the model's: the
+  if (!table) return ParseCoefficientList(text);
+  // The table's time step and iterations, when it names them, must be the model's: the
   // coefficients hold for those only.
-  std::ifstream in(file);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const std::exception&) {
-    throw std::runtime_error(file.string() + ": not JSON");
-  }
-  if (j.is_object() && j.contains("time_step_s") && j["time_step_s"].is_number() &&
-      std::abs(j["time_step_s"].get<double>() - model.config().time_step_s) > 1e-12)
-    throw std::runtime_error(file.string() + ": coefficients for time step " +
-                             G(j["time_step_s"].get<double>()) + " s, the model steps " +
+  if (table->time_step_s && std::abs(*table->time_step_s - model.config().time_step_s) > 1e-12)
+    throw std::runtime_error(table->source + ": coefficients for time step " +
+                             G(*table->time_step_s) + " s, the model steps " +
                              G(model.config().time_step_s) + " s");
-  if (j.is_object() && j.contains("position_iterations") && j["position_iterations"].is_number() &&
-      j["position_iterations"].get<int>() != model.config().position_iterations)
-    throw std::runtime_error(file.string() + ": coefficients for " +
-                             std::to_string(j["position_iterations"].get<int>()) +
+  if (table->position_iterations &&
+      *table->position_iterations != model.config().position_iterations)
+    throw std::runtime_error(table->source + ": coefficients for " +
+                             std::to_string(*table->position_iterations) +
                              " position iterations, the model uses " +
                              std::to_string(model.config().position_iterations));
-  const CoefficientValues v = LoadCoefficientTable(file);
-  if (v.empty()) throw std::runtime_error(file.string() + ": no coefficients in it");
-  return v;
+  if (table->values.empty()) throw std::runtime_error(table->source + ": no coefficients in it");
+  return table->values;
 }
 
 void ListCoefficients(const SoftBallModel& model) {
