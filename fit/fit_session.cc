@@ -268,43 +268,57 @@ FitUpdate FitSession::Update(const CancelToken* cancel) {
   return Finish(p, r, false, r.jacobian, 0, Seconds(t0), model_);
 }
 
+SearchResult FitSession::FinalSearch(int lead_n, int budget, const SearchOptions& options) const {
+  const auto specs = FreeSpecs();
+  std::vector<CoefficientSpec> lead;
+  for (const auto& name : initial_live_order_) {
+    if (static_cast<int>(lead.size()) >= lead_n) break;
+    for (const auto& s : specs)
+      if (s.name == name) lead.push_back(s);
+  }
+  SearchOptions lo = options;
+  lo.max_evaluations = budget / 10;
+  LiveStepOptions ls;
+  ls.rounds = 4;
+  const SearchResult lr = LiveStep(MakeProblem(lead, final_start_), final_start_, lo, ls);
+  const CoefficientValues start = lr.evaluations > 0 ? lr.values : final_start_;
+  SearchOptions o = options;
+  o.max_evaluations = std::max(1, budget - lr.evaluations);
+  const FitProblem p = MakeProblem(specs, start);
+  SearchResult r = config_.method == "paper" ? PaperSearch(p, start, o) : NloptSearch(p, start, o);
+  r.evaluations += lr.evaluations;
+  return r;
+}
+
 FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   const auto t0 = std::chrono::steady_clock::now();
   // From the start of the drop (the table, or the previous drop's final fit), not from the
   // per-bounce updates': which of those finished depends on timing, and on chaotic heights a
   // different start is a different answer. The same peaks give the same final fit.
-  // First what the per-bounce updates do, deterministically: Gauss-Newton rounds on the
-  // most influential coefficients (one per bounce, at most two), from that start.
-  CoefficientValues start = final_start_;
-  int lead_evals = 0;
-  {
-    const auto specs = FreeSpecs();
-    std::vector<CoefficientSpec> lead;
-    const int want = std::max(1, std::min(3, static_cast<int>(FittedHeights().size())));
-    for (const auto& name : initial_live_order_) {
-      if (static_cast<int>(lead.size()) >= want) break;
-      for (const auto& s : specs)
-        if (s.name == name) lead.push_back(s);
-    }
-    SearchOptions lo;
-    lo.max_evaluations = config_.max_evaluations_final / 10;
-    lo.threads = config_.threads;
-    lo.cancel = cancel;
-    LiveStepOptions ls;
-    ls.rounds = 4;
-    const SearchResult lr = LiveStep(MakeProblem(lead, final_start_), final_start_, lo, ls);
-    lead_evals = lr.evaluations;
-    if (lr.evaluations > 0) start = lr.values;
-  }
-  FitProblem p = MakeProblem(FreeSpecs(), start);
+  // Several starts, best kept: each first does what the per-bounce updates do,
+  // deterministically (Gauss-Newton rounds on the 2, 3, 4... most influential coefficients),
+  // then the thorough search. On chaotic heights one search's answer is one draw.
+  const int starts = std::max(1, config_.final_starts);
+  const int budget = std::max(1, config_.max_evaluations_final / starts);
+  SearchResult r;
+  FitProblem p = MakeProblem(FreeSpecs(), final_start_);
   SearchOptions o;
-  o.max_evaluations = std::max(1, config_.max_evaluations_final - lead_evals);
   o.threads = config_.threads;
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
-  SearchResult r = config_.method == "paper" ? PaperSearch(p, start, o)
-                                             : NloptSearch(p, start, o);
-  r.evaluations += lead_evals;
+  int evaluations = 0;
+  for (int start_index = 0; start_index < starts && !(cancel && cancel->cancelled()); ++start_index) {
+    const int lead_n = std::max(1, std::min(2 + start_index, static_cast<int>(FittedHeights().size())));
+    SearchResult one = FinalSearch(lead_n, budget, o);
+    evaluations += one.evaluations;
+    if (start_index == 0 || (one.evaluations > 0 && one.objective < r.objective)) {
+      r = std::move(one);
+      p = MakeProblem(FreeSpecs(), r.values);
+    }
+    if (lead_n >= static_cast<int>(FittedHeights().size())) break;  // no other lead left
+  }
+  r.evaluations = evaluations;
+  r.wall_time_s = Seconds(t0);
   if (r.evaluations > 0) current_ = r.values;
   if (r.evaluations > 0 && !r.cancelled) final_start_ = r.values;
   // Uncertainty from the Jacobian at the answer (its own budget: 2 runs per coefficient).

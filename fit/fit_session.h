@@ -58,7 +58,8 @@ struct FitUpdate {
 struct FitSessionConfig {
   std::string method = "nlopt";     // "nlopt" (default) or "paper"
   int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
-  int max_evaluations_final = 400;      // final fit budget, plus the Jacobian (chaotic heights: docs/MODEL.md)
+  int max_evaluations_final = 900;      // final fit budget, plus the Jacobian (chaotic heights: docs/MODEL.md)
+  int final_starts = 3;                 // the final fit's starts (budget shared), best kept
   int max_evaluations_quick = 120;      // point-mass estimate budget
   // Per-bounce update: "gauss-newton" (default: one parallel Gauss-Newton step, two rounds of
   // simulations, so it is out before the next apex) or "search" (`method` with the
@@ -121,6 +122,9 @@ class FitSession {
   FitProblem MakeProblem(const std::vector<CoefficientSpec>& free, const CoefficientValues& at,
                          bool live = false) const;
   double MeasurementSigma() const;
+  // One start of the final fit: Gauss-Newton rounds on the lead_n most influential
+  // coefficients from final_start_, then the thorough search, within `budget` simulations.
+  SearchResult FinalSearch(int lead_n, int budget, const SearchOptions& options) const;
   FitUpdate Finish(const FitProblem& problem, const SearchResult& r, bool final,
                    const std::vector<std::vector<double>>& jacobian, int extra_evals,
                    double wall_s, const BallModel& model);

@@ -28,7 +28,6 @@ TEST_P(FinalFit, RmsWithinOnePercentOfTheDropOverAllBouncesAboveOneCentimetre) {
   auto model = MakeFitModel("bullet-softbody", ball);
   PointMassModel quick(ball);
   FitSessionConfig cfg;
-  cfg.max_evaluations_final = 200;
   ConfigureSessionForModel(*model, ball, &cfg);
   FitSession session(*model, &quick, cfg);
   session.AddPeak({0, 0, drop, 0.001, 0});
