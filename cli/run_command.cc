@@ -142,6 +142,7 @@ void Run(RunOptions o) {
 
   FitInbox inbox;
   std::unique_ptr<FitNode> fit;
+  int final_budget = 0;
   if (!o.no_fit) {
     FitNodeConfig fc;
     fc.ball = o.ball;
@@ -150,6 +151,7 @@ void Run(RunOptions o) {
     fc.model = o.model;
     fc.session.method = o.method;
     if (o.max_evals > 0) fc.session.max_evaluations_final = o.max_evals;
+    final_budget = fc.session.max_evaluations_final;
     fc.channels = o.channels;
     fit = std::make_unique<FitNode>(
         fc, [&inbox](const fit_update_t& m, const FitUpdate& u) { inbox.Push(m, u); });
@@ -192,7 +194,12 @@ void Run(RunOptions o) {
         if (fit) fit->OnPeak(m);
       } else if (e.kind == DetectorEvent::Kind::kSequenceEnd) {
         console.Info("drop ended (" + e.reason + ")");
-        if (fit) fit->Finish();
+        if (fit) {
+          fit->Finish();
+          // The thorough fit takes seconds (docs/PERFORMANCE.md): say so before the silence.
+          console.Info("final fit: up to " + std::to_string(final_budget) +
+                       " simulations on all cores (seconds to a minute)");
+        }
       }
     }
   };
