@@ -235,14 +235,8 @@ FitUpdate FitSession::Update(const CancelToken* cancel) {
   const auto t0 = std::chrono::steady_clock::now();
   const int k = static_cast<int>(FittedHeights().size());
   // The most sensitive coefficients (at most one per bounce): what k heights can tell.
-  const auto specs = FreeSpecs();
-  std::vector<CoefficientSpec> live;
-  const int want = std::max(1, std::min(config_.live_coefficients, k));
-  for (const auto& name : live_order_) {
-    if (static_cast<int>(live.size()) >= want) break;
-    for (const auto& s : specs)
-      if (s.name == name) live.push_back(s);
-  }
+  const std::vector<CoefficientSpec> live =
+      FirstSpecs(live_order_, std::max(1, std::min(config_.live_coefficients, k)));
   const bool fast = config_.live_method == "gauss-newton";
   FitProblem p = MakeProblem(live, current_, fast);
   SearchOptions o;
@@ -268,14 +262,20 @@ FitUpdate FitSession::Update(const CancelToken* cancel) {
   return Finish(p, r, false, r.jacobian, 0, Seconds(t0), model_);
 }
 
-SearchResult FitSession::FinalSearch(int lead_n, int budget, const SearchOptions& options) const {
+std::vector<CoefficientSpec> FitSession::FirstSpecs(const std::vector<std::string>& order,
+                                                    int n) const {
   const auto specs = FreeSpecs();
-  std::vector<CoefficientSpec> lead;
-  for (const auto& name : initial_live_order_) {
-    if (static_cast<int>(lead.size()) >= lead_n) break;
+  std::vector<CoefficientSpec> out;
+  for (const auto& name : order) {
+    if (static_cast<int>(out.size()) >= n) break;
     for (const auto& s : specs)
-      if (s.name == name) lead.push_back(s);
+      if (s.name == name) out.push_back(s);
   }
+  return out;
+}
+
+SearchResult FitSession::FinalSearch(int lead_n, int budget, const SearchOptions& options) const {
+  const std::vector<CoefficientSpec> lead = FirstSpecs(initial_live_order_, lead_n);
   SearchOptions lo = options;
   lo.max_evaluations = budget / 10;
   LiveStepOptions ls;
@@ -284,7 +284,7 @@ SearchResult FitSession::FinalSearch(int lead_n, int budget, const SearchOptions
   const CoefficientValues start = lr.evaluations > 0 ? lr.values : final_start_;
   SearchOptions o = options;
   o.max_evaluations = std::max(1, budget - lr.evaluations);
-  const FitProblem p = MakeProblem(specs, start);
+  const FitProblem p = MakeProblem(FreeSpecs(), start);
   SearchResult r = config_.method == "paper" ? PaperSearch(p, start, o) : NloptSearch(p, start, o);
   r.evaluations += lr.evaluations;
   return r;

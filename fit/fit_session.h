@@ -122,6 +122,8 @@ class FitSession {
   FitProblem MakeProblem(const std::vector<CoefficientSpec>& free, const CoefficientValues& at,
                          bool live = false) const;
   double MeasurementSigma() const;
+  // The first n free coefficients in `order` (names of free coefficients).
+  std::vector<CoefficientSpec> FirstSpecs(const std::vector<std::string>& order, int n) const;
   // One start of the final fit: Gauss-Newton rounds on the lead_n most influential
   // coefficients from final_start_, then the thorough search, within `budget` simulations.
   SearchResult FinalSearch(int lead_n, int budget, const SearchOptions& options) const;
