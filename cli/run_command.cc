@@ -143,6 +143,7 @@ void Run(RunOptions o) {
   FitInbox inbox;
   std::unique_ptr<FitNode> fit;
   int final_budget = 0;
+  int final_sims_start = 0;  // simulations run when the final fit was asked for
   if (!o.no_fit) {
     FitNodeConfig fc;
     fc.ball = o.ball;
@@ -196,6 +197,7 @@ void Run(RunOptions o) {
         console.Info("drop ended (" + e.reason + ")");
         if (fit) {
           fit->Finish();
+          final_sims_start = fit->simulations();
           // The thorough fit takes seconds (docs/PERFORMANCE.md): say so before the silence.
           console.Info("final fit: up to " + std::to_string(final_budget) +
                        " simulations on all cores (seconds to a minute)");
@@ -238,7 +240,8 @@ void Run(RunOptions o) {
   handle_events(detect.Finish());
   if (fit) {
     fit->Finish();
-    fit->WaitIdle();
+    while (!fit->WaitIdleFor(std::chrono::milliseconds(200)))
+      console.FitProgress(fit->simulations() - final_sims_start, final_budget);
     handle_fit_updates();
     fit->Stop();
   }

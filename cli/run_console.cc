@@ -117,6 +117,10 @@ void RunConsole::Progress(double stream_s, double total_s, int64_t frames, int64
                                  : Format("capture %5.1f s  %lld frames, ball in %lld", stream_s,
                                           static_cast<long long>(frames),
                                           static_cast<long long>(found));
+  ShowProgress(text);
+}
+
+void RunConsole::ShowProgress(const std::string& text) {
   if (tty_) {
     progress_text_ = text;
     std::fputs(("\r\033[K" + text).c_str(), out_);
@@ -125,6 +129,15 @@ void RunConsole::Progress(double stream_s, double total_s, int64_t frames, int64
   } else {
     Line(text);
   }
+}
+
+void RunConsole::FitProgress(int simulations, int budget) {
+  if (mode_ != ConsoleMode::kHuman) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_fit_progress_ < std::chrono::seconds(1)) return;
+  last_fit_progress_ = now;
+  ShowProgress(Format("final fit  %d / %d simulations (%3.0f%%)", simulations, budget,
+                      budget > 0 ? 100.0 * simulations / budget : 0.0));
 }
 
 void RunConsole::Summary(const std::string& human_text, const std::string& json_text) {

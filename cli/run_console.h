@@ -1,6 +1,7 @@
 #pragma once
 // What `run` prints while it works: one readable line per event for a terminal or a log,
 // or one JSON object per line with --json. A progress line while replaying a file.
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <map>
@@ -27,14 +28,18 @@ class RunConsole {
   // Stream position and total (total <= 0 when unknown). Rate-limited to ~2 lines/s of
   // stream time; redrawn in place on a terminal.
   void Progress(double stream_s, double total_s, int64_t frames, int64_t found);
+  // The final fit's progress, at most once a second (wall clock).
+  void FitProgress(int simulations, int budget);
   void Summary(const std::string& human_text, const std::string& json_text);
 
  private:
   void Line(const std::string& text);  // ends an in-place progress line first
+  void ShowProgress(const std::string& text);  // in place on a terminal, else a line
   ConsoleMode mode_;
   std::FILE* out_;
   bool tty_;
   bool progress_open_ = false;
+  std::chrono::steady_clock::time_point last_fit_progress_{};
   std::string progress_text_;  // redrawn under each event line on a terminal
   double last_progress_s_ = -1;
   int64_t t0_ = 0;

@@ -174,6 +174,7 @@ Evaluation FitObjective::Run(const std::vector<double>& x_in) {
     sim.failure = ex.what();
   }
   ++evaluations_;
+  if (options_.simulations) options_.simulations->fetch_add(1);
   e.ok = sim.ok;
   if (sim.ok) {
     e.simulated_m.assign(problem_.recorded_m.size(), 0.0);

@@ -44,6 +44,7 @@ struct FitProblem {
 
 struct SearchOptions {
   int max_evaluations = 200;       // simulations, at most
+  std::atomic<int>* simulations = nullptr;  // counts every simulation run (progress)
   int threads = 0;                 // parallel simulations; 0 = all cores
   const CancelToken* cancel = nullptr;
   double target_rms_m = 0;         // stop once the RMS residual is at or below this

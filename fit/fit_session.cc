@@ -242,6 +242,7 @@ FitUpdate FitSession::Update(const CancelToken* cancel) {
   SearchOptions o;
   o.max_evaluations = config_.max_evaluations_per_bounce;
   o.threads = config_.threads;
+  o.simulations = &simulations_;
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
   // A warm start that already matches the heights to their uncertainty needs no second
@@ -304,6 +305,7 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   FitProblem p = MakeProblem(FreeSpecs(), final_start_);
   SearchOptions o;
   o.threads = config_.threads;
+  o.simulations = &simulations_;
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
   int evaluations = 0;

@@ -14,6 +14,7 @@
 //
 // Synchronous and single-threaded from the caller's view (simulations inside run on a
 // thread pool); FitWorker runs it on a thread with supersede semantics.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -116,6 +117,8 @@ class FitSession {
   const CoefficientValues& warm_start() const { return current_; }
   const FitSessionConfig& config() const { return config_; }
   const BallModel& model() const { return model_; }
+  // Simulations run by all fits so far (read from any thread: progress of a running fit).
+  int simulations() const { return simulations_.load(); }
 
  private:
   std::vector<CoefficientSpec> FreeSpecs() const;
@@ -144,6 +147,7 @@ class FitSession {
   CoefficientValues quick_current_;
   std::vector<std::string> live_order_;  // free coefficients, most sensitive first
   std::vector<std::string> initial_live_order_;  // as configured: the final fit's lead
+  std::atomic<int> simulations_{0};
 };
 
 // Where the coefficients of a model hold: time step and solver iterations, read from

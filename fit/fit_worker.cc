@@ -32,8 +32,13 @@ void FitWorker::Finish() {
 }
 
 void FitWorker::WaitIdle() {
+  while (!WaitIdleFor(std::chrono::hours(1))) {
+  }
+}
+
+bool FitWorker::WaitIdleFor(std::chrono::milliseconds timeout) {
   std::unique_lock<std::mutex> lock(mutex_);
-  idle_.wait(lock, [&] {
+  return idle_.wait_for(lock, timeout, [&] {
     return (!busy_ && pending_.empty() && !finish_requested_) || !thread_.joinable() || stop_;
   });
 }

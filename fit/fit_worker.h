@@ -8,6 +8,7 @@
 // (milliseconds), then the model's update. A peak of a new sequence, or Finish(), runs the
 // final, thorough fit of the drop (delivered even when a later peak cuts it short, marked
 // cancelled, since it is the drop's last word).
+#include <chrono>
 #include <condition_variable>
 #include <functional>
 #include <memory>
@@ -37,6 +38,9 @@ class FitWorker {
   void Finish();
   // Blocks until nothing is pending or running (for offline use and tests).
   void WaitIdle();
+  // Waits at most `timeout` for the same; true if idle.
+  bool WaitIdleFor(std::chrono::milliseconds timeout);
+  int simulations() const { return session_->simulations(); }  // progress of the fits
   // Cancels what runs, drops what is pending, joins the thread.
   void Stop();
 

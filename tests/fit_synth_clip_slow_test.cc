@@ -5,7 +5,9 @@
 // detector's heights (not the renderer's truth).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -37,10 +39,16 @@ TEST_P(FinalFitOnSynthClip, RmsWithinOnePercentOfTheDrop) {
       << log;
   const fs::path out = dir / "out";
   ASSERT_EQ(RunCommand(BouncefitExe() + " run " + clip.string() + " --ball " + ball +
-                           " --speed 0 --quiet --lcm-url memq:// --out " + out.string(),
+                           " --speed 0 --lcm-url memq:// --out " + out.string(),
                        &log),
             0)
       << log;
+  // The final fit takes seconds: `run` shows its progress meanwhile.
+  int most = -1;
+  for (size_t at = log.find("final fit  "); at != std::string::npos;
+       at = log.find("final fit  ", at + 1))
+    most = std::max(most, std::atoi(log.c_str() + at + 11));
+  EXPECT_GT(most, 0) << "no progress of the final fit shown:\n" << log;
   const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   const auto& fit = summary["final_fit"];
   ASSERT_TRUE(fit.is_object()) << "no final fit in summary.json";

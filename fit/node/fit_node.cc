@@ -36,6 +36,9 @@ void FitNode::OnPeak(const bounce_peak_t& peak) {
 
 void FitNode::Finish() { worker_->Finish(); }
 void FitNode::WaitIdle() { worker_->WaitIdle(); }
+bool FitNode::WaitIdleFor(std::chrono::milliseconds timeout) {
+  return worker_->WaitIdleFor(timeout);
+}
 void FitNode::Stop() {
   if (worker_) worker_->Stop();
 }

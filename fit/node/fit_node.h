@@ -4,6 +4,7 @@
 // A thin adapter around FitWorker: OnPeak() only hands the peak to the worker thread, so
 // the LCM loop (or the `run` pipeline calling it in-process) never waits for a fit.
 // Updates are published on the bus when attached to one, and passed to the callback.
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -46,6 +47,8 @@ class FitNode {
   void OnPeak(const bounce_peak_t& peak);  // never blocks on a fit
   void Finish();                           // final fit of the current drop
   void WaitIdle();
+  bool WaitIdleFor(std::chrono::milliseconds timeout);  // true if idle
+  int simulations() const { return worker_->simulations(); }
   void Stop();
 
   const BallPreset& ball() const { return ball_; }
