@@ -6,6 +6,7 @@
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <future>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -182,7 +183,14 @@ void RunOffline(FitOptions o) {
     throw std::runtime_error("no bounce above " +
                              Fmt(o.node.session.min_bounce_height_m * 100, 3) + " cm to fit");
   if (o.final_only) emit(session.QuickUpdate());
-  const FitUpdate final_fit = session.FinalUpdate();
+  // The final fit takes seconds: its progress on stderr (stdout carries the updates).
+  auto running = std::async(std::launch::async, [&session] { return session.FinalUpdate(); });
+  const int budget = o.node.session.max_evaluations_final;
+  const int before = session.simulations();
+  while (running.wait_for(std::chrono::seconds(1)) != std::future_status::ready)
+    std::fprintf(stderr, "final fit  %d / %d simulations\n", session.simulations() - before,
+                 budget);
+  const FitUpdate final_fit = running.get();
   emit(final_fit);
   if (!o.export_dir.empty()) {
     for (const auto& path : WriteFitExports(o.export_dir, final_fit, ball))
