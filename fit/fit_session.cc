@@ -301,26 +301,25 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   // then the thorough search. On chaotic heights one search's answer is one draw.
   const int starts = std::max(1, config_.final_starts);
   const int budget = std::max(1, config_.max_evaluations_final / starts);
-  SearchResult r;
-  FitProblem p = MakeProblem(FreeSpecs(), final_start_);
+  const int k = static_cast<int>(FittedHeights().size());
   SearchOptions o;
   o.threads = config_.threads;
   o.simulations = &simulations_;
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
+  SearchResult r;
   int evaluations = 0;
-  for (int start_index = 0; start_index < starts && !(cancel && cancel->cancelled()); ++start_index) {
-    const int lead_n = std::max(1, std::min(2 + start_index, static_cast<int>(FittedHeights().size())));
+  for (int start_index = 0; start_index < starts; ++start_index) {
+    const int lead_n = std::max(1, std::min(2 + start_index, k));
     SearchResult one = FinalSearch(lead_n, budget, o);
     evaluations += one.evaluations;
-    if (start_index == 0 || (one.evaluations > 0 && one.objective < r.objective)) {
-      r = std::move(one);
-      p = MakeProblem(FreeSpecs(), r.values);
-    }
-    if (lead_n >= static_cast<int>(FittedHeights().size())) break;  // no other lead left
+    if (start_index == 0 || (one.evaluations > 0 && one.objective < r.objective)) r = std::move(one);
+    if (lead_n >= k || (cancel && cancel->cancelled())) break;  // no other lead, or cut short
   }
   r.evaluations = evaluations;
   r.wall_time_s = Seconds(t0);
+  r.cancelled = r.cancelled || (cancel && cancel->cancelled());
+  const FitProblem p = MakeProblem(FreeSpecs(), r.values);
   if (r.evaluations > 0) current_ = r.values;
   if (r.evaluations > 0 && !r.cancelled) final_start_ = r.values;
   // Uncertainty from the Jacobian at the answer (its own budget: 2 runs per coefficient).
