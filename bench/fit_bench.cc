@@ -6,7 +6,7 @@
 //             [--neighbours N]
 //   fit_bench --realtime [--ball pingpong] [--drop 1.0] [--detector-delay 0.05]
 //
-// Searches: recorded heights come from fit/point_mass_drop with the ball's preset (synth's
+// Searches: recorded heights come from model/point_mass_drop with the ball's preset (synth's
 // physics); both searches start from the same point (the model's defaults, or the preset
 // table when the model has one), fit the same coefficients, and get the same budget. For
 // each: simulations, RMS residual, wall time; and the number of simulations the default
@@ -34,14 +34,15 @@
 #include <thread>
 #include <vector>
 
-#include "fit/ball_preset.h"
 #include "fit/fit_models.h"
 #include "fit/fit_session.h"
 #include "fit/fit_worker.h"
 #include "fit/nlopt_search.h"
 #include "fit/paper_search.h"
-#include "fit/point_mass_drop.h"
-#include "fit/point_mass_model.h"
+#include "model/ball_preset.h"
+#include "model/model_by_name.h"
+#include "model/point_mass_drop.h"
+#include "model/point_mass_model.h"
 
 using namespace bouncefit;
 
@@ -126,7 +127,7 @@ int Searches(const Args& a) {
       if (truth.apex_heights_m[i] < 0.01) break;
       r.push_back(truth.apex_heights_m[i]);
     }
-    auto model = MakeFitModel(a.model, ball);
+    auto model = MakeBallModel(a.model, ball);
     FitSessionConfig cfg;
     ConfigureSessionForModel(*model, ball, &cfg);
     // From scratch (model defaults) unless asked: near a preset table both searches have
@@ -210,7 +211,7 @@ int Searches(const Args& a) {
 int Realtime(const Args& a) {
   const BallPreset ball = ResolveBallPreset(a.balls.front());
   const auto truth = Truth(ball, a.drop);
-  auto model = MakeFitModel(a.model, ball);
+  auto model = MakeBallModel(a.model, ball);
   PointMassModel quick(ball);
   FitSessionConfig cfg;
   cfg.threads = a.threads;

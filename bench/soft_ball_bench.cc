@@ -21,8 +21,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit/ball_preset.h"
-#include "fit/soft_ball_model.h"
+#include "model/ball_preset.h"
+#include "model/soft_ball_model.h"
 
 namespace {
 
@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
                 t.cpu_s / base.cpu_s, t.ok ? "" : (" failed: " + t.failure).c_str());
   }
 
-  // What a fit evaluation costs: each ball's stored coefficients (fit/presets/), dropped from
+  // What a fit evaluation costs: each ball's stored coefficients (model/presets/), dropped from
   // the same height until the bounces fall below 1 cm (the model's early stop).
   std::printf("\n| stored coefficients | simulated until | bounces >= 1 cm | CPU s | real time x |\n");
   std::printf("|---|---|---|---|---|\n");
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
     const SoftBallModel m(*p);
     CoefficientValues v;
     {
-      std::ifstream in(std::filesystem::path(__FILE__).parent_path().parent_path() / "fit" /
+      std::ifstream in(std::filesystem::path(__FILE__).parent_path().parent_path() / "model" /
                        "presets" / (std::string("soft_ball_") + name + ".json"));
       if (!in) continue;
       const nlohmann::json j = nlohmann::json::parse(in);  // named: items() must not dangle

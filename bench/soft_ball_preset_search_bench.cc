@@ -1,6 +1,6 @@
 // Finds, for each ball preset, soft-body coefficients whose first three simulated bounce
 // heights match the preset's point-mass heights (the `synth` physics), and writes them to
-// fit/presets/soft_ball_<preset>.json. The tests re-simulate those files and check them to
+// model/presets/soft_ball_<preset>.json. The tests re-simulate those files and check them to
 // 2%; this tool is how they were found (docs/MODEL.md).
 //
 //   build/bench/soft_ball_preset_search_bench [--ball NAME] [--drop 1.0] [--write DIR]
@@ -27,9 +27,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit/ball_preset.h"
-#include "fit/point_mass_drop.h"
-#include "fit/soft_ball_model.h"
+#include "model/ball_preset.h"
+#include "model/point_mass_drop.h"
+#include "model/soft_ball_model.h"
 
 namespace {
 

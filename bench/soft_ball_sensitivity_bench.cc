@@ -1,5 +1,5 @@
 // Sensitivity of the soft-body ball's bounce heights to each coefficient (docs/MODEL.md):
-// starting from a ball's stored coefficients (fit/presets/soft_ball_<ball>.json), every
+// starting from a ball's stored coefficients (model/presets/soft_ball_<ball>.json), every
 // coefficient in turn is swept across its whole range (the others fixed) and the first
 // three bounce heights are compared with the start's. Also the chaos floor: how much the
 // heights move when one coefficient changes by a few parts per million.
@@ -20,8 +20,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit/ball_preset.h"
-#include "fit/soft_ball_model.h"
+#include "model/ball_preset.h"
+#include "model/soft_ball_model.h"
 
 namespace {
 
@@ -29,7 +29,7 @@ using namespace bouncefit;
 
 CoefficientValues Stored(const std::string& ball) {
   const std::string path = std::filesystem::path(__FILE__).parent_path().parent_path().string() +
-                           "/fit/presets/soft_ball_" + ball + ".json";
+                           "/model/presets/soft_ball_" + ball + ".json";
   std::ifstream in(path);
   if (!in) return {};
   const auto j = nlohmann::json::parse(in);

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "replay/synth_clip.h"
+#include "synth/synth_clip.h"
 #include "tests/tracker_test_util.h"
 #include "track/tracker.h"
 

@@ -12,10 +12,10 @@
 
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
-#include "fit/ball_preset.h"
+#include "detect/node/detect_node.h"
+#include "model/ball_preset.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
-#include "track/node/detect_node.h"
 
 namespace bouncefit::cli {
 namespace {

@@ -17,7 +17,8 @@
 #include "fit/fit_export.h"
 #include "fit/fit_models.h"
 #include "fit/node/fit_node.h"
-#include "fit/point_mass_model.h"
+#include "model/model_by_name.h"
+#include "model/point_mass_model.h"
 #include "msgs/msg_json.h"
 
 namespace bouncefit::cli {
@@ -165,7 +166,7 @@ void RunOffline(FitOptions o) {
   }
   for (auto& p : peaks) p.sequence = 0;
   const BallPreset ball = ResolveBallPreset(o.node.ball, o.node.diameter_m, o.node.mass_kg);
-  auto model = MakeFitModel(o.node.model, ball);
+  auto model = MakeBallModel(o.node.model, ball);
   PointMassModel quick(ball);
   ConfigureSessionForModel(*model, ball, &o.node.session);
   FitSession session(*model, &quick, o.node.session);
@@ -276,7 +277,7 @@ void AddFitCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--mass", o->node.mass_kg, "ball mass, kg (overrides the preset)");
   cmd->add_option("--diameter", o->node.diameter_m, "ball diameter, m (overrides the preset)");
-  cmd->add_option("--model", o->node.model, "model fitted: " + FitModelNames())
+  cmd->add_option("--model", o->node.model, "model fitted: " + BallModelNames())
       ->capture_default_str();
   cmd->add_option("--method", o->node.session.method,
                   "search: nlopt (BOBYQA, parallel screening) or paper (the seed's serial search)")

@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
-#include "replay/report_html.h"
+#include "report/report_html.h"
 
 namespace bouncefit::cli {
 

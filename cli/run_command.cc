@@ -15,16 +15,16 @@
 #include "cli/run_output.h"
 #include "cli/sample_clip.h"
 #include "cli/tracker_flags.h"
+#include "detect/node/detect_node.h"
 #include "fit/fit_export.h"
-#include "fit/fit_models.h"
 #include "fit/node/fit_node.h"
+#include "model/model_by_name.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
 #include "msgs/msg_json.h"
 #include "replay/pacer.h"
 #include "replay/video_file_source.h"
 #include "track/node/capture_node.h"
-#include "track/node/detect_node.h"
 
 namespace bouncefit::cli {
 namespace {
@@ -337,7 +337,7 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_flag("--quiet,-q", o->quiet, "print nothing but errors");
   cmd->add_flag("--json", o->json, "print one JSON object per event (calibration, peak, fit, summary)");
   cmd->add_flag("--no-fit", o->no_fit, "track and detect only");
-  cmd->add_option("--model", o->model, "model fitted: " + FitModelNames())->capture_default_str();
+  cmd->add_option("--model", o->model, "model fitted: " + BallModelNames())->capture_default_str();
   cmd->add_option("--method", o->method, "search: nlopt (default) or paper")
       ->check(CLI::IsMember({"nlopt", "paper"}))
       ->capture_default_str();

@@ -3,7 +3,7 @@
 #include <cstdlib>
 #include <system_error>
 
-#include "replay/synth_clip.h"
+#include "synth/synth_clip.h"
 
 namespace bouncefit::cli {
 namespace {

@@ -1,4 +1,4 @@
-// bouncefit simulate: run the Bullet soft-body ball (fit/soft_ball_model.h) for given
+// bouncefit simulate: run the Bullet soft-body ball (model/soft_ball_model.h) for given
 // coefficients and print its bounce heights and trajectory; optionally render it as a clip
 // with synth's renderer.
 #include <cmath>
@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "fit/ball_preset.h"
-#include "fit/fit_models.h"
-#include "fit/soft_ball_model.h"
-#include "replay/synth_clip.h"
+#include "model/ball_preset.h"
+#include "model/coefficient_table.h"
+#include "model/soft_ball_model.h"
+#include "synth/synth_clip.h"
 
 namespace bouncefit::cli {
 namespace {

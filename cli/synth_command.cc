@@ -1,12 +1,12 @@
-// bouncefit synth: render a ball-drop clip with known ground truth (replay/synth_clip.h).
+// bouncefit synth: render a ball-drop clip with known ground truth (synth/synth_clip.h).
 #include <cstdio>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 
 #include "cli/commands.h"
-#include "fit/ball_preset.h"
-#include "replay/synth_clip.h"
+#include "model/ball_preset.h"
+#include "synth/synth_clip.h"
 
 namespace bouncefit::cli {
 namespace {

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "fit/ball_preset.h"
+#include "model/ball_preset.h"
 
 namespace bouncefit::cli {
 

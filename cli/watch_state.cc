@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "replay/report_run_data.h"
+#include "report/report_run_data.h"
 
 namespace bouncefit::cli {
 namespace {

@@ -1,6 +1,6 @@
 #include "fit/fit_export.h"
 
-#include "fit/soft_ball_model.h"
+#include "model/soft_ball_model.h"
 
 #include <cmath>
 #include <cstdio>

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <string>
 
-#include "fit/ball_preset.h"
 #include "fit/fit_session.h"
+#include "model/ball_preset.h"
 
 namespace bouncefit {
 

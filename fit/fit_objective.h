@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/ball_model.h"
+#include "model/ball_model.h"
 
 namespace bouncefit {
 

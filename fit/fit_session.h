@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "fit/ball_model.h"
 #include "fit/fit_objective.h"
 #include "fit/sensitivity.h"
+#include "model/ball_model.h"
 
 namespace bouncefit {
 

@@ -1,4 +1,4 @@
-#include "track/arc_apex.h"
+#include "model/arc_apex.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The streaming bounce detector on tracker-like observations of point-mass drops with drag
 // (the synth physics): every apex found, no false peaks, heights within max(2 mm, 1%) with
 // the detector's own calibration, latency bounded; hold (seen or not), gaps, second drop, noise.
-#include "track/bounce_detector.h"
+#include "detect/bounce_detector.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The free-flight calibrator: scale, roll and floor from arcs of a point-mass drop with drag
 // seen by a rolled camera; overrides and the diameter cross-check.
-#include "track/calibrator.h"
+#include "detect/calibrator.h"
 
 #include <gtest/gtest.h>
 

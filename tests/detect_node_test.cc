@@ -1,6 +1,6 @@
 // The detect node over real LCM traffic (memq://): boxes in, calibration and peaks out, the
 // same peaks as the core gives in-process; a garbled BALL_BOX packet is counted and ignored.
-#include "track/node/detect_node.h"
+#include "detect/node/detect_node.h"
 
 #include <gtest/gtest.h>
 

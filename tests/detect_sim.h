@@ -1,6 +1,6 @@
 #pragma once
 // Test helper for the calibrator and bounce detector: tracker-like observations of a
-// point-mass drop (fit/point_mass_drop.h: gravity, quadratic drag, restitution e(v), the
+// point-mass drop (model/point_mass_drop.h: gravity, quadratic drag, restitution e(v), the
 // physics `bouncefit synth` renders), seen by a rolled camera with a known scale, averaged
 // over the exposure, with Gaussian centre noise; and scoring of the detector's peaks
 // against the truth (found apexes, false peaks, height error, latency).
@@ -14,10 +14,10 @@
 #include <utility>
 #include <vector>
 
-#include "fit/ball_preset.h"
-#include "fit/point_mass_drop.h"
+#include "detect/bounce_detector.h"
+#include "model/ball_preset.h"
+#include "model/point_mass_drop.h"
 #include "track/ball_observation.h"
-#include "track/bounce_detector.h"
 
 namespace bouncefit::testing {
 

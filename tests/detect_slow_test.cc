@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "msgs/lcm_bus.h"
-#include "replay/synth_truth.h"
+#include "synth/synth_truth.h"
 #include "tests/detect_sim.h"
 #include "tests/test_support.h"
 #include "tests/tracker_test_util.h"

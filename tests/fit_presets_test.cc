@@ -1,5 +1,5 @@
 // The soft-body coefficient tables built into the binary (fit/CMakeLists.txt embeds
-// fit/presets/*.json), $BOUNCEFIT_PRESETS_DIR overriding them, and `simulate --coeffs preset`
+// model/presets/*.json), $BOUNCEFIT_PRESETS_DIR overriding them, and `simulate --coeffs preset`
 // from a copy of the binary with the source tables hidden.
 #include <gtest/gtest.h>
 
@@ -15,9 +15,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit/ball_preset.h"
 #include "fit/fit_models.h"
-#include "fit/soft_ball_model.h"
+#include "model/ball_preset.h"
+#include "model/coefficient_table.h"
+#include "model/soft_ball_model.h"
 #include "tests/test_support.h"
 
 namespace bouncefit {
@@ -26,7 +27,7 @@ namespace {
 const char* const kBalls[] = {"pingpong", "wiffle", "softball", "airball"};
 
 std::filesystem::path SourcePresets() {
-  return std::filesystem::path(BOUNCEFIT_SOURCE_DIR) / "fit" / "presets";
+  return std::filesystem::path(BOUNCEFIT_SOURCE_DIR) / "model" / "presets";
 }
 
 std::string ReadText(const std::filesystem::path& path) {
@@ -79,7 +80,7 @@ TEST(FitPresets, EachBallsTableIsTheEmbeddedSourceFile) {
     const std::string file = std::string("soft_ball_") + ball + ".json";
     const auto table = SoftBallPresetTable(ball);
     ASSERT_TRUE(table) << ball;
-    EXPECT_EQ(table->source, "embedded fit/presets/" + file);
+    EXPECT_EQ(table->source, "embedded model/presets/" + file);
     const CoefficientTable source = LoadCoefficientTable(SourcePresets() / file);
     EXPECT_EQ(table->values, source.values) << ball;
     EXPECT_FALSE(table->values.empty()) << ball;
@@ -102,7 +103,7 @@ TEST(FitPresets, PresetsDirOverridesBallByBall) {
   // No file there for the wiffle ball: its embedded table.
   const auto wiffle = SoftBallPresetTable("wiffle");
   ASSERT_TRUE(wiffle);
-  EXPECT_EQ(wiffle->source, "embedded fit/presets/soft_ball_wiffle.json");
+  EXPECT_EQ(wiffle->source, "embedded model/presets/soft_ball_wiffle.json");
   // The session's warm start follows the override.
   const BallPreset ball = *FindBallPreset("pingpong");
   const SoftBallModel model(ball);
@@ -156,7 +157,7 @@ TEST(FitPresets, LookupNeedsNeitherSourceTreeNorWorkingDirectory) {
 }
 
 // `simulate --coeffs preset` from a copy of the binary in a folder of its own, run there with
-// no override and fit/presets/ hidden (an empty tmpfs over it, in a user and mount namespace
+// no override and model/presets/ hidden (an empty tmpfs over it, in a user and mount namespace
 // of its own, where the machine allows one): the stored coefficients, as the source file
 // holds them.
 TEST(FitPresets, CopiedBinarySimulatesItsPresetWithTheSourceHidden) {
@@ -169,7 +170,7 @@ TEST(FitPresets, CopiedBinarySimulatesItsPresetWithTheSourceHidden) {
                            SourcePresets().string() + "' | wc -l | grep -qx 0";
   std::string out;
   const bool hidden = testing::RunCommand("unshare -rm sh -c \"" + hide + "\"", &out) == 0;
-  if (!hidden) std::printf("(fit/presets/ not hidden, no user namespaces here: %s)\n", out.c_str());
+  if (!hidden) std::printf("(model/presets/ not hidden, no user namespaces here: %s)\n", out.c_str());
   ASSERT_EQ(testing::RunCommand(hidden ? "unshare -rm sh -c \"" + hide + " && " + run + "\"" : run,
                                 &out),
             0)

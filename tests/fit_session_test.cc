@@ -11,15 +11,15 @@
 
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
-#include "fit/ball_preset.h"
 #include "fit/fit_export.h"
 #include "fit/fit_session.h"
 #include "fit/fit_worker.h"
 #include "fit/nlopt_search.h"
 #include "fit/node/fit_node.h"
 #include "fit/paper_search.h"
-#include "fit/point_mass_drop.h"
-#include "fit/point_mass_model.h"
+#include "model/ball_preset.h"
+#include "model/point_mass_drop.h"
+#include "model/point_mass_model.h"
 #include "msgs/lcm_bus.h"
 #include "tests/test_support.h"
 

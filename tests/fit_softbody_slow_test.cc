@@ -8,12 +8,13 @@
 #include <mutex>
 #include <thread>
 
-#include "fit/ball_preset.h"
 #include "fit/fit_models.h"
 #include "fit/fit_session.h"
 #include "fit/fit_worker.h"
-#include "fit/point_mass_drop.h"
-#include "fit/point_mass_model.h"
+#include "model/ball_preset.h"
+#include "model/model_by_name.h"
+#include "model/point_mass_drop.h"
+#include "model/point_mass_model.h"
 #include "tests/point_mass_truth.h"
 
 namespace bouncefit {
@@ -25,7 +26,7 @@ TEST_P(FinalFit, RmsWithinOnePercentOfTheDropOverAllBouncesAboveOneCentimetre) {
   const BallPreset ball = ResolveBallPreset(GetParam());
   const double drop = 1.0;
   const auto truth = testing::PointMassTruth(ball, drop);
-  auto model = MakeFitModel("bullet-softbody", ball);
+  auto model = MakeBallModel("bullet-softbody", ball);
   PointMassModel quick(ball);
   FitSessionConfig cfg;
   ConfigureSessionForModel(*model, ball, &cfg);

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "fit/ball_preset.h"
-#include "fit/point_mass_drop.h"
+#include "model/ball_preset.h"
+#include "model/point_mass_drop.h"
 
 namespace bouncefit {
 namespace {

@@ -1,13 +1,13 @@
-// The point-mass BallModel runs fit/point_mass_drop's physics, and the quick fit recovers
+// The point-mass BallModel runs model/point_mass_drop's physics, and the quick fit recovers
 // known restitution, speed dependence and drag from heights that physics produced.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "fit/ball_preset.h"
 #include "fit/fit_session.h"
-#include "fit/point_mass_drop.h"
-#include "fit/point_mass_model.h"
+#include "model/ball_preset.h"
+#include "model/point_mass_drop.h"
+#include "model/point_mass_model.h"
 #include "tests/point_mass_truth.h"
 
 namespace bouncefit {

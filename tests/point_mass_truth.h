@@ -1,7 +1,7 @@
 #pragma once
 // The point-mass physics `bouncefit synth` renders, as the ground truth of fitting tests.
-#include "fit/ball_preset.h"
-#include "fit/point_mass_drop.h"
+#include "model/ball_preset.h"
+#include "model/point_mass_drop.h"
 
 namespace bouncefit::testing {
 

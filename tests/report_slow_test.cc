@@ -9,8 +9,8 @@
 #include <regex>
 #include <sstream>
 
-#include "replay/report_html.h"
-#include "replay/report_run_data.h"
+#include "report/report_html.h"
+#include "report/report_run_data.h"
 #include "tests/report_fixture.h"
 #include "tests/test_support.h"
 

@@ -14,7 +14,7 @@
 #include <sstream>
 #include <thread>
 
-#include "replay/synth_truth.h"
+#include "synth/synth_truth.h"
 #include "tests/test_support.h"
 
 namespace bouncefit {

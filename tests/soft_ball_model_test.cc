@@ -1,5 +1,5 @@
-// The Bullet soft-body ball (fit/soft_ball_model.h) and its TetGen meshes
-// (fit/tetgen_mesh.h), with real tetgen runs and real Bullet simulations.
+// The Bullet soft-body ball (model/soft_ball_model.h) and its TetGen meshes
+// (model/tetgen_mesh.h), with real tetgen runs and real Bullet simulations.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -14,9 +14,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit/ball_preset.h"
-#include "fit/soft_ball_model.h"
-#include "fit/tetgen_mesh.h"
+#include "model/ball_preset.h"
+#include "model/soft_ball_model.h"
+#include "model/tetgen_mesh.h"
 #include "tests/test_support.h"
 
 namespace bouncefit {
@@ -334,11 +334,11 @@ TEST(SoftBallModel, ReboundBoostRaisesTheBounceSmoothly) {
   }
 }
 
-// The stored coefficient tables (fit/presets/) are complete and hold for this model's time
+// The stored coefficient tables (model/presets/) are complete and hold for this model's time
 // step and iterations (the slow test re-simulates them against the presets' heights).
 TEST(SoftBallPresets, TablesNameKnownCoefficientsForThisModel) {
   for (const char* name : {"pingpong", "wiffle", "softball", "airball"}) {
-    const auto path = std::filesystem::path(BOUNCEFIT_SOURCE_DIR) / "fit" / "presets" /
+    const auto path = std::filesystem::path(BOUNCEFIT_SOURCE_DIR) / "model" / "presets" /
                       (std::string("soft_ball_") + name + ".json");
     std::ifstream in(path);
     ASSERT_TRUE(in) << path;

@@ -1,8 +1,8 @@
 // The soft-body ball covers the elasticity spectrum: for each of the four ball presets, the
-// coefficients stored in fit/presets/soft_ball_<preset>.json (found by
+// coefficients stored in model/presets/soft_ball_<preset>.json (found by
 // bench/soft_ball_preset_search_bench.cc) put the first three simulated bounce heights
 // within 2% of the preset's heights from the point-mass physics synth renders
-// (fit/point_mass_drop.h); and the rebound boost spans first-rebound ratios from below 0.15
+// (model/point_mass_drop.h); and the rebound boost spans first-rebound ratios from below 0.15
 // to above 0.85.
 #include <gtest/gtest.h>
 
@@ -14,9 +14,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fit/ball_preset.h"
-#include "fit/point_mass_drop.h"
-#include "fit/soft_ball_model.h"
+#include "model/ball_preset.h"
+#include "model/point_mass_drop.h"
+#include "model/soft_ball_model.h"
 #include "tests/point_mass_truth.h"
 
 namespace bouncefit {
@@ -31,7 +31,7 @@ std::vector<double> PresetHeights(const BallPreset& ball, double drop, int n) {
 }
 
 CoefficientValues StoredCoefficients(const std::string& ball, double* drop) {
-  const auto path = std::filesystem::path(BOUNCEFIT_SOURCE_DIR) / "fit" / "presets" /
+  const auto path = std::filesystem::path(BOUNCEFIT_SOURCE_DIR) / "model" / "presets" /
                     ("soft_ball_" + ball + ".json");
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read " + path.string());

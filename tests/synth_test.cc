@@ -12,11 +12,11 @@
 #include <numbers>
 #include <sstream>
 
-#include "fit/point_mass_drop.h"
-#include "replay/synth_clip.h"
-#include "replay/synth_truth.h"
+#include "model/arc_apex.h"
+#include "model/point_mass_drop.h"
+#include "synth/synth_clip.h"
+#include "synth/synth_truth.h"
 #include "tests/test_support.h"
-#include "track/arc_apex.h"
 
 namespace bouncefit {
 namespace {

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "replay/synth_clip.h"
-#include "replay/synth_truth.h"
+#include "synth/synth_clip.h"
+#include "synth/synth_truth.h"
 #include "track/tracker.h"
 
 namespace bouncefit::testing {

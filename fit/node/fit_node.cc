@@ -1,14 +1,15 @@
 #include "fit/node/fit_node.h"
 
 #include "fit/fit_models.h"
-#include "fit/point_mass_model.h"
+#include "model/model_by_name.h"
+#include "model/point_mass_model.h"
 
 namespace bouncefit {
 
 FitNode::FitNode(FitNodeConfig config, Callback on_update)
     : config_(std::move(config)), on_update_(std::move(on_update)) {
   ball_ = ResolveBallPreset(config_.ball, config_.diameter_m, config_.mass_kg);
-  model_ = MakeFitModel(config_.model, ball_);
+  model_ = MakeBallModel(config_.model, ball_);
   quick_model_ = std::make_unique<PointMassModel>(ball_);
   ConfigureSessionForModel(*model_, ball_, &config_.session);
   auto session = std::make_unique<FitSession>(*model_, quick_model_.get(), config_.session);

@@ -12,10 +12,10 @@
 
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
-#include "fit/ball_model.h"
-#include "fit/ball_preset.h"
 #include "fit/fit_session.h"
 #include "fit/fit_worker.h"
+#include "model/ball_model.h"
+#include "model/ball_preset.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
 

@@ -1,0 +1,197 @@
+#pragma once
+// Streaming bounce detection: push the tracker's observations one frame at a time, get
+// events back as soon as they are certain (NOTES.md: time is an input, nothing here reads
+// a clock or prints).
+//
+// What it does, per drop ("sequence"):
+//  - waits while the ball is held still; a release is a move down from the hold;
+//  - follows each free-flight arc with the drag-aware flight model (detect/flight_model.h);
+//    a sample that leaves the falling arc upwards, confirmed by the next one, is an impact;
+//    a lone sample off the arc is noise and is dropped;
+//  - calibrates (detect/calibrator.h) at the first impact from the release fall, and refits
+//    G, drag and roll on every later arc;
+//  - emits each apex the first frame that is `emit_after_apex_frames` past the fitted apex
+//    time (fitted through the arc, not the top sample), in metres, with its uncertainty;
+//  - ends the drop when a rebound is below what the camera resolves, when the arc breaks
+//    (caught, rolling) or when the ball is lost; a later hold and release is a new sequence.
+//
+// Bounce 0 (the release height) needs the floor, which is unknown before the ball has hit
+// it: in the first drop of a stream it is emitted when the first impact is confirmed (its
+// latency from the release is the fall time plus a few frames, reported as such); in later
+// drops the floor and scale are known and it is emitted as soon as the release is.
+// When the tracker found the ball only once it was falling (no hold seen), the release arc
+// is a fall from rest whose vertex is fitted, and the fall alone does not tell G from drag:
+// bounce 0 then waits for the scale the first rebound's rise pins, and goes out just before
+// the first rebound's apex (or at the end of the drop if that rebound is too low).
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "detect/calibrator.h"
+#include "track/ball_observation.h"
+
+namespace bouncefit {
+
+// Core-side twin of bouncefit::bounce_peak_t.
+struct BouncePeak {
+  int64_t utime = 0;           // capture time of the frame that made the apex certain
+  int sequence = 0;            // drop sequence in this stream, from 0
+  int bounce = 0;              // 0 = release height, 1 = first rebound apex, ...
+  int64_t apex_utime = 0;      // fitted apex time
+  double height_m = 0;         // ball bottom above the floor at the apex, metres
+  double height_px = 0;        // the same in pixels along true vertical
+  double height_sigma_m = 0;   // standard uncertainty
+  double flight_height_m = std::numeric_limits<double>::quiet_NaN();  // g dt^2/8 (NaN: unknown)
+  int64_t impact_before_utime = 0;  // impact starting this arc (0 for bounce 0)
+  int64_t impact_after_utime = 0;   // impact ending it (0: not yet seen)
+  int64_t emitted_utime = 0;        // stream time of the emission
+};
+
+struct BounceImpact {
+  int sequence = 0;
+  int index = 0;             // 1 = the impact ending the release fall, ...
+  int64_t utime = 0;         // where the falling and rising arcs meet
+  double speed_in_mps = 0;   // speed just before (model, drag included)
+  double speed_out_mps = 0;  // speed just after
+  double restitution = 0;    // speed_out / speed_in
+};
+
+struct DetectorEvent {
+  enum class Kind { kCalibration, kPeak, kImpact, kSequenceEnd };
+  Kind kind = Kind::kPeak;
+  Calibration calibration;  // kCalibration
+  BouncePeak peak;          // kPeak
+  BounceImpact impact;      // kImpact
+  std::string reason;       // kSequenceEnd: "rest", "lost", "broken", "end of stream"
+};
+
+// Everything known about one drop once it has ended, refitted with all its arcs.
+struct SequenceSummary {
+  int sequence = 0;
+  std::string end_reason;
+  std::vector<BouncePeak> peaks;         // as emitted
+  std::vector<double> final_height_m;    // per bounce index, after the final refit
+  std::vector<double> flight_height_m;   // per bounce index: g dt^2/8 (NaN for 0 / unknown)
+  std::vector<BounceImpact> impacts;
+  // Trend of restitution with impact speed: e = intercept + slope * v (NaN: < 2 impacts).
+  double restitution_intercept = std::numeric_limits<double>::quiet_NaN();
+  double restitution_slope_per_mps = std::numeric_limits<double>::quiet_NaN();
+  Calibration calibration;
+};
+
+struct BounceDetectorConfig {
+  CalibratorConfig calibration;
+  double emit_after_apex_frames = 1.0;  // emit this many frame periods after the fitted apex
+  double gate_sigmas = 6;       // a sample this many noise sigmas off its arc is not on it
+  double min_gate_px = 0.8;     // ... and at least this far
+  double noise_floor_px = 0.05; // lower bound on the noise estimate
+  double initial_noise_px = 0.3;  // until the first fit measures it
+  double release_px = 1.5;      // a move down of at least this (and the gate) starts a drop
+  double max_hold_drift = 0.5;  // a hold drifts less than this fraction of that move
+  // No hold seen (the tracker found the ball only once it fell): this many samples, each
+  // further down than the last, accelerating, over twice that move, start a drop whose
+  // release height is the fitted vertex of the fall.
+  int fall_start_samples = 5;
+  double min_apex_px = 1.0;     // rebounds lower than this (or 5 noise sigmas) mean rest
+  double lost_s = 1.0;          // the ball unseen this long ends the drop
+  double hold_window_s = 0.25;  // hold samples kept in the release arc
+  int impact_confirm_samples = 2;  // samples off the falling arc, upwards, that make an impact
+  int bounce0_rising_samples = 8;  // rising samples after the first impact before bounce 0
+                                   // (release seen held; otherwise see the top comment)
+  // Apex height of bounces >= 1: true = FitArcApex (model/arc_apex.h, the parabola shared
+  // with the models) through the arc's samples within arc_apex_window_s of the fitted
+  // vertex, drag's departure from a parabola removed; false (or too few samples there) =
+  // the vertex of the drag-aware arc fitted through all the arc's samples. Both measure
+  // within 0.1 mm RMS of each other on the synth presets (docs/ACCURACY.md).
+  bool use_arc_apex = true;
+  double arc_apex_window_s = 0.15;
+
+  bool IsValid(std::string* error) const;
+};
+
+class BounceDetector {
+ public:
+  // Throws std::invalid_argument with a one-line message for an invalid config.
+  explicit BounceDetector(BounceDetectorConfig config);
+
+  // One frame, in capture order (utime must not go backwards: std::invalid_argument).
+  std::vector<DetectorEvent> Push(const BallObservation& observation);
+  // End of stream: closes the drop in progress (its summary is then in Summaries()).
+  std::vector<DetectorEvent> Finish();
+
+  const Calibration& calibration() const { return calibration_.calibration; }
+  bool calibrated() const { return calibrated_; }
+  const std::vector<SequenceSummary>& Summaries() const { return summaries_; }
+  double noise_px() const { return sigma_; }
+  double frame_period_s() const { return frame_dt_; }
+
+ private:
+  struct Sample {
+    double t = 0;
+    double x = 0, y = 0;
+    double r = 0;
+    int64_t utime = 0;
+  };
+  struct Arc {
+    std::vector<Sample> samples;
+    bool held = false;
+    bool release = false;  // the first arc of a drop: a fall from rest (held seen or not)
+    bool apex_emitted = false;
+    bool fit_ok = false;
+    FlightArcParams fit;
+    double u_sigma = 0;
+  };
+  enum class Phase { kWaiting, kFlight, kRest };
+
+  void OnWaiting(const Sample& s, std::vector<DetectorEvent>& ev);
+  bool ReleasedFromHold(const Sample& s, std::vector<DetectorEvent>& ev);
+  bool FallFromUnseenRelease(const Sample& s, std::vector<DetectorEvent>& ev);
+  void StartSequence(Arc release, const Sample& s, std::vector<DetectorEvent>& ev);
+  void OnFlight(const Sample& s, std::vector<DetectorEvent>& ev);
+  void OnRest(const Sample& s, std::vector<DetectorEvent>& ev);
+  bool Predict(const Arc& arc, double t, double* u, double* w, double* v_down) const;
+  void RefitArc(Arc& arc);
+  void Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev);
+  void ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev);
+  void TryEmitApex(double t, int64_t utime, bool have_sample, std::vector<DetectorEvent>& ev);
+  void EmitPeak(size_t arc_index, int64_t utime, std::vector<DetectorEvent>& ev);
+  void EndSequence(const std::string& reason, std::vector<DetectorEvent>& ev);
+  double Gate() const;
+  double MinApexPx() const;
+  double Down(const Sample& s) const;
+  double Floor(const Sample& s) const;
+  int64_t ToUtime(double t) const;
+  std::vector<FlightArcData> ArcData() const;
+
+  BounceDetectorConfig config_;
+  Calibrator calibrator_;
+  Phase phase_ = Phase::kWaiting;
+  bool have_t0_ = false;
+  int64_t t0_ = 0;
+  int64_t last_utime_ = 0;
+  std::vector<double> frame_dts_;
+  double frame_dt_ = 1.0 / 120;
+  double sigma_ = 0.3;
+  bool sigma_measured_ = false;
+  double last_seen_t_ = 0;
+
+  std::vector<Sample> hold_;
+  std::vector<Arc> arcs_;
+  std::vector<Sample> pending_up_, pending_off_;
+  int misses_ = 0;  // consecutive samples off the current arc
+  std::vector<double> radii_;
+  int sequence_ = -1;
+  bool bounce0_emitted_ = false;
+  std::vector<BouncePeak> peaks_;       // this sequence
+  std::vector<BounceImpact> impacts_;   // this sequence
+  std::vector<Sample> rest_samples_;
+  int rest_moves_ = 0;
+
+  bool calibrated_ = false;
+  CalibrationResult calibration_;
+  std::vector<SequenceSummary> summaries_;
+};
+
+}  // namespace bouncefit

@@ -1,0 +1,250 @@
+#include "detect/calibrator.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace bouncefit {
+namespace {
+
+// Image acceleration (px/s^2) of an arc from quadratic fits of x(t) and y(t), skipping a
+// hold at its start. False with fewer than 5 moving samples.
+bool ArcAcceleration(const FlightArcData& arc, double* ax, double* ay, int* n_used) {
+  const auto& s = arc.samples;
+  size_t first = 0;
+  if (arc.held_before_apex && s.size() >= 4) {
+    const double x0 = s.front().x, y0 = s.front().y;
+    while (first + 1 < s.size() && std::hypot(s[first + 1].x - x0, s[first + 1].y - y0) < 1.5)
+      ++first;
+  }
+  const size_t n = s.size() - first;
+  if (n < 5) return false;
+  double tm = 0;
+  for (size_t i = first; i < s.size(); ++i) tm += s[i].t;
+  tm /= static_cast<double>(n);
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(n), 3);
+  Eigen::MatrixXd b(static_cast<Eigen::Index>(n), 2);
+  for (size_t i = first; i < s.size(); ++i) {
+    const auto r = static_cast<Eigen::Index>(i - first);
+    const double dt = s[i].t - tm;
+    a(r, 0) = 1;
+    a(r, 1) = dt;
+    a(r, 2) = dt * dt;
+    b(r, 0) = s[i].x;
+    b(r, 1) = s[i].y;
+  }
+  const Eigen::MatrixXd c = a.colPivHouseholderQr().solve(b);
+  *ax = 2 * c(2, 0);
+  *ay = 2 * c(2, 1);
+  *n_used = static_cast<int>(n);
+  return std::isfinite(*ax) && std::isfinite(*ay);
+}
+
+}  // namespace
+
+bool CalibratorConfig::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (!(g_mps2 > 0)) return fail("g must be > 0 m/s^2");
+  if (ball_diameter_m < 0 || !std::isfinite(ball_diameter_m))
+    return fail("ball diameter must be >= 0 m");
+  if (px_per_m < 0 || !std::isfinite(px_per_m)) return fail("px per metre must be >= 0");
+  if (drop_height_m < 0 || !std::isfinite(drop_height_m))
+    return fail("drop height must be >= 0 m");
+  if (px_per_m > 0 && drop_height_m > 0)
+    return fail("give either a px per metre scale or a drop height, not both");
+  if (max_arcs < 1) return fail("max arcs must be >= 1");
+  if (min_arc_samples < 3) return fail("min arc samples must be >= 3");
+  return true;
+}
+
+Calibrator::Calibrator(CalibratorConfig config) : config_(config) {
+  std::string error;
+  if (!config_.IsValid(&error)) throw std::invalid_argument("calibrator: " + error);
+}
+
+FlightFit Calibrator::FitArcs(const std::vector<FlightArcData>& arcs,
+                              const FlightGlobals& globals,
+                              const std::vector<FlightArcParams>& initial) const {
+  FlightFitOptions opt;
+  opt.fit_gravity = opt.fit_drag = opt.fit_roll = false;
+  std::vector<FlightArcParams> init = initial;
+  for (size_t j = init.size(); j < arcs.size(); ++j)
+    init.push_back(InitialArcParams(arcs[j], globals));
+  // Arcs with fewer than three samples cannot tell their horizontal speed.
+  bool short_arc = false;
+  for (const auto& a : arcs) short_arc = short_arc || a.samples.size() < 3;
+  if (short_arc && arcs.size() == 1) opt.fit_horizontal_speed = false;
+  return FitFlight(arcs, globals, init, opt);
+}
+
+CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
+  CalibrationResult res;
+  Calibration& cal = res.calibration;
+  cal.utime = in.utime;
+  cal.radius_px = in.radius_px;
+
+  // Arcs that decide the globals.
+  std::vector<FlightArcData> chosen;
+  std::vector<size_t> chosen_index;
+  for (size_t j = 0; j < in.arcs.size() && static_cast<int>(chosen.size()) < config_.max_arcs;
+       ++j) {
+    if (static_cast<int>(in.arcs[j].samples.size()) >= config_.min_arc_samples) {
+      chosen.push_back(in.arcs[j]);
+      chosen_index.push_back(j);
+    }
+  }
+
+  FlightGlobals init;
+  if (in.previous_globals && in.previous_globals->gravity_px > 0) {
+    init = *in.previous_globals;
+  } else {
+    double sx = 0, sy = 0;
+    int total = 0;
+    for (const auto& a : chosen) {
+      double ax, ay;
+      int n;
+      if (ArcAcceleration(a, &ax, &ay, &n)) {
+        sx += ax * n;
+        sy += ay * n;
+        total += n;
+      }
+    }
+    if (total > 0) {
+      init.gravity_px = std::hypot(sx, sy) / total;
+      init.roll_rad = std::atan2(sx, sy);
+    }
+  }
+  if (!config_.fit_drag) init.drag_per_px = 0;
+
+  if (chosen.empty() || !(init.gravity_px > 0)) {
+    res.problem = "no free-flight arc long enough to measure gravity yet";
+  } else {
+    std::vector<FlightArcParams> init_arcs;
+    for (size_t c = 0; c < chosen.size(); ++c) {
+      const size_t j = chosen_index[c];
+      if (in.previous_arcs && j < in.previous_arcs->size())
+        init_arcs.push_back((*in.previous_arcs)[j]);
+      else
+        init_arcs.push_back(InitialArcParams(chosen[c], init));
+    }
+    FlightFitOptions opt;
+    opt.fit_drag = config_.fit_drag;
+    FlightFit global = FitFlight(chosen, init, init_arcs, opt);
+    // Drag must slow the ball: a negative fit is noise, refit without it.
+    if (global.ok && global.globals.drag_per_px < 0) {
+      FlightGlobals g0 = global.globals;
+      g0.drag_per_px = 0;
+      opt.fit_drag = false;
+      global = FitFlight(chosen, g0, global.arcs, opt);
+    }
+    if (!global.ok) {
+      res.problem = "the free-flight fit failed";
+    } else {
+      // Every arc's apex with the globals fixed.
+      std::vector<FlightArcParams> all_init;
+      for (size_t j = 0; j < in.arcs.size(); ++j) {
+        auto it = std::find(chosen_index.begin(), chosen_index.end(), j);
+        if (it != chosen_index.end())
+          all_init.push_back(global.arcs[static_cast<size_t>(it - chosen_index.begin())]);
+        else if (in.previous_arcs && j < in.previous_arcs->size())
+          all_init.push_back((*in.previous_arcs)[j]);
+        else
+          all_init.push_back(InitialArcParams(in.arcs[j], global.globals));
+      }
+      // Arcs are independent once the globals are fixed: one small fit each.
+      FlightFit all;
+      all.ok = true;  // the globals are known; an arc that cannot be fitted keeps its start
+      all.globals = global.globals;
+      for (size_t j = 0; j < in.arcs.size(); ++j) {
+        const FlightFit one = FitArcs({in.arcs[j]}, global.globals, {all_init[j]});
+        all.arcs.push_back(one.ok ? one.arcs[0] : all_init[j]);
+        all.u_apex_sigma.push_back(one.ok ? one.u_apex_sigma[0] : 0.0);
+        all.samples += one.samples;
+      }
+      all.gravity_sigma = global.gravity_sigma;
+      all.drag_sigma = global.drag_sigma;
+      all.roll_sigma = global.roll_sigma;
+      all.rms_px = global.rms_px;
+      res.flight = all;
+      cal.gravity_px = all.globals.gravity_px;
+      cal.drag_per_px = all.globals.drag_per_px;
+      cal.roll_rad = all.globals.roll_rad;
+      cal.roll_sigma_rad = global.roll_sigma;
+      cal.free_fall_px_per_m = cal.gravity_px / config_.g_mps2;
+      cal.samples = global.samples;
+      cal.rms_px = global.rms_px;
+      cal.px_per_m = cal.free_fall_px_per_m;
+      cal.px_per_m_sigma = global.gravity_sigma / config_.g_mps2;
+      cal.method = "free-fall";
+    }
+  }
+
+  // Floor: where consecutive arcs meet, weighted by how well the shorter arc is known.
+  if (res.flight.arcs.size() == in.arcs.size()) {
+    double sw = 0, su = 0, suu = 0;
+    int count = 0;
+    for (size_t j = 0; j + 1 < in.arcs.size(); ++j) {
+      const FlightImpact imp =
+          IntersectArcs(res.flight.globals, res.flight.arcs[j], res.flight.arcs[j + 1]);
+      res.impacts.push_back(imp);
+      if (!imp.ok) continue;
+      const double w = static_cast<double>(std::min<size_t>(
+          {in.arcs[j].samples.size(), in.arcs[j + 1].samples.size(), 10}));
+      sw += w;
+      su += w * imp.u;
+      suu += w * imp.u * imp.u;
+      ++count;
+    }
+    if (count > 0) {
+      const double mean = su / sw;
+      cal.has_floor = true;
+      cal.floor_px = mean + in.radius_px;
+      const double var = std::max(0.0, suu / sw - mean * mean);
+      cal.floor_sigma_px = count >= 2 ? std::sqrt(var / (count - 1))
+                                      : std::max(cal.rms_px, 0.05);
+    }
+  }
+  if (!cal.has_floor && !in.rest_u_px.empty()) {
+    std::vector<double> r = in.rest_u_px;
+    std::nth_element(r.begin(), r.begin() + static_cast<long>(r.size() / 2), r.end());
+    cal.has_floor = true;
+    cal.floor_px = r[r.size() / 2] + in.radius_px;
+    cal.floor_sigma_px = std::max(cal.rms_px, 0.05);
+  }
+
+  // The scale actually used for metres.
+  if (config_.px_per_m > 0) {
+    cal.px_per_m = config_.px_per_m;
+    cal.px_per_m_sigma = 0;
+    cal.method = "user";
+  } else if (config_.drop_height_m > 0) {
+    cal.px_per_m = 0;
+    cal.method = "drop-height";
+    if (cal.has_floor && !res.flight.arcs.empty()) {
+      const double h_px = cal.floor_centre_px() - res.flight.arcs[0].u_apex;
+      if (h_px > 0) {
+        cal.px_per_m = h_px / config_.drop_height_m;
+        const double su0 =
+            res.flight.u_apex_sigma.empty() ? 0.0 : res.flight.u_apex_sigma[0];
+        cal.px_per_m_sigma = std::hypot(su0, cal.floor_sigma_px) / config_.drop_height_m;
+      }
+    }
+  } else if (!(cal.px_per_m > 0) && config_.ball_diameter_m > 0 && in.radius_px > 0) {
+    cal.px_per_m = 2 * in.radius_px / config_.ball_diameter_m;
+    cal.px_per_m_sigma = 0.05 * cal.px_per_m;  // edge blur and threshold: a few percent
+    cal.method = "ball-diameter";
+  }
+  if (config_.ball_diameter_m > 0 && cal.px_per_m > 0 && in.radius_px > 0)
+    cal.diameter_ratio = 2 * in.radius_px / cal.px_per_m / config_.ball_diameter_m;
+
+  res.ok = cal.px_per_m > 0 && res.flight.ok;
+  if (!res.ok && res.problem.empty()) res.problem = "no scale yet";
+  return res;
+}
+
+}  // namespace bouncefit

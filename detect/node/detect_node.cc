@@ -1,0 +1,135 @@
+#include "detect/node/detect_node.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "msgs/lcm_bus.h"
+
+namespace bouncefit {
+namespace {
+
+int64_t SteadyMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+calibration_t ToCalibrationMsg(const Calibration& c) {
+  calibration_t m{};
+  m.utime = c.utime;
+  m.px_per_m = c.px_per_m;
+  m.px_per_m_sigma = c.px_per_m_sigma;
+  m.roll_rad = c.roll_rad;
+  m.roll_sigma_rad = c.roll_sigma_rad;
+  m.floor_px = c.floor_px;
+  m.floor_sigma_px = c.floor_sigma_px;
+  m.method = c.method;
+  m.samples = c.samples;
+  return m;
+}
+
+bounce_peak_t ToBouncePeakMsg(const BouncePeak& p) {
+  bounce_peak_t m{};
+  m.utime = p.utime;
+  m.sequence = p.sequence;
+  m.bounce = p.bounce;
+  m.apex_utime = p.apex_utime;
+  m.height_m = p.height_m;
+  m.height_px = p.height_px;
+  m.height_sigma_m = p.height_sigma_m;
+  m.flight_height_m = p.flight_height_m;
+  m.impact_before_utime = p.impact_before_utime;
+  m.impact_after_utime = p.impact_after_utime;
+  m.emitted_utime = p.emitted_utime;
+  return m;
+}
+
+DetectNode::DetectNode(LcmBus* bus, DetectNodeConfig config)
+    : bus_(bus),
+      config_(std::move(config)),
+      detector_(std::make_unique<BounceDetector>(config_.detector)) {}
+
+void DetectNode::Subscribe() {
+  if (!bus_) throw std::logic_error("detect node: no bus to subscribe to");
+  bus_->Subscribe<ball_box_t>(config_.channels.ball_box,
+                              [this](const ball_box_t& box) { OnBox(box); });
+}
+
+std::vector<DetectorEvent> DetectNode::OnBox(const ball_box_t& box) {
+  return OnObservation(FromBallBox(box));
+}
+
+std::vector<DetectorEvent> DetectNode::OnObservation(const BallObservation& obs) {
+  last_box_wall_us_ = SteadyMicros();
+  ++stats_.boxes;
+  if (obs.found) ++stats_.found;
+  std::vector<DetectorEvent> events;
+  if (have_box_ && obs.utime < last_utime_) {
+    // Times went backwards: a new stream (a replay restarted). Close the old one.
+    events = detector_->Finish();
+    for (const auto& s : detector_->Summaries()) earlier_summaries_.push_back(s);
+    detector_ = std::make_unique<BounceDetector>(config_.detector);
+    ++stats_.stream_restarts;
+  }
+  have_box_ = true;
+  last_utime_ = obs.utime;
+  const int64_t t0 = SteadyMicros();
+  try {
+    auto more = detector_->Push(obs);
+    events.insert(events.end(), more.begin(), more.end());
+  } catch (const std::exception&) {
+    ++stats_.rejected;
+  }
+  stats_.detect_s += (SteadyMicros() - t0) * 1e-6;
+  Publish(events);
+  return events;
+}
+
+std::vector<DetectorEvent> DetectNode::Finish() {
+  auto events = detector_->Finish();
+  Publish(events);
+  return events;
+}
+
+std::vector<SequenceSummary> DetectNode::Summaries() const {
+  std::vector<SequenceSummary> all = earlier_summaries_;
+  for (const auto& s : detector_->Summaries()) all.push_back(s);
+  return all;
+}
+
+void DetectNode::Publish(const std::vector<DetectorEvent>& events) {
+  for (const auto& e : events) {
+    switch (e.kind) {
+      case DetectorEvent::Kind::kPeak:
+        ++stats_.peaks;
+        if (bus_) bus_->Publish(config_.channels.bounce_peak, ToBouncePeakMsg(e.peak));
+        break;
+      case DetectorEvent::Kind::kCalibration:
+        ++stats_.calibrations;
+        if (bus_) bus_->Publish(config_.channels.calibration, ToCalibrationMsg(e.calibration));
+        break;
+      case DetectorEvent::Kind::kSequenceEnd:
+        ++stats_.sequences_ended;
+        break;
+      case DetectorEvent::Kind::kImpact:
+        break;
+    }
+    if (on_event_) on_event_(e);
+  }
+}
+
+void DetectNode::Run(const std::atomic<bool>* stop, double exit_after_idle_s) {
+  if (!bus_) throw std::logic_error("detect node: no bus to run on");
+  const int64_t start = SteadyMicros();
+  while (!(stop && *stop)) {
+    bus_->HandleOnce(50);
+    if (exit_after_idle_s > 0) {
+      const int64_t since = have_box_ || last_box_wall_us_ > 0 ? last_box_wall_us_ : start;
+      if ((SteadyMicros() - since) * 1e-6 > exit_after_idle_s) break;
+    }
+  }
+}
+
+}  // namespace bouncefit

@@ -1,0 +1,346 @@
+#include "report/report_run_data.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace bouncefit {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void Fail(const fs::path& file, const std::string& what) {
+  throw std::runtime_error(file.string() + ": " + what);
+}
+
+std::string ReadWholeFile(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) Fail(file, "cannot be read");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> SplitCsvLine(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  for (char c : line) {
+    if (c == ',') {
+      cells.push_back(cell);
+      cell.clear();
+    } else if (c != '\r') {
+      cell += c;
+    }
+  }
+  cells.push_back(cell);
+  return cells;
+}
+
+// A CSV with a header; columns looked up by name so that added columns do not break it.
+class CsvTable {
+ public:
+  CsvTable(const fs::path& file, const std::vector<std::string>& required) : file_(file) {
+    const std::string text = ReadWholeFile(file);
+    // A run still writing may have left a last line half written: that line is ignored
+    // when it is incomplete (no newline and too few fields).
+    const bool open_end = !text.empty() && text.back() != '\n';
+    std::istringstream in(text);
+    std::string line;
+    if (!std::getline(in, line)) Fail(file, "is empty (no header line)");
+    const auto header = SplitCsvLine(line);
+    for (size_t i = 0; i < header.size(); ++i) columns_[header[i]] = i;
+    for (const auto& name : required) {
+      if (!columns_.count(name)) Fail(file, "header lacks column '" + name + "'");
+    }
+    int line_no = 1;
+    while (std::getline(in, line)) {
+      ++line_no;
+      if (line.empty() || line == "\r") continue;
+      auto cells = SplitCsvLine(line);
+      if (open_end && in.peek() == std::char_traits<char>::eof() && cells.size() < header.size()) {
+        break;
+      }
+      if (cells.size() != header.size()) {
+        Fail(file, "line " + std::to_string(line_no) + " has " + std::to_string(cells.size()) +
+                       " fields, the header has " + std::to_string(header.size()));
+      }
+      rows_.push_back(std::move(cells));
+      line_numbers_.push_back(line_no);
+    }
+  }
+
+  size_t size() const { return rows_.size(); }
+  bool Has(const std::string& column) const { return columns_.count(column) > 0; }
+
+  // NaN for an empty cell or an absent optional column; garbage is an error.
+  double Number(size_t row, const std::string& column) const {
+    auto it = columns_.find(column);
+    if (it == columns_.end()) return kReportNaN;
+    const std::string& cell = rows_[row][it->second];
+    if (cell.empty() || cell == "nan" || cell == "NaN") return kReportNaN;
+    char* end = nullptr;
+    const double v = std::strtod(cell.c_str(), &end);
+    if (end == cell.c_str() || *end != '\0') {
+      Fail(file_, "line " + std::to_string(line_numbers_[row]) + ": '" + cell +
+                      "' in column " + column + " is not a number");
+    }
+    return v;
+  }
+  double Required(size_t row, const std::string& column) const {
+    const double v = Number(row, column);
+    if (!std::isfinite(v)) {
+      Fail(file_, "line " + std::to_string(line_numbers_[row]) + ": column " + column +
+                      " is empty");
+    }
+    return v;
+  }
+
+ private:
+  fs::path file_;
+  std::map<std::string, size_t> columns_;
+  std::vector<std::vector<std::string>> rows_;
+  std::vector<int> line_numbers_;
+};
+
+nlohmann::json ParseJson(const fs::path& file, const std::string& text) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    std::string what = e.what();
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    Fail(file, "is not valid JSON (" + what + ")");
+  }
+}
+
+// JSON null (how NaN is written) and absent keys read as NaN.
+double JsonNumber(const nlohmann::json& j, const char* key) {
+  auto it = j.find(key);
+  if (it == j.end() || it->is_null()) return kReportNaN;
+  if (!it->is_number()) throw std::runtime_error(std::string("field '") + key + "' is not a number");
+  return it->get<double>();
+}
+
+std::vector<double> JsonNumbers(const nlohmann::json& j, const char* key) {
+  std::vector<double> out;
+  auto it = j.find(key);
+  if (it == j.end() || it->is_null()) return out;
+  if (!it->is_array()) throw std::runtime_error(std::string("field '") + key + "' is not an array");
+  for (const auto& v : *it) out.push_back(v.is_null() ? kReportNaN : v.get<double>());
+  return out;
+}
+
+std::vector<ReportTrackRow> LoadTrack(const fs::path& file) {
+  CsvTable csv(file, {"frame", "t_s", "found"});
+  std::vector<ReportTrackRow> rows;
+  rows.reserve(csv.size());
+  for (size_t i = 0; i < csv.size(); ++i) {
+    ReportTrackRow r;
+    r.frame = static_cast<long>(csv.Required(i, "frame"));
+    r.t_s = csv.Required(i, "t_s");
+    r.found = csv.Required(i, "found") != 0;
+    r.cx_px = csv.Number(i, "cx_px");
+    r.cy_px = csv.Number(i, "cy_px");
+    r.x_px = csv.Number(i, "x_px");
+    r.y_px = csv.Number(i, "y_px");
+    r.w_px = csv.Number(i, "w_px");
+    r.h_px = csv.Number(i, "h_px");
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::vector<ReportPeak> LoadPeaks(const fs::path& file) {
+  CsvTable csv(file, {"bounce", "t_s", "height_m"});
+  std::vector<ReportPeak> peaks;
+  for (size_t i = 0; i < csv.size(); ++i) {
+    ReportPeak p;
+    p.bounce = static_cast<int>(csv.Required(i, "bounce"));
+    p.t_s = csv.Required(i, "t_s");
+    p.height_m = csv.Number(i, "height_m");
+    p.height_px = csv.Number(i, "height_px");
+    p.flight_height_m = csv.Number(i, "flight_height_m");
+    p.emitted_t_s = csv.Number(i, "emitted_t_s");
+    p.height_sigma_m = csv.Number(i, "height_sigma_m");
+    peaks.push_back(p);
+  }
+  return peaks;
+}
+
+std::vector<ReportSimSample> LoadSimulated(const fs::path& file) {
+  CsvTable csv(file, {"t_s", "height_m"});
+  std::vector<ReportSimSample> out;
+  for (size_t i = 0; i < csv.size(); ++i) {
+    out.push_back({csv.Required(i, "t_s"), csv.Required(i, "height_m")});
+  }
+  return out;
+}
+
+ReportCalibration LoadCalibration(const fs::path& file) {
+  const auto j = ParseJson(file, ReadWholeFile(file));
+  if (!j.is_object()) Fail(file, "is not a JSON object");
+  ReportCalibration c;
+  try {
+    c.t_s = JsonNumber(j, "t_s");
+    c.px_per_m = JsonNumber(j, "px_per_m");
+    c.px_per_m_sigma = JsonNumber(j, "px_per_m_sigma");
+    c.roll_rad = JsonNumber(j, "roll_rad");
+    c.roll_sigma_rad = JsonNumber(j, "roll_sigma_rad");
+    c.floor_px = JsonNumber(j, "floor_px");
+    c.floor_sigma_px = JsonNumber(j, "floor_sigma_px");
+    if (j.contains("method") && j["method"].is_string()) c.method = j["method"];
+    const double samples = JsonNumber(j, "samples");
+    c.samples = std::isfinite(samples) ? static_cast<int>(samples) : 0;
+  } catch (const std::exception& e) {
+    Fail(file, e.what());
+  }
+  if (!std::isfinite(c.px_per_m)) Fail(file, "has no px_per_m");
+  return c;
+}
+
+ReportFit ParseFit(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::runtime_error("not a JSON object");
+  ReportFit f;
+  f.t_s = JsonNumber(j, "t_s");
+  f.sequence = j.value("sequence", 0);
+  f.after_bounce = j.value("after_bounce", 0);
+  f.final = j.value("final", false);
+  f.model = j.value("model", std::string());
+  f.method = j.value("method", std::string());
+  if (j.contains("coefficients")) {
+    if (!j["coefficients"].is_array()) throw std::runtime_error("'coefficients' is not an array");
+    for (const auto& c : j["coefficients"]) {
+      ReportCoefficient rc;
+      rc.name = c.at("name").get<std::string>();
+      rc.value = JsonNumber(c, "value");
+      rc.sigma = JsonNumber(c, "sigma");
+      rc.identifiable = c.value("identifiable", true);
+      f.coefficients.push_back(rc);
+    }
+  }
+  f.recorded_m = JsonNumbers(j, "recorded_m");
+  f.simulated_m = JsonNumbers(j, "simulated_m");
+  f.residual_m = JsonNumber(j, "residual_m");
+  const double evals = JsonNumber(j, "evaluations");
+  f.evaluations = std::isfinite(evals) ? static_cast<long>(evals) : 0;
+  f.wall_time_s = JsonNumber(j, "wall_time_s");
+  f.time_step_s = JsonNumber(j, "time_step_s");
+  const double iters = JsonNumber(j, "iterations");
+  f.iterations = std::isfinite(iters) ? static_cast<int>(iters) : 0;
+  return f;
+}
+
+std::vector<ReportFit> LoadFits(const fs::path& file) {
+  std::istringstream in(ReadWholeFile(file));
+  std::vector<ReportFit> fits;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    try {
+      fits.push_back(ParseFit(nlohmann::json::parse(line)));
+    } catch (const std::exception& e) {
+      std::string what = e.what();
+      std::replace(what.begin(), what.end(), '\n', ' ');
+      Fail(file, "line " + std::to_string(line_no) + ": " + what);
+    }
+  }
+  return fits;
+}
+
+}  // namespace
+
+const ReportFit* ReportRunData::FinalFit() const {
+  for (auto it = fits.rbegin(); it != fits.rend(); ++it) {
+    if (it->final) return &*it;
+  }
+  return fits.empty() ? nullptr : &fits.back();
+}
+
+ReportRunData LoadRunDirectory(const fs::path& dir) {
+  if (!fs::is_directory(dir)) {
+    throw std::runtime_error(dir.string() + ": is not a directory");
+  }
+  ReportRunData run;
+  run.dir = dir;
+  const fs::path track = dir / "track.csv";
+  if (!fs::exists(track)) Fail(track, "is missing (is this a `bouncefit run --out` directory?)");
+  run.track = LoadTrack(track);
+
+  auto optional = [&](const char* name) -> std::optional<fs::path> {
+    const fs::path p = dir / name;
+    if (fs::exists(p)) return p;
+    run.absent_files.push_back(name);
+    return std::nullopt;
+  };
+  if (auto p = optional("peaks.csv")) run.peaks = LoadPeaks(*p);
+  if (auto p = optional("calibration.json")) run.calibration = LoadCalibration(*p);
+  if (auto p = optional("fit.jsonl")) run.fits = LoadFits(*p);
+  if (auto p = optional("simulated.csv")) run.simulated = LoadSimulated(*p);
+  if (auto p = optional("summary.json")) run.summary = ParseJson(*p, ReadWholeFile(*p));
+  if (auto p = optional("coefficients.json")) {
+    run.coefficients_export = ParseJson(*p, ReadWholeFile(*p));
+  }
+  // The C++ snippet of the fit exports (fit/fit_export.h names it soft_body_config.cc).
+  for (const char* name : {"soft_body_config.cc", "fit_export.cc"}) {
+    if (fs::exists(dir / name)) {
+      run.fit_export_cc = ReadWholeFile(dir / name);
+      run.fit_export_cc_name = name;
+      break;
+    }
+  }
+  if (run.fit_export_cc_name.empty()) run.absent_files.push_back("soft_body_config.cc");
+  return run;
+}
+
+double BallBottomHeightM(double cx_px, double cy_px, double h_px,
+                         const ReportCalibration& c) {
+  if (!c.usable() || !std::isfinite(cx_px) || !std::isfinite(cy_px) || !std::isfinite(h_px)) {
+    return kReportNaN;
+  }
+  const double roll = std::isfinite(c.roll_rad) ? c.roll_rad : 0.0;
+  const double along_down = cx_px * std::sin(roll) + cy_px * std::cos(roll) + 0.5 * h_px;
+  return (c.floor_px - along_down) / c.px_per_m;
+}
+
+double BallBottomHeightM(const ReportTrackRow& row, const ReportCalibration& c) {
+  if (!row.found) return kReportNaN;
+  return BallBottomHeightM(row.cx_px, row.cy_px, row.h_px, c);
+}
+
+double ApexHeightSigmaM(double height_m, const ReportCalibration& c) {
+  if (!c.usable() || !std::isfinite(height_m)) return kReportNaN;
+  const double scale_rel = std::isfinite(c.px_per_m_sigma) ? c.px_per_m_sigma / c.px_per_m : 0;
+  const double floor_m = std::isfinite(c.floor_sigma_px) ? c.floor_sigma_px / c.px_per_m : 0;
+  const double pixel_m = 0.5 / c.px_per_m;
+  return std::sqrt(std::pow(height_m * scale_rel, 2) + floor_m * floor_m + pixel_m * pixel_m);
+}
+
+std::vector<double> RestitutionFromHeights(const std::vector<ReportPeak>& peaks) {
+  std::vector<double> e(peaks.size(), kReportNaN);
+  for (size_t i = 1; i < peaks.size(); ++i) {
+    const auto& a = peaks[i - 1];
+    const auto& b = peaks[i];
+    if (b.bounce == a.bounce + 1 && a.height_m > 0 && b.height_m >= 0) {
+      e[i] = std::sqrt(b.height_m / a.height_m);
+    }
+  }
+  return e;
+}
+
+std::vector<double> RestitutionFromFlights(const std::vector<ReportPeak>& peaks) {
+  std::vector<double> e(peaks.size(), kReportNaN);
+  for (size_t i = 1; i < peaks.size(); ++i) {
+    const auto& a = peaks[i - 1];
+    const auto& b = peaks[i];
+    if (b.bounce == a.bounce + 1 && a.flight_height_m > 0 && b.flight_height_m >= 0) {
+      e[i] = std::sqrt(b.flight_height_m / a.flight_height_m);
+    }
+  }
+  return e;
+}
+
+}  // namespace bouncefit

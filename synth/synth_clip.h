@@ -1,0 +1,92 @@
+#pragma once
+// `bouncefit synth`: drives a ball trajectory through the scene renderer into a video file
+// and writes the ground truth next to it (synth/synth_truth.h).
+//
+// RenderSynthClip simulates the point-mass drop (model/point_mass_drop.h); any other model
+// (the soft-body ball of `bouncefit simulate`) renders its own trajectory with
+// RenderSynthTrajectoryClip.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/ball_model.h"
+#include "model/ball_preset.h"
+#include "synth/synth_scene.h"
+#include "synth/synth_truth.h"
+
+namespace bouncefit {
+
+struct SynthClipConfig {
+  BallPreset ball = *FindBallPreset("pingpong");  // size, mass, e(v), Cd, colour
+  double drop_height_m = 1.0;   // ball bottom above the floor at release, m
+  double hold_s = 0.5;          // ball held still before release, s
+  double g_mps2 = 9.81;
+  bool drag = true;             // point-mass physics: quadratic air drag on/off
+  double air_density_kgpm3 = 1.2;
+
+  double fps = 120;
+  int width = 640, height = 480;  // px
+  double duration_s = 5;        // clip length, s (frames = round(duration * fps))
+  double px_per_m = 0;          // image scale; 0 = the drop fits the frame height
+  double roll_deg = 0;          // camera roll: scene rotated counter-clockwise on screen
+  double ball_x = 0.5;          // ball centre, fraction of the width (scene, before roll)
+  double floor_y = 0.86;        // floor contact line, fraction of the height (before roll)
+  double exposure_s = 0.004;    // motion blur: exposure time centred on each frame time, s
+  int blur_samples = 0;         // sub-exposures averaged per frame; 0 = enough for <= 0.5 px
+  double noise_sigma = 2.0;     // Gaussian sensor noise, grey levels
+  uint64_t seed = 1;
+  std::optional<Bgr> ball_bgr;  // default: the preset's colour
+  Bgr wall_bgr = {196, 202, 206};
+  Bgr floor_bgr = {112, 118, 124};
+  bool distractor = false;      // a static sphere of similar hue on the floor
+  int quality = 95;             // MJPEG quality, 1-100
+  std::filesystem::path out = "synth.avi";  // .avi (MJPEG) or .mp4
+};
+
+// A ball trajectory to render. Times are seconds since release; before release the ball is
+// held at its state at t = 0.
+struct SynthTrajectory {
+  std::string name;  // "point-mass", "bullet-softbody", ...
+  // Ball state at time t (s since release): bottom and centre height (m), width/height
+  // ratio. A centre-bottom distance <= 0 means "round ball of the preset's radius".
+  std::function<TrajectorySample(double t_s)> at;
+  std::vector<double> impact_times_s;   // since release
+  std::vector<double> apex_times_s;     // since release; [0] = release (0)
+  std::vector<double> apex_heights_m;   // ball bottom; [0] = drop height
+  bool comes_to_rest = false;
+  double rest_time_s = 0;               // since release
+};
+
+// A model's recorded trajectory (SimulationResult::trajectory, times since release, evenly
+// or unevenly sampled) as a SynthTrajectory, linearly interpolated; held at the ends.
+// drop_height_m becomes apex 0.
+SynthTrajectory SynthTrajectoryFromSimulation(const SimulationResult& result,
+                                              double drop_height_m, const std::string& name);
+
+struct SynthClipResult {
+  SynthTruth truth;
+  std::filesystem::path clip_path, truth_path;
+  double render_wall_s = 0;  // time spent in all, s
+  double render_cpu_s = 0;   // process CPU time spent in all, s
+  // Of which (process CPU time, s): drawing frames, adding noise, encoding the video.
+  double scene_s = 0, noise_s = 0, encode_s = 0;
+};
+
+// Called after each frame written: (frames done, frame count).
+using SynthProgress = std::function<void(int, int)>;
+
+// Validates the config (std::invalid_argument, one line), renders and writes clip + truth
+// (std::runtime_error, one line, on I/O failures).
+SynthClipResult RenderSynthClip(const SynthClipConfig& config,
+                                const SynthProgress& progress = {});
+SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& config,
+                                          const SynthTrajectory& trajectory,
+                                          const SynthProgress& progress = {});
+
+// The point-mass trajectory RenderSynthClip uses, for configs' physics fields.
+SynthTrajectory PointMassSynthTrajectory(const SynthClipConfig& config);
+
+}  // namespace bouncefit

@@ -1,0 +1,256 @@
+#include "synth/synth_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace bouncefit {
+namespace {
+
+// Light from the upper left, in front of the wall (scene axes: x right, y down, z to camera).
+struct Light {
+  double lx, ly, lz;  // unit direction to the light
+  double hx, hy, hz;  // unit half vector between light and viewer (0, 0, 1)
+  Light() {
+    const double x = -0.45, y = -0.65, z = 0.62;
+    const double n = std::sqrt(x * x + y * y + z * z);
+    lx = x / n, ly = y / n, lz = z / n;
+    const double hn = std::sqrt(lx * lx + ly * ly + (lz + 1) * (lz + 1));
+    hx = lx / hn, hy = ly / hn, hz = (lz + 1) / hn;
+  }
+};
+const Light kLight;
+
+constexpr double kAmbient = 0.42;
+constexpr double kDiffuse = 0.58;
+constexpr double kSpecular = 0.22;
+
+// Shaded colour of a sphere-like ball at normalised local position (u, v) (|.| <= 1 inside).
+inline void ShadeSphere(double u, double v, const Bgr& color, float out[3]) {
+  const double r2 = std::min(1.0, u * u + v * v);
+  const double nz = std::sqrt(1.0 - r2);
+  const double lambert = std::max(0.0, u * kLight.lx + v * kLight.ly + nz * kLight.lz);
+  const double nh = std::max(0.0, u * kLight.hx + v * kLight.hy + nz * kLight.hz);
+  double nh2 = nh * nh, nh4 = nh2 * nh2, nh8 = nh4 * nh4, nh16 = nh8 * nh8;
+  const double spec = kSpecular * 255.0 * nh16 * nh8;  // Blinn-Phong, exponent 24
+  const double k = kAmbient + kDiffuse * lambert;
+  for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(std::min(255.0, color[c] * k + spec));
+}
+
+inline double Clamp01(double x) { return x < 0 ? 0 : (x > 1 ? 1 : x); }
+
+struct Box {
+  int x0, y0, x1, y1;  // inclusive pixel range; empty when x1 < x0 or y1 < y0
+  bool empty() const { return x1 < x0 || y1 < y0; }
+  int w() const { return x1 - x0 + 1; }
+  int h() const { return y1 - y0 + 1; }
+};
+
+Box ClipBox(double xmin, double ymin, double xmax, double ymax, int width, int height) {
+  return {std::max(0, static_cast<int>(std::floor(xmin))),
+          std::max(0, static_cast<int>(std::floor(ymin))),
+          std::min(width - 1, static_cast<int>(std::ceil(xmax))),
+          std::min(height - 1, static_cast<int>(std::ceil(ymax)))};
+}
+
+Box Union(const Box& a, const Box& b) {
+  if (a.empty()) return b;
+  if (b.empty()) return a;
+  return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1),
+          std::max(a.y1, b.y1)};
+}
+
+// The soft shadow of a ball whose bottom is h_px above the floor.
+struct ShadowShape {
+  double x, y, sx, sy, strength;
+};
+
+ShadowShape ShadowOf(const BallShape& b, double floor_y) {
+  const double r = 0.5 * (b.a + b.b);
+  const double h = std::max(0.0, floor_y - (b.y + b.b));
+  const double sx = r * (1.0 + 0.5 * std::min(h / (4 * r), 2.0));
+  const double sy = 0.3 * sx;
+  return {b.x, floor_y + 0.5 * sy, sx, sy, 0.55 / (1.0 + h / (3 * r))};
+}
+
+}  // namespace
+
+SynthScene::SynthScene(const SynthSceneConfig& config) : config_(config) {
+  const double th = config.roll_deg * std::numbers::pi / 180;
+  cos_ = std::cos(th);
+  sin_ = std::sin(th);
+  center_ = {(config.width - 1) / 2.0, (config.height - 1) / 2.0};
+
+  background_.create(config.height, config.width, CV_8UC3);
+  const double W = config.width, H = config.height, fy = config.floor_y_px;
+  for (int y = 0; y < config.height; ++y) {
+    auto* row = background_.ptr<uchar>(y);
+    for (int x = 0; x < config.width; ++x) {
+      const cv::Point2d q = ToScene({static_cast<double>(x), static_cast<double>(y)});
+      const double floor_cover = Clamp01(q.y - fy + 0.5);
+      const double hx = (q.x - W / 2) / (W / 2);
+      const double wall_k = (1.03 - 0.10 * std::clamp(q.y / H, 0.0, 1.0)) * (1 - 0.06 * hx * hx);
+      const double floor_k = 0.92 + 0.12 * Clamp01((q.y - fy) / (0.2 * H));
+      for (int c = 0; c < 3; ++c) {
+        const double v = config.wall_bgr[c] * wall_k * (1 - floor_cover) +
+                         config.floor_bgr[c] * floor_k * floor_cover;
+        row[3 * x + c] = cv::saturate_cast<uchar>(v);
+      }
+    }
+  }
+  if (config.distractor) {
+    const double r = config.distractor_radius_px;
+    const std::vector<BallShape> d = {{config.distractor_x_px, fy - r, r, r}};
+    const Bgr& b = config.ball_bgr;
+    // Similar hue: a little darker, slightly shifted.
+    const Bgr color = {std::clamp(b[0] * 0.85 + 15, 0.0, 255.0),
+                       std::clamp(b[1] * 0.85 - 10, 0.0, 255.0),
+                       std::clamp(b[2] * 0.92, 0.0, 255.0)};
+    RenderShadow(d, &background_);
+    RenderBall(d, color, &background_);
+  }
+}
+
+cv::Point2d SynthScene::ToImage(cv::Point2d q) const {
+  const double dx = q.x - center_.x, dy = q.y - center_.y;
+  return {center_.x + cos_ * dx + sin_ * dy, center_.y - sin_ * dx + cos_ * dy};
+}
+
+cv::Point2d SynthScene::ToScene(cv::Point2d p) const {
+  const double dx = p.x - center_.x, dy = p.y - center_.y;
+  return {center_.x + cos_ * dx - sin_ * dy, center_.y + sin_ * dx + cos_ * dy};
+}
+
+bool SynthScene::FullyInView(const BallShape& b) const {
+  const cv::Point2d c = ToImage({b.x, b.y});
+  const double ex = std::sqrt(b.a * b.a * cos_ * cos_ + b.b * b.b * sin_ * sin_);
+  const double ey = std::sqrt(b.a * b.a * sin_ * sin_ + b.b * b.b * cos_ * cos_);
+  return c.x - ex >= -0.5 && c.y - ey >= -0.5 && c.x + ex <= config_.width - 0.5 &&
+         c.y + ey <= config_.height - 0.5;
+}
+
+void SynthScene::Render(const std::vector<BallShape>& subs, cv::Mat* out) const {
+  background_.copyTo(*out);
+  if (subs.empty()) return;
+  RenderShadow(subs, out);
+  RenderBall(subs, config_.ball_bgr, out);
+}
+
+void SynthScene::RenderShadow(const std::vector<BallShape>& subs, cv::Mat* out) const {
+  const double fy = config_.floor_y_px;
+  std::vector<ShadowShape> shadows;
+  Box box{0, 0, -1, -1};
+  std::vector<Box> boxes;
+  for (const auto& b : subs) {
+    const ShadowShape s = ShadowOf(b, fy);
+    // Scene rectangle x +- 3 sx, y in [floor - 1, y + 3 sy], as an image box.
+    double xmin = 1e300, ymin = 1e300, xmax = -1e300, ymax = -1e300;
+    for (double qx : {s.x - 3 * s.sx, s.x + 3 * s.sx})
+      for (double qy : {fy - 1, s.y + 3 * s.sy}) {
+        const cv::Point2d p = ToImage({qx, qy});
+        xmin = std::min(xmin, p.x), xmax = std::max(xmax, p.x);
+        ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
+      }
+    boxes.push_back(ClipBox(xmin, ymin, xmax, ymax, config_.width, config_.height));
+    box = Union(box, boxes.back());
+    shadows.push_back(s);
+  }
+  if (box.empty()) return;
+  std::vector<float> dark(static_cast<size_t>(box.w()) * box.h(), 0.f);
+  const float inv_n = 1.0f / static_cast<float>(subs.size());
+  for (size_t k = 0; k < shadows.size(); ++k) {
+    const ShadowShape& s = shadows[k];
+    const Box& b = boxes[k];
+    if (b.empty()) continue;
+    for (int y = b.y0; y <= b.y1; ++y) {
+      float* drow = &dark[static_cast<size_t>(y - box.y0) * box.w()];
+      for (int x = b.x0; x <= b.x1; ++x) {
+        const cv::Point2d q = ToScene({static_cast<double>(x), static_cast<double>(y)});
+        const double floor_cover = Clamp01(q.y - fy + 0.5);
+        if (floor_cover <= 0) continue;
+        const double u = (q.x - s.x) / s.sx, v = (q.y - s.y) / s.sy;
+        const double e = u * u + v * v;
+        if (e > 9) continue;
+        drow[x - box.x0] += static_cast<float>(s.strength * std::exp(-e) * floor_cover) * inv_n;
+      }
+    }
+  }
+  for (int y = box.y0; y <= box.y1; ++y) {
+    uchar* row = out->ptr<uchar>(y);
+    const float* drow = &dark[static_cast<size_t>(y - box.y0) * box.w()];
+    for (int x = box.x0; x <= box.x1; ++x) {
+      const float k = 1.0f - drow[x - box.x0];
+      if (k >= 1.0f) continue;
+      for (int c = 0; c < 3; ++c)
+        row[3 * x + c] = cv::saturate_cast<uchar>(row[3 * x + c] * k);
+    }
+  }
+}
+
+void SynthScene::RenderBall(const std::vector<BallShape>& subs, const Bgr& color,
+                            cv::Mat* out) const {
+  struct Sub {
+    cv::Point2d c;  // image centre
+    Box box;
+    double a, b;
+  };
+  std::vector<Sub> s;
+  Box box{0, 0, -1, -1};
+  for (const auto& b : subs) {
+    const cv::Point2d c = ToImage({b.x, b.y});
+    const double ex = std::sqrt(b.a * b.a * cos_ * cos_ + b.b * b.b * sin_ * sin_) + 1.5;
+    const double ey = std::sqrt(b.a * b.a * sin_ * sin_ + b.b * b.b * cos_ * cos_) + 1.5;
+    s.push_back({c, ClipBox(c.x - ex, c.y - ey, c.x + ex, c.y + ey, config_.width,
+                            config_.height),
+                 b.a, b.b});
+    box = Union(box, s.back().box);
+  }
+  if (box.empty()) return;
+  // Per pixel: summed colour * alpha (3) and alpha (1), over the sub-exposures.
+  std::vector<float> acc(static_cast<size_t>(box.w()) * box.h() * 4, 0.f);
+  for (const Sub& b : s) {
+    if (b.box.empty()) continue;
+    const double ia = 1 / b.a, ib = 1 / b.b, ia2 = ia * ia, ib2 = ib * ib;
+    for (int y = b.box.y0; y <= b.box.y1; ++y) {
+      float* arow = &acc[static_cast<size_t>(y - box.y0) * box.w() * 4];
+      const double dy = y - b.c.y;
+      for (int x = b.box.x0; x <= b.box.x1; ++x) {
+        const double dx = x - b.c.x;
+        // Ball-local offset, in scene axes.
+        const double lx = cos_ * dx - sin_ * dy, ly = sin_ * dx + cos_ * dy;
+        const double u = lx * ia, v = ly * ib;
+        const double rho2 = u * u + v * v;
+        // Signed distance to the outline, px (exact for a circle): rho - 1 over |grad rho|.
+        const double rho = std::sqrt(rho2);
+        double dist;
+        if (rho < 1e-9) {
+          dist = -std::min(b.a, b.b);
+        } else {
+          const double gx = lx * ia2, gy = ly * ib2;
+          dist = (rho - 1) * rho / std::sqrt(gx * gx + gy * gy);
+        }
+        const double alpha = Clamp01(0.5 - dist);
+        if (alpha <= 0) continue;
+        float col[3];
+        ShadeSphere(u, v, color, col);
+        float* p = arow + 4 * (x - box.x0);
+        for (int c = 0; c < 3; ++c) p[c] += static_cast<float>(alpha) * col[c];
+        p[3] += static_cast<float>(alpha);
+      }
+    }
+  }
+  const float inv_n = 1.0f / static_cast<float>(subs.size());
+  for (int y = box.y0; y <= box.y1; ++y) {
+    uchar* row = out->ptr<uchar>(y);
+    const float* arow = &acc[static_cast<size_t>(y - box.y0) * box.w() * 4];
+    for (int x = box.x0; x <= box.x1; ++x) {
+      const float* p = arow + 4 * (x - box.x0);
+      const float alpha = p[3] * inv_n;
+      if (alpha <= 0) continue;
+      for (int c = 0; c < 3; ++c)
+        row[3 * x + c] = cv::saturate_cast<uchar>(p[c] * inv_n + (1 - alpha) * row[3 * x + c]);
+    }
+  }
+}
+
+}  // namespace bouncefit

@@ -1,0 +1,189 @@
+#include "synth/synth_truth.h"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+namespace bouncefit {
+
+using nlohmann::json;
+
+std::filesystem::path SynthTruthPathFor(const std::filesystem::path& clip) {
+  auto p = clip;
+  p.replace_extension(".truth.json");
+  return p;
+}
+
+void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
+  using ojson = nlohmann::ordered_json;  // keeps the fields in the documented order
+  ojson j;
+  j["format"] = "bouncefit-synth-truth";
+  j["version"] = t.version;
+  j["clip"] = t.clip;
+  j["fps"] = t.fps;
+  j["width"] = t.width;
+  j["height"] = t.height;
+  j["frames"] = t.frame_count;
+  j["px_per_m"] = t.px_per_m;
+  j["roll_deg"] = t.roll_deg;
+  j["down"] = {t.down_x, t.down_y};
+  j["rotation_center_px"] = {t.center_x, t.center_y};
+  j["floor"] = {{"y_unrolled_px", t.floor_y_unrolled_px},
+                {"offset_px", t.floor_offset_px},
+                {"point_px", {t.floor_point_x, t.floor_point_y}},
+                {"direction", {t.floor_dir_x, t.floor_dir_y}}};
+  j["ball"] = {{"preset", t.ball},
+               {"radius_m", t.radius_m},
+               {"radius_px", t.radius_px},
+               {"mass_kg", t.mass_kg},
+               {"restitution", t.restitution},
+               {"restitution_per_mps", t.restitution_per_mps},
+               {"drag_coefficient", t.drag_coefficient},
+               {"color_bgr", {t.ball_color_bgr[0], t.ball_color_bgr[1], t.ball_color_bgr[2]}}};
+  j["physics"] = {{"trajectory", t.trajectory},
+                  {"g_mps2", t.g_mps2},
+                  {"drop_height_m", t.drop_height_m}};
+  j["render"] = {{"exposure_s", t.exposure_s},
+                 {"blur_samples", t.blur_samples},
+                 {"noise_sigma", t.noise_sigma},
+                 {"seed", t.seed},
+                 {"distractor", t.distractor}};
+  j["release_t_s"] = t.release_t_s;
+  j["impact_times_s"] = t.impact_times_s;
+  j["apex_times_s"] = t.apex_times_s;
+  j["apex_heights_m"] = t.apex_heights_m;
+  j["comes_to_rest"] = t.comes_to_rest;
+  j["rest_t_s"] = t.comes_to_rest ? ojson(t.rest_t_s) : ojson(nullptr);
+  ojson frames = ojson::array();
+  for (const auto& f : t.frames)
+    frames.push_back({{"i", f.index},
+                      {"t_s", f.t_s},
+                      {"cx", f.cx},
+                      {"cy", f.cy},
+                      {"height_m", f.height_m},
+                      {"fully_in_view", f.fully_in_view}});
+
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write truth file " + path.string());
+  // One line per top-level field, then one line per frame: readable and diffable.
+  out << "{";
+  bool first = true;
+  for (const auto& [key, value] : j.items()) {
+    out << (first ? "\n " : ",\n ") << ojson(key).dump() << ": " << value.dump();
+    first = false;
+  }
+  out << ",\n \"per_frame\": [";
+  for (size_t i = 0; i < frames.size(); ++i)
+    out << (i ? ",\n  " : "\n  ") << frames[i].dump();
+  out << "\n ]\n}\n";
+  if (!out) throw std::runtime_error("error writing truth file " + path.string());
+}
+
+namespace {
+
+template <typename T>
+T Get(const json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key))
+    throw std::runtime_error(where + ": missing '" + key + "'");
+  try {
+    return j.at(key).get<T>();
+  } catch (const json::exception&) {
+    throw std::runtime_error(where + ": bad value for '" + key + "'");
+  }
+}
+
+}  // namespace
+
+SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(where + ": cannot open truth file");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(where + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  }
+  if (!j.is_object() || j.value("format", "") != "bouncefit-synth-truth")
+    throw std::runtime_error(where + ": not a bouncefit synth truth file");
+  SynthTruth t;
+  t.version = Get<int>(j, "version", where);
+  if (t.version != 1)
+    throw std::runtime_error(where + ": unsupported truth version " + std::to_string(t.version));
+  t.clip = Get<std::string>(j, "clip", where);
+  t.fps = Get<double>(j, "fps", where);
+  t.width = Get<int>(j, "width", where);
+  t.height = Get<int>(j, "height", where);
+  t.frame_count = Get<int>(j, "frames", where);
+  t.px_per_m = Get<double>(j, "px_per_m", where);
+  t.roll_deg = Get<double>(j, "roll_deg", where);
+  auto down = Get<std::vector<double>>(j, "down", where);
+  auto center = Get<std::vector<double>>(j, "rotation_center_px", where);
+  if (down.size() != 2 || center.size() != 2)
+    throw std::runtime_error(where + ": 'down' and 'rotation_center_px' need 2 numbers");
+  t.down_x = down[0], t.down_y = down[1];
+  t.center_x = center[0], t.center_y = center[1];
+  const json floor = Get<json>(j, "floor", where);
+  t.floor_y_unrolled_px = Get<double>(floor, "y_unrolled_px", where + " floor");
+  t.floor_offset_px = Get<double>(floor, "offset_px", where + " floor");
+  auto fp = Get<std::vector<double>>(floor, "point_px", where + " floor");
+  auto fd = Get<std::vector<double>>(floor, "direction", where + " floor");
+  if (fp.size() != 2 || fd.size() != 2)
+    throw std::runtime_error(where + ": floor 'point_px' and 'direction' need 2 numbers");
+  t.floor_point_x = fp[0], t.floor_point_y = fp[1];
+  t.floor_dir_x = fd[0], t.floor_dir_y = fd[1];
+
+  const json ball = Get<json>(j, "ball", where);
+  t.ball = Get<std::string>(ball, "preset", where + " ball");
+  t.radius_m = Get<double>(ball, "radius_m", where + " ball");
+  t.radius_px = Get<double>(ball, "radius_px", where + " ball");
+  t.mass_kg = Get<double>(ball, "mass_kg", where + " ball");
+  t.restitution = Get<double>(ball, "restitution", where + " ball");
+  t.restitution_per_mps = Get<double>(ball, "restitution_per_mps", where + " ball");
+  t.drag_coefficient = Get<double>(ball, "drag_coefficient", where + " ball");
+  auto color = Get<std::vector<double>>(ball, "color_bgr", where + " ball");
+  if (color.size() != 3) throw std::runtime_error(where + ": ball 'color_bgr' needs 3 numbers");
+  for (int i = 0; i < 3; ++i) t.ball_color_bgr[i] = color[i];
+
+  const json physics = Get<json>(j, "physics", where);
+  t.trajectory = Get<std::string>(physics, "trajectory", where + " physics");
+  t.g_mps2 = Get<double>(physics, "g_mps2", where + " physics");
+  t.drop_height_m = Get<double>(physics, "drop_height_m", where + " physics");
+
+  const json render = Get<json>(j, "render", where);
+  t.exposure_s = Get<double>(render, "exposure_s", where + " render");
+  t.blur_samples = Get<int>(render, "blur_samples", where + " render");
+  t.noise_sigma = Get<double>(render, "noise_sigma", where + " render");
+  t.seed = Get<unsigned long long>(render, "seed", where + " render");
+  t.distractor = Get<bool>(render, "distractor", where + " render");
+
+  t.release_t_s = Get<double>(j, "release_t_s", where);
+  t.impact_times_s = Get<std::vector<double>>(j, "impact_times_s", where);
+  t.apex_times_s = Get<std::vector<double>>(j, "apex_times_s", where);
+  t.apex_heights_m = Get<std::vector<double>>(j, "apex_heights_m", where);
+  if (t.apex_times_s.size() != t.apex_heights_m.size())
+    throw std::runtime_error(where + ": apex_times_s and apex_heights_m differ in length");
+  t.comes_to_rest = Get<bool>(j, "comes_to_rest", where);
+  if (t.comes_to_rest) t.rest_t_s = Get<double>(j, "rest_t_s", where);
+
+  const json frames = Get<json>(j, "per_frame", where);
+  if (!frames.is_array()) throw std::runtime_error(where + ": 'per_frame' is not an array");
+  t.frames.reserve(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const std::string fw = where + " per_frame[" + std::to_string(i) + "]";
+    SynthTruthFrame f;
+    f.index = Get<int>(frames[i], "i", fw);
+    f.t_s = Get<double>(frames[i], "t_s", fw);
+    f.cx = Get<double>(frames[i], "cx", fw);
+    f.cy = Get<double>(frames[i], "cy", fw);
+    f.height_m = Get<double>(frames[i], "height_m", fw);
+    f.fully_in_view = Get<bool>(frames[i], "fully_in_view", fw);
+    t.frames.push_back(f);
+  }
+  if (static_cast<int>(t.frames.size()) != t.frame_count)
+    throw std::runtime_error(where + ": 'frames' says " + std::to_string(t.frame_count) +
+                             " but per_frame has " + std::to_string(t.frames.size()));
+  return t;
+}
+
+}  // namespace bouncefit
