@@ -221,11 +221,14 @@ TEST(CaptureCommand, CtrlCStopsCleanlyAndKeepsTheLog) {
   const auto dir = testing::ScratchDir("capture_command_sigint");
   const std::string log = (dir / "boxes.lcm").string();
   std::string out;
-  // Real-time replay of the 1.5 s clip, interrupted after about 0.8 s.
-  const int rc = RunCommand("bash -c \"" + BouncefitExe() + " capture --replay '" + SynthClip() +
-                                "' --lcm-url memq:// --quiet --log '" + log +
-                                "' & P=\\$!; sleep 0.8; kill -INT \\$P; wait \\$P\"",
-                            &out);
+  // The 1.5 s clip replayed at half speed (3 s), interrupted 0.5 s after its first box is
+  // logged: start-up time on a loaded machine cannot move the stop out of the stream.
+  const int rc = RunCommand(
+      "bash -c \"" + BouncefitExe() + " capture --replay '" + SynthClip() +
+          "' --speed 0.5 --lcm-url memq:// --quiet --log '" + log +
+          "' & P=\\$!; for i in \\$(seq 500); do [ -s '" + log +
+          "' ] && break; sleep 0.02; done; sleep 0.5; kill -INT \\$P; wait \\$P\"",
+      &out);
   EXPECT_EQ(rc, 0) << out;
   std::smatch m;
   ASSERT_TRUE(std::regex_search(out, m, std::regex("capture: stopped: (\\d+) frames"))) << out;
