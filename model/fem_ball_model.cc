@@ -134,8 +134,9 @@ struct World {
   }
 };
 
-void BuildWorld(const BallPreset& ball, const FemBallModelConfig& cfg, const Coeffs& c,
-                const TetMesh& mesh, double drop_height_m, World* w) {
+// Builds the world of one run; returns the undeformed mesh's x extent / y extent.
+double BuildWorld(const BallPreset& ball, const FemBallModelConfig& cfg, const Coeffs& c,
+                  const TetMesh& mesh, double drop_height_m, World* w) {
   const double r = ball.radius_m();
   const double margin = cfg.margin_per_radius * r;
   const btVector3 g(0, -btScalar(cfg.gravity_mps2), 0);
@@ -185,8 +186,13 @@ void BuildWorld(const BallPreset& ball, const FemBallModelConfig& cfg, const Coe
                 p[2] + vxp[2] + k * vxvxp[2]};
   };
   std::vector<btVector3> x(mesh.nodes.size());
+  double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
   for (size_t i = 0; i < x.size(); ++i) {
     const Vec3 p = rotate(mesh.nodes[i]);
+    xmin = std::min(xmin, p[0]);
+    xmax = std::max(xmax, p[0]);
+    ymin = std::min(ymin, p[1]);
+    ymax = std::max(ymax, p[1]);
     x[i] = btVector3(btScalar(p[0] * r), btScalar(p[1] * r), btScalar(p[2] * r));
   }
   w->ball = std::make_unique<btSoftBody>(&info, static_cast<int>(x.size()), x.data(), nullptr);
@@ -238,6 +244,7 @@ void BuildWorld(const BallPreset& ball, const FemBallModelConfig& cfg, const Coe
   w->elasticity = std::make_unique<btDeformableNeoHookeanForce>(
       btScalar(c.Mu()), btScalar(c.Lambda()), btScalar(c.damping));
   w->world->addForce(sb, w->elasticity.get());
+  return (xmax - xmin) / (ymax - ymin);
 }
 
 struct State {
@@ -384,7 +391,7 @@ SimulationResult FemBallModel::Simulate(const CoefficientValues& values,
   }
 
   World w;
-  BuildWorld(ball_, config_, c, *mesh, options.drop_height_m, &w);
+  const double rest_width_height = BuildWorld(ball_, config_, c, *mesh, options.drop_height_m, &w);
   btSoftBody& sb = *w.ball;
 
   const double r = ball_.radius_m(), g = config_.gravity_mps2;
@@ -395,7 +402,6 @@ SimulationResult FemBallModel::Simulate(const CoefficientValues& values,
   // Air drag on the centre, spread over the nodes as one velocity change (the deformable
   // solver has no aerodynamics of its own): dv = -k |v| v dt, k = Cd rho pi r^2 / (2 m).
   const double drag_k = c.drag * config_.air_density_kgpm3 * kPi * r * r / (2 * ball_.mass_kg);
-  const double rest_width_height = 1;  // the mesh is a sphere: extents equal at rest
   auto at = [](double t) { return " at t=" + Num(t, 4) + " s"; };
 
   std::vector<double> cam_t, cam_y;

@@ -3,6 +3,7 @@
 // each simulation well under a second of CPU.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -36,6 +37,19 @@ TEST(FemBallModel, ReboundsFromStoredElasticEnergyAlone) {
   // It fell as a body falls (no drag): impact after sqrt(2 h / g) = 0.247 s.
   ASSERT_GE(r.impact_times_s.size(), 1u);
   EXPECT_NEAR(r.impact_times_s[0], std::sqrt(2 * 0.3 / 9.81), 0.02);
+}
+
+TEST(FemBallModel, SquashesOnImpactAndStartsRound) {
+  SimulationOptions o = ShortDrop();
+  o.record_trajectory = true;
+  const SimulationResult r = Pingpong().Simulate(kSoftPingpong, o);
+  ASSERT_TRUE(r.ok) << r.failure;
+  ASSERT_FALSE(r.trajectory.empty());
+  EXPECT_NEAR(r.trajectory.front().width_height_ratio, 1, 1e-6);
+  double widest = 0;
+  for (const auto& s : r.trajectory) widest = std::max(widest, s.width_height_ratio);
+  EXPECT_GT(widest, 1.02);  // a soft ball flattens on the floor
+  EXPECT_LT(widest, 3);
 }
 
 TEST(FemBallModel, MaterialDampingLowersTheRebound) {
