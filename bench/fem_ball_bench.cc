@@ -79,9 +79,9 @@ void Rebound() {
   for (const char* name : {"pingpong", "wiffle", "softball", "airball"}) {
     const FemBallModel m(*FindBallPreset(name));
     double lo = 1e9, hi = -1;
-    for (double E : {3e3, 3e4})
+    for (double E : {3e3, 3e4, 1e5})
       for (double nu : {0.3, 0.45})
-        for (double d : {0.0, 3e-4}) {
+        for (double d : {0.0, 3e-4, 1e-3}) {
           const CoefficientValues v{{"youngs_modulus", E}, {"poisson_ratio", nu}, {"damping", d}, {"drag", 0}};
           const Run r = Timed(m, v, o);
           const double ratio = r.result.ok && !r.result.bounce_heights_m.empty()
