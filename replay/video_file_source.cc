@@ -1,5 +1,7 @@
 #include "replay/video_file_source.h"
 
+#include <opencv2/core.hpp>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -48,6 +50,8 @@ VideoFileSource::VideoFileSource(VideoFileSourceConfig config) : config_(std::mo
   info_.description = "file " + std::filesystem::path(path).filename().string() + " (" +
                       FourccText(capture_.get(cv::CAP_PROP_FOURCC)) + " " +
                       std::to_string(info_.width) + "x" + std::to_string(info_.height) +
+                      (rotation_deg_ ? ", stored turned: rotated " + std::to_string(rotation_deg_) +
+                                           " deg clockwise to upright" : "") +
                       (recorded_.empty() ? ")" : ", camera times from its .times.csv)");
 }
 
@@ -81,6 +85,12 @@ void VideoFileSource::Open() {
   if (!capture_.open(config_.path, cv::CAP_FFMPEG) || !capture_.isOpened())
     throw std::runtime_error("cannot open video '" + config_.path +
                              "': not a video file OpenCV/FFmpeg can read");
+  // OpenCV 4.6 turns tagged frames by itself, but the wrong way round (upside down): turn
+  // them ourselves. Its CAP_PROP_ORIENTATION_META is the counter-clockwise display angle.
+  capture_.set(cv::CAP_PROP_ORIENTATION_AUTO, 0);
+  const double meta = capture_.get(cv::CAP_PROP_ORIENTATION_META);
+  const int ccw = std::isfinite(meta) ? ((static_cast<int>(std::lround(meta / 90)) % 4) + 4) % 4 : 0;
+  rotation_deg_ = (360 - 90 * ccw) % 360;
   info_.nominal_fps = capture_.get(cv::CAP_PROP_FPS);
   const double count = capture_.get(cv::CAP_PROP_FRAME_COUNT);
   info_.frame_count = count > 0 ? static_cast<int64_t>(count) : -1;
@@ -98,6 +108,9 @@ std::optional<Frame> VideoFileSource::Decode() {
                              std::to_string(delivered_) + " frames");
   }
   if (!ok || frame.image.empty()) return std::nullopt;
+  if (rotation_deg_ == 90) cv::rotate(frame.image, frame.image, cv::ROTATE_90_CLOCKWISE);
+  if (rotation_deg_ == 180) cv::rotate(frame.image, frame.image, cv::ROTATE_180);
+  if (rotation_deg_ == 270) cv::rotate(frame.image, frame.image, cv::ROTATE_90_COUNTERCLOCKWISE);
   frame.format = PixelFormat::kBgr24;
   const double pos_ms = capture_.get(cv::CAP_PROP_POS_MSEC);
   const int64_t t = std::isfinite(pos_ms) ? std::llround(pos_ms * 1000.0) : -1;

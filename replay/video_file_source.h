@@ -4,6 +4,8 @@
 // not from the nominal frame rate, so variable-frame-rate clips keep their true timing.
 // A recording made by `capture --record` (capture/frame_recorder.h) carries the camera's
 // own times and sequence numbers in FILE.times.csv: they are used when present.
+// A file stored rotated (a phone's rotation tag) is turned upright: frames come out as a
+// player shows them.
 #include <opencv2/videoio.hpp>
 
 #include <cstdint>
@@ -40,6 +42,8 @@ class VideoFileSource final : public FrameSource {
   int64_t repaired_times() const { return repaired_; }
   int64_t dropped_frames() const override { return dropped_; }
   bool uses_times_file() const { return !recorded_.empty(); }
+  // Clockwise turn applied to every decoded frame to show it upright: 0, 90, 180 or 270 deg.
+  int rotation_deg() const { return rotation_deg_; }
 
  private:
   void Open();
@@ -65,6 +69,7 @@ class VideoFileSource final : public FrameSource {
   };
   std::vector<Recorded> recorded_;  // from FILE.times.csv, one per frame
   int64_t repaired_ = 0;
+  int rotation_deg_ = 0;
 };
 
 }  // namespace bouncefit

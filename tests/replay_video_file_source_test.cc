@@ -1,6 +1,7 @@
 // A video file as a fake camera: container times (not nominal fps), looping, clear errors.
 #include <gtest/gtest.h>
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -106,6 +107,64 @@ TEST(VideoFileSource, RealVariableRateClipKeepsItsContainerTimes) {
   EXPECT_NEAR(t[2], 31667, 50);
   EXPECT_NEAR(t.back(), 3115000, 50);
   EXPECT_EQ(source.repaired_times(), 2);
+}
+
+// The first frame as ffmpeg's own player logic shows it (it honours the rotation tag).
+cv::Mat FfmpegFirstFrame(const std::string& path, const std::filesystem::path& dir) {
+  const std::string png = (dir / "ffmpeg_first.png").string();
+  std::string out;
+  if (testing::RunCommand("ffmpeg -v error -y -i '" + path + "' -frames:v 1 '" + png + "'", &out) != 0)
+    return {};
+  return cv::imread(png);
+}
+
+double MeanAbsDiff(const cv::Mat& a, const cv::Mat& b) {
+  if (a.size() != b.size()) return 1e9;
+  return cv::mean(cv::abs(cv::Mat_<cv::Vec3f>(a) - cv::Mat_<cv::Vec3f>(b)))[0];
+}
+
+TEST(VideoFileSource, FileStoredTurnedComesOutUprightAsAPlayerShowsIt) {
+  // An asymmetric picture stored with a rotation tag, as phones write it: every frame must
+  // match what ffmpeg shows (turned by the tag), not the stored pixels, and not OpenCV 4.6's
+  // own automatic turn, which goes the wrong way.
+  const auto dir = testing::ScratchDir("video_file_source_rotated");
+  const std::string plain = (dir / "plain.mp4").string();
+  std::string out;
+  if (testing::RunCommand("ffmpeg -v error -y -f lavfi -i testsrc=size=160x120:rate=30:duration=0.5 "
+                          "-c:v mpeg4 -q:v 2 '" + plain + "'", &out) != 0)
+    GTEST_SKIP() << "ffmpeg cannot write the test clip: " << out;
+  for (int tag : {90, 180, 270}) {
+    const std::string turned = (dir / ("turned" + std::to_string(tag) + ".mov")).string();
+    ASSERT_EQ(testing::RunCommand("ffmpeg -v error -y -i '" + plain + "' -c copy -metadata:s:v:0 rotate=" +
+                                      std::to_string(tag) + " '" + turned + "'", &out), 0) << out;
+    const cv::Mat expect = FfmpegFirstFrame(turned, dir);
+    ASSERT_FALSE(expect.empty());
+    VideoFileSource source({turned, false});
+    const auto first = source.Next();
+    ASSERT_TRUE(first);
+    EXPECT_EQ(source.Info().width, expect.cols) << tag;
+    EXPECT_EQ(source.Info().height, expect.rows) << tag;
+    EXPECT_LT(MeanAbsDiff(first->image, expect), 3.0) << "tag " << tag;
+    EXPECT_NE(source.rotation_deg(), 0);
+    EXPECT_NE(source.Info().description.find("rotated"), std::string::npos) << source.Info().description;
+    int n = 1;
+    while (auto f = source.Next()) EXPECT_EQ(f->image.size(), expect.size()) << n++;
+  }
+}
+
+TEST(VideoFileSource, RealPhoneClipsStoredTurnedComeOutUpright) {
+  const auto dir = testing::RealClipsDir();
+  if (dir.empty()) GTEST_SKIP() << "shared real clips not found (../shared/real-clips)";
+  const auto scratch = testing::ScratchDir("video_file_source_real_rotated");
+  for (const char* name : {"pingpong_ruler_60fps.mov", "pingpong_white_blackcloth_24fps.mov"}) {
+    const std::string path = (dir / name).string();
+    const cv::Mat expect = FfmpegFirstFrame(path, scratch);
+    ASSERT_FALSE(expect.empty()) << name;
+    VideoFileSource source({path, false});
+    const auto first = source.Next();
+    ASSERT_TRUE(first);
+    EXPECT_LT(MeanAbsDiff(first->image, expect), 3.0) << name;
+  }
 }
 
 TEST(VideoFileSource, LoopsWithTimesThatKeepIncreasing) {
