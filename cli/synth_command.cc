@@ -17,6 +17,7 @@ struct SynthOptions {
   double diameter_m = 0, mass_kg = 0;
   std::string size = "640x480";
   std::string color, wall_color, floor_color;
+  std::string wall_pattern = "plain";
   bool no_drag = false;
   bool quiet = false;
   std::string out = "synth.avi";
@@ -57,6 +58,7 @@ void Run(SynthOptions o) {
   ParseSize(o.size, &o.clip.width, &o.clip.height);
   if (!o.color.empty()) o.clip.ball_bgr = ParseColor(o.color, "--color");
   if (!o.wall_color.empty()) o.clip.wall_bgr = ParseColor(o.wall_color, "--wall-color");
+  o.clip.wall_pattern = ParseWallPattern(o.wall_pattern);
   if (!o.floor_color.empty()) o.clip.floor_bgr = ParseColor(o.floor_color, "--floor-color");
   o.clip.drag = !o.no_drag;
   o.clip.out = o.out;
@@ -128,6 +130,9 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--color", o->color, "Ball colour B,G,R, 0-255 each (default: the preset's)");
   cmd->add_option("--wall-color", o->wall_color, "Wall colour B,G,R, 0-255 each (default 196,202,206)");
+  cmd->add_option("--wall-pattern", o->wall_pattern,
+                  "Wall surface: plain, brick (bricks of the wall colour) or poster (patches of every hue)")
+      ->capture_default_str();
   cmd->add_option("--floor-color", o->floor_color,
                   "Floor colour B,G,R, 0-255 each (default 112,118,124)");
   cmd->add_flag("--distractor", c.distractor,

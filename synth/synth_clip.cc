@@ -160,6 +160,7 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   sc.roll_deg = c.roll_deg;
   sc.floor_y_px = floor_px;
   sc.wall_bgr = c.wall_bgr;
+  sc.wall_pattern = c.wall_pattern;
   sc.floor_bgr = c.floor_bgr;
   const Bgr preset_bgr = {c.ball.color_bgr[0], c.ball.color_bgr[1], c.ball.color_bgr[2]};
   sc.ball_bgr = c.ball_bgr.value_or(preset_bgr);

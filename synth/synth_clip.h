@@ -40,6 +40,7 @@ struct SynthClipConfig {
   uint64_t seed = 1;
   std::optional<Bgr> ball_bgr;  // default: the preset's colour
   Bgr wall_bgr = {196, 202, 206};
+  WallPattern wall_pattern = WallPattern::kPlain;
   Bgr floor_bgr = {112, 118, 124};
   bool distractor = false;      // a static sphere of similar hue on the floor
   int quality = 95;             // MJPEG quality, 1-100

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
+#include <stdexcept>
 
 namespace bouncefit {
 namespace {
@@ -75,14 +77,62 @@ ShadowShape ShadowOf(const BallShape& b, double floor_y) {
 
 }  // namespace
 
+WallPattern ParseWallPattern(const std::string& name) {
+  if (name == "plain") return WallPattern::kPlain;
+  if (name == "brick") return WallPattern::kBrick;
+  if (name == "poster") return WallPattern::kPoster;
+  throw std::invalid_argument("wall pattern must be plain, brick or poster (got '" + name + "')");
+}
+
+const char* WallPatternName(WallPattern pattern) {
+  switch (pattern) {
+    case WallPattern::kBrick: return "brick";
+    case WallPattern::kPoster: return "poster";
+    default: return "plain";
+  }
+}
+
+Bgr SynthScene::WallColor(cv::Point2d q) const {
+  const Bgr& wall = config_.wall_bgr;
+  if (config_.wall_pattern == WallPattern::kBrick) {
+    // Courses of bricks 1/16 of the height tall, twice as long, every other course offset
+    // by half a brick; 2 px light mortar; each brick a little lighter or darker.
+    const double course = std::max(6.0, config_.height / 16.0), len = 2 * course;
+    const int row = static_cast<int>(std::floor(q.y / course));
+    const double xs = q.x + (row % 2 ? 0.5 * len : 0.0);
+    const int col = static_cast<int>(std::floor(xs / len));
+    const double in_y = q.y - row * course, in_x = xs - col * len;
+    if (in_y < 2 || in_x < 2) return {178, 182, 186};
+    const double k = 0.88 + 0.24 * ((static_cast<unsigned>(row * 7919 + col * 104729) % 97) / 96.0);
+    return {std::min(255.0, wall[0] * k), std::min(255.0, wall[1] * k), std::min(255.0, wall[2] * k)};
+  }
+  for (auto it = poster_.rbegin(); it != poster_.rend(); ++it)
+    if (it->first.contains(q)) return it->second;
+  return wall;
+}
+
 SynthScene::SynthScene(const SynthSceneConfig& config) : config_(config) {
   const double th = config.roll_deg * std::numbers::pi / 180;
   cos_ = std::cos(th);
   sin_ = std::sin(th);
   center_ = {(config.width - 1) / 2.0, (config.height - 1) / 2.0};
 
-  background_.create(config.height, config.width, CV_8UC3);
   const double W = config.width, H = config.height, fy = config.floor_y_px;
+  if (config.wall_pattern == WallPattern::kPoster) {
+    // Forty overlapping patches of every hue, full saturation, fixed seed: the same wall
+    // in every clip.
+    std::mt19937 rng(20261123);
+    std::uniform_real_distribution<double> u01(0, 1);
+    for (int k = 0; k < 40; ++k) {
+      const double w = (0.05 + 0.2 * u01(rng)) * W, h = (0.05 + 0.2 * u01(rng)) * fy;
+      const cv::Rect2d rect(u01(rng) * (W - w), u01(rng) * (fy - h), w, h);
+      const double hue = 6 * u01(rng), f = hue - std::floor(hue), v = 60 + 170 * u01(rng);
+      const double rgb[6][3] = {{1, f, 0}, {1 - f, 1, 0}, {0, 1, f}, {0, 1 - f, 1}, {f, 0, 1}, {1, 0, 1 - f}};
+      const double* c = rgb[static_cast<int>(hue) % 6];
+      poster_.push_back({rect, {v * c[2], v * c[1], v * c[0]}});
+    }
+  }
+  background_.create(config.height, config.width, CV_8UC3);
   for (int y = 0; y < config.height; ++y) {
     auto* row = background_.ptr<uchar>(y);
     for (int x = 0; x < config.width; ++x) {
@@ -91,8 +141,9 @@ SynthScene::SynthScene(const SynthSceneConfig& config) : config_(config) {
       const double hx = (q.x - W / 2) / (W / 2);
       const double wall_k = (1.03 - 0.10 * std::clamp(q.y / H, 0.0, 1.0)) * (1 - 0.06 * hx * hx);
       const double floor_k = 0.92 + 0.12 * Clamp01((q.y - fy) / (0.2 * H));
+      const Bgr wall = WallColor(q);
       for (int c = 0; c < 3; ++c) {
-        const double v = config.wall_bgr[c] * wall_k * (1 - floor_cover) +
+        const double v = wall[c] * wall_k * (1 - floor_cover) +
                          config.floor_bgr[c] * floor_k * floor_cover;
         row[3 * x + c] = cv::saturate_cast<uchar>(v);
       }

@@ -9,17 +9,26 @@
 #include <opencv2/core.hpp>
 
 #include <array>
+#include <string>
 #include <vector>
 
 namespace bouncefit {
 
 using Bgr = std::array<double, 3>;  // colour, 0-255 per channel, B, G, R
 
+// What covers the wall: plain paint; bricks of the wall colour in light mortar; or a poster
+// wall of saturated patches of every hue (clutter that shares the ball's hue somewhere).
+enum class WallPattern { kPlain, kBrick, kPoster };
+// "plain", "brick", "poster"; throws std::invalid_argument for another name.
+WallPattern ParseWallPattern(const std::string& name);
+const char* WallPatternName(WallPattern pattern);
+
 struct SynthSceneConfig {
   int width = 640, height = 480;   // px
   double roll_deg = 0;             // scene rotation, counter-clockwise on screen
   double floor_y_px = 412;         // scene y where the ball bottom touches the floor
   Bgr wall_bgr = {196, 202, 206};
+  WallPattern wall_pattern = WallPattern::kPlain;
   Bgr floor_bgr = {112, 118, 124};
   Bgr ball_bgr = {20, 120, 250};
   bool distractor = false;         // a static sphere of similar hue resting on the floor
@@ -55,7 +64,11 @@ class SynthScene {
   // Composites the exposure-averaged shaded ball of the given colour over *out.
   void RenderBall(const std::vector<BallShape>& subs, const Bgr& color, cv::Mat* out) const;
 
+  // The wall's colour at scene point q (before shading), per its pattern.
+  Bgr WallColor(cv::Point2d q) const;
+
   SynthSceneConfig config_;
+  std::vector<std::pair<cv::Rect2d, Bgr>> poster_;  // poster patches, scene px
   double cos_ = 1, sin_ = 0;   // of the roll
   cv::Point2d center_;         // rotation centre
   cv::Mat background_;
