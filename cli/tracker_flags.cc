@@ -135,8 +135,8 @@ void AddTrackerFlags(CLI::App* cmd, TrackerConfig* config) {
   cmd->add_option("--luma-contrast", config->luma.min_contrast_luma,
                   "Brightness mode: least luma difference of a ball pixel from the background, 0-255")
       ->capture_default_str()->check(CLI::Range(1.0, 35.0))->group(group);
-  cmd->add_option("--auto-saturation", config->auto_min_saturation,
-                  "Automatic choice: least chroma/luma of a ball pixel, unitless")
+  cmd->add_option("--auto-contrast", config->finder.min_chroma_contrast,
+                  "Automatic choice: least chroma/luma between a moving ball and its surroundings to follow its colour, unitless")
       ->capture_default_str()->check(CLI::Range(0.02, 2.0))->group(group);
 }
 

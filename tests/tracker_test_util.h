@@ -8,12 +8,14 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "synth/synth_clip.h"
 #include "synth/synth_truth.h"
+#include "replay/video_file_source.h"
 #include "track/tracker.h"
 
 namespace bouncefit::testing {
@@ -62,21 +64,37 @@ inline TrackScore TrackClip(const std::filesystem::path& clip, const TrackerConf
                             const SynthTruth* truth, bool as_yuyv = false,
                             int max_frames = 1 << 30,
                             const std::function<void(int, cv::Mat*)>& transform = {}) {
-  cv::VideoCapture cap(clip.string(), cv::CAP_FFMPEG);
-  if (!cap.isOpened()) throw std::runtime_error("cannot open " + clip.string());
+  // Real clips (no truth) through the replay source: upright, on their container's clock.
+  std::optional<VideoFileSource> source;
+  cv::VideoCapture cap;
+  if (truth) {
+    if (!cap.open(clip.string(), cv::CAP_FFMPEG)) throw std::runtime_error("cannot open " + clip.string());
+  } else {
+    source.emplace(VideoFileSourceConfig{clip.string(), false});
+  }
   Tracker tracker(config);
   TrackScore s;
   std::vector<double> err;
   cv::Mat img;
-  const double fps = truth ? truth->fps : cap.get(cv::CAP_PROP_FPS);
-  for (int i = 0; i < max_frames && cap.read(img); ++i) {
+  const double fps = truth ? truth->fps : 0;
+  for (int i = 0; i < max_frames; ++i) {
+    int64_t utime = 0;
+    if (source) {
+      std::optional<Frame> next = source->Next();
+      if (!next) break;
+      img = next->image;
+      utime = next->utime;
+    } else {
+      if (!cap.read(img)) break;
+      utime = static_cast<int64_t>(std::llround(i / fps * 1e6));
+    }
     if (transform) transform(i, &img);
     Frame f;
     f.image = as_yuyv ? BgrToYuyv(img) : img;
     f.format = as_yuyv ? PixelFormat::kYuyv : PixelFormat::kBgr24;
     f.index = i;
     f.sequence = i;
-    f.utime = static_cast<int64_t>(std::llround(i / fps * 1e6));
+    f.utime = utime;
     const BallObservation o = tracker.Track(f);
     s.obs.push_back(o);
     if (o.found) ++s.found_total;

@@ -104,4 +104,24 @@ void LumaContrast::UpdateBackground(double cx, double cy, double r) {
   }
 }
 
+void LumaContrast::ForgetBall(double cx, double cy, double r) {
+  if (background_.empty() || r <= 0) return;
+  const double r_in = 1.5 * r + 2, r_out = 2.5 * r + 4;
+  const cv::Rect box = cv::Rect(static_cast<int>(cx - r_out), static_cast<int>(cy - r_out),
+                                static_cast<int>(2 * r_out + 2), static_cast<int>(2 * r_out + 2)) &
+                       cv::Rect(0, 0, background_.cols, background_.rows);
+  double sum = 0;
+  int n = 0;
+  for (int j = box.y; j < box.y + box.height; ++j)
+    for (int i = box.x; i < box.x + box.width; ++i) {
+      const double d = std::hypot(i - cx, j - cy);
+      if (d >= r_in && d <= r_out) sum += background_.at<float>(j, i), ++n;
+    }
+  if (n == 0) return;
+  const float mean = static_cast<float>(sum / n);
+  for (int j = box.y; j < box.y + box.height; ++j)
+    for (int i = box.x; i < box.x + box.width; ++i)
+      if (std::hypot(i - cx, j - cy) < r_in) background_.at<float>(j, i) = mean;
+}
+
 }  // namespace bouncefit

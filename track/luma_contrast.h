@@ -44,6 +44,9 @@ class LumaContrast {
   // Blends the current frame into the background, except within the keep-out circle around
   // (cx, cy) of radius r (r <= 0: no keep-out).
   void UpdateBackground(double cx, double cy, double r);
+  // Paints the disc of radius 1.5 r around (cx, cy) in the background with the mean of the
+  // ring around it: a ball present in the frame the background started from leaves it.
+  void ForgetBall(double cx, double cy, double r);
 
   // Share of the pixels in `box` (frame pixels) whose luma changed by more than
   // motion_luma since the previous frame: a ghost (where a ball held still in the background

@@ -47,7 +47,8 @@ bool TrackerConfig::IsValid(std::string* error) const {
     return fail("box limits must satisfy 1 <= min < max");
   if (centre.rays < 8 || centre.rays > 1024) return fail("rays must be 8-1024");
   if (adapt_rate < 0 || adapt_rate > 1) return fail("adapt rate must be 0-1");
-  if (auto_motion_frames < 1 || auto_motion_frames > 30) return fail("auto motion frames must be 1-30");
+  if (finder.max_work_pixels < 1000) return fail("finder work size must be >= 1000 pixels");
+  if (finder.lag_s < 0) return fail("finder lag must be >= 0 s");
   if (luma.polarity < -1 || luma.polarity > 1) return fail("luma polarity must be -1, 0 or +1");
   if (luma.min_contrast_luma <= 0 || luma.clamp_luma <= luma.min_contrast_luma)
     return fail("luma contrast limits must satisfy 0 < min < clamp");
@@ -55,7 +56,9 @@ bool TrackerConfig::IsValid(std::string* error) const {
   return true;
 }
 
-Tracker::Tracker(TrackerConfig config) : config_(std::move(config)), predictor_(config_.motion) {
+Tracker::Tracker(TrackerConfig config)
+    : config_(std::move(config)), predictor_(config_.motion), finder_(config_.finder, config_.color),
+      arc_(config_.arc) {
   std::string error;
   if (!config_.IsValid(&error)) throw std::invalid_argument("tracker: " + error);
   how_ = "no colour chosen yet";
@@ -66,6 +69,7 @@ BallObservation Tracker::Track(const Frame& frame) {
   obs.utime = frame.utime;
   obs.frame = frame.index;
   if (frame.image.empty()) throw std::invalid_argument("tracker: empty frame");
+  CheckFrameFormat(frame);
   if (frame.image.size() != size_) {
     size_ = frame.image.size();
     const cv::Rect full(0, 0, size_.width, size_.height);
@@ -77,18 +81,16 @@ BallObservation Tracker::Track(const Frame& frame) {
                                   "x" + std::to_string(size_.height) + " frame");
   }
   ++frames_;
-  if (!color_.valid()) {
-    if (!ChooseColor(frame)) {
-      ++lost_;
-      return obs;
-    }
-    if (!config_.has_color && !config_.has_pick && !config_.luma_mode)
-      auto_review_left_ = config_.auto_review_frames;
-  } else if (auto_review_left_ > 0) {
-    --auto_review_left_;
-    AutoChoose(frame);
+  if (!color_.valid() && !ChooseColor(frame)) {
+    ++lost_;
+    return obs;
   }
-  if (luma_) luma_->SetFrame(frame);
+  if (luma_) {
+    luma_->SetFrame(frame);
+    // Chosen just now: the ball is in the first background; take it out.
+    if (forget_ball_) luma_->ForgetBall(chosen_.x, chosen_.y, chosen_.r), forget_ball_ = false;
+  }
+  if (lookalikes_pending_) RememberLookalikes(frame), lookalikes_pending_ = false;
   const double t = static_cast<double>(frame.utime) * 1e-6;
   bool ok = false;
   double px, py, speed;
@@ -105,6 +107,12 @@ BallObservation Tracker::Track(const Frame& frame) {
       const double gate = radius_ + 2 * motion + config_.gate_px;
       ok = TryWindow(frame, pred, half, gate, &obs);
     }
+  }
+  if (!ok && has_seed_) {
+    // Just chosen automatically: look where the finder saw it before searching everywhere.
+    has_seed_ = false;
+    const cv::Point2f seed(static_cast<float>(chosen_.x), static_cast<float>(chosen_.y));
+    ok = TryWindow(frame, seed, 3 * chosen_.r + 12, 2 * chosen_.r + 10, &obs);
   }
   if (!ok) ok = Acquire(frame, &obs);
   if (ok) {
@@ -128,6 +136,7 @@ BallObservation Tracker::Track(const Frame& frame) {
     const bool keep = still_frames_ <= config_.luma_still_frames;
     luma_->UpdateBackground(last_cx_, last_cy_, keep ? radius_ : 0);
   }
+  if (auto_) ReviewAutoLock(frame, obs);
   return obs;
 }
 
@@ -169,8 +178,8 @@ bool Tracker::ChooseColor(const Frame& frame) {
       StartLumaMode(ball_y >= back_y ? +1 : -1);
       how_ = "picked pixel " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y) + ", nearly grey:" + how_;
     }
-  } else if (!AutoChoose(frame)) {
-    return false;
+  } else {
+    return AutoChoose(frame);
   }
   anchor_ = color_;
   if (!luma_) how_ += ": " + color_.ToString();
@@ -178,99 +187,103 @@ bool Tracker::ChooseColor(const Frame& frame) {
 }
 
 bool Tracker::AutoChoose(const Frame& frame) {
-  ExtractYcc(frame, roi_, 2, 0.7, &wide_);
-  auto_luma_.push_back(wide_.y.clone());
-  if (static_cast<int>(auto_luma_.size()) > config_.auto_motion_frames + 1) auto_luma_.pop_front();
-  if (static_cast<int>(auto_luma_.size()) <= config_.auto_motion_frames) {
-    how_ = "automatic: waiting for a saturated blob that moves";
-    return false;
-  }
-  const cv::Mat& old = auto_luma_.front();
-  const int w = wide_.y.cols, h = wide_.y.rows;
-  const float floor = static_cast<float>(config_.color.luma_floor);
-  const float min_luma = static_cast<float>(config_.color.min_luma);
-  const float sat2 = static_cast<float>(config_.auto_min_saturation * config_.auto_min_saturation);
-  cv::Mat sat(h, w, CV_8U);
-  for (int j = 0; j < h; ++j) {
-    const float* py = wide_.y.ptr<float>(j);
-    const float* pu = wide_.u.ptr<float>(j);
-    const float* pv = wide_.v.ptr<float>(j);
-    uint8_t* ps = sat.ptr<uint8_t>(j);
-    for (int i = 0; i < w; ++i) {
-      const float inv = 1.0f / std::max(py[i], floor);
-      const float a = pu[i] * inv, b = pv[i] * inv;
-      ps[i] = (py[i] >= min_luma && a * a + b * b >= sat2) ? 255 : 0;
+  const double t = static_cast<double>(frame.utime) * 1e-6;
+  const auto cands = finder_.Find(frame, roi_);
+  for (const BallCandidate& c : cands)
+    if (!Rejected(c, t)) {
+      Adopt(c);
+      return true;
     }
+  if (how_.rfind("automatic: dropped", 0) != 0)
+    how_ = "automatic: waiting for a round blob that moves and stands out of its surroundings";
+  return false;
+}
+
+bool Tracker::Rejected(const BallCandidate& c, double t) const {
+  for (const RejectedLock& r : rejected_)
+    if (t < r.until_t && std::hypot(c.x - r.x, c.y - r.y) < 1.5 * std::max(r.r, c.r) + 4) return true;
+  return false;
+}
+
+void Tracker::Adopt(const BallCandidate& c) {
+  chosen_ = c;
+  auto_ = true;
+  last_found_t_ = c.t;
+  has_seed_ = true;
+  arc_.Reset();
+  predictor_.Reset();
+  radius_ = 0;
+  lost_ = 1 << 20;
+  distractors_.clear();
+  last_candidates_.clear();
+  luma_.reset();
+  ++choices_;
+  if (c.by_luma) {
+    StartLumaMode(c.polarity);
+    forget_ball_ = true;
+    how_ = "automatic: " + c.Why() + how_;
+  } else {
+    color_ = c.color;
+    lookalikes_pending_ = true;
+    how_ = "automatic: " + c.Why() + ": " + color_.ToString();
   }
-  cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(sat, labels, stats, centroids, 8, CV_32S);
-  const auto& sp = config_.segment;
-  int best = -1;
-  double best_score = 0;
-  std::vector<int> moving(n, 0);
-  std::vector<double> sat_sum(n, 0.0);
-  for (int j = 0; j < h; ++j) {
-    const int* pl = labels.ptr<int>(j);
-    const float* py = wide_.y.ptr<float>(j);
-    const float* pu = wide_.u.ptr<float>(j);
-    const float* pv = wide_.v.ptr<float>(j);
-    const float* po = old.ptr<float>(j);
-    for (int i = 0; i < w; ++i) {
-      if (pl[i] <= 0) continue;
-      if (std::abs(py[i] - po[i]) >= config_.auto_motion_luma) ++moving[pl[i]];
-      sat_sum[pl[i]] += std::hypot(pu[i], pv[i]) / std::max(py[i], floor);
+  anchor_ = color_;
+}
+
+void Tracker::RememberLookalikes(const Frame& frame) {
+  Planes(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
+  cv::Mat mask;
+  for (const Blob& b : SegmentBlobs(wide_, color_, config_.segment, &mask)) {
+    const double r = EquivalentRadius(b);
+    if (std::hypot(b.centroid.x - chosen_.x, b.centroid.y - chosen_.y) < 2 * (r + chosen_.r)) continue;
+    if (distractors_.size() < 32) distractors_.push_back({b.centroid, static_cast<float>(r), true});
+  }
+}
+
+void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
+  const double t = static_cast<double>(frame.utime) * 1e-6;
+  if (obs.found) last_found_t_ = t;
+  if (obs.found && arc_.Add(t, obs.cx, obs.cy, obs.radius_px)) {
+    auto_ = false;
+    how_ += Fmt("; confirmed at %.2f s: its track became a ballistic arc", t, 0);
+    if (choices_ > 1) how_ += Fmt(" (choice %.0f)", static_cast<double>(choices_), 0);
+    return;
+  }
+  const std::vector<BallCandidate> found = finder_.Find(frame, roi_);
+  const double here_x = obs.found ? obs.cx : last_cx_, here_y = obs.found ? obs.cy : last_cy_;
+  const double here_r = std::max(radius_, chosen_.r);
+  std::string drop;
+  if (arc_.moving_s() > config_.auto_drop_moving_s)
+    drop = Fmt("moved for %.1f s without a ballistic arc", arc_.moving_s(), 0);
+  else if (t - last_found_t_ > config_.auto_drop_lost_s)
+    drop = Fmt("not seen for %.1f s", t - last_found_t_, 0);
+  const bool still = obs.found && arc_.RecentTravel(0.2) < 0.5 * here_r;
+  for (const BallCandidate& c : found) {
+    const bool same = std::hypot(c.x - here_x, c.y - here_y) < 3 * std::max(here_r, c.r);
+    if (same && obs.found && chosen_.by_luma && !c.by_luma) {
+      // The same ball, now with a colour of its own against its surroundings: colour
+      // segments it better than a background model.
+      Adopt(c);
+      return;
     }
+    if (Rejected(c, t) || same) continue;
+    if (drop.empty() && !(still && c.score >= 0.5 * chosen_.score)) break;
+    // The lock failed, or stands still while something else moves like a ball: switch.
+    if (!drop.empty())
+      rejected_.push_back({here_x, here_y, here_r, t + config_.auto_reject_s});
+    ++dropped_locks_;
+    Adopt(c);
+    return;
   }
-  for (int k = 1; k < n; ++k) {
-    const int bw = stats.at<int>(k, cv::CC_STAT_WIDTH) * 2, bh = stats.at<int>(k, cv::CC_STAT_HEIGHT) * 2;
-    const int area = stats.at<int>(k, cv::CC_STAT_AREA);
-    // Twice the smallest box: a few noisy pixels that flicker are no ball to choose.
-    if (std::min(bw, bh) < 2 * sp.min_box_px || std::max(bw, bh) > sp.max_box_px) continue;
-    const int bx = stats.at<int>(k, cv::CC_STAT_LEFT), by = stats.at<int>(k, cv::CC_STAT_TOP);
-    if (bx == 0 || by == 0 || bx + bw / 2 >= w || by + bh / 2 >= h) continue;
-    // A ball seen whole: round (box nearly square, a disc fills ~0.785 of it). Hands, arms
-    // and patches of floor light that move are not.
-    const double aspect = static_cast<double>(std::max(bw, bh)) / std::min(bw, bh);
-    const double fill = 4.0 * area / (static_cast<double>(bw) * bh);
-    if (aspect > sp.max_aspect || fill < 0.6 || fill > 0.92) continue;
-    const double moved = static_cast<double>(moving[k]) / area;
-    if (moved < 0.3) continue;
-    const double roundness = std::max(0.05, 1 - 2 * std::abs(fill - 0.785) - 0.3 * (aspect - 1));
-    const double score = moved * (sat_sum[k] / area) * roundness * std::sqrt(static_cast<double>(area));
-    if (score > best_score) best_score = score, best = k;
-  }
-  const bool reviewing = color_.valid();
-  if (best < 0 || (reviewing && best_score <= 2 * auto_score_)) {
-    if (!reviewing) how_ = "automatic: waiting for a saturated blob that moves";
-    return false;
-  }
-  auto_score_ = best_score;
-  std::vector<float> nu, nv;
-  for (int j = 0; j < h; ++j) {
-    const int* pl = labels.ptr<int>(j);
-    for (int i = 0; i < w; ++i) {
-      if (pl[i] != best) continue;
-      const float yy = std::max(wide_.y.at<float>(j, i), floor);
-      nu.push_back(wide_.u.at<float>(j, i) / yy);
-      nv.push_back(wide_.v.at<float>(j, i) / yy);
-    }
-  }
-  color_ = ColorModel(Median(nu), Median(nv), config_.color);
-  const double bx = wide_.rect.x + (centroids.at<double>(best, 0) + 0.5) * 2 - 0.5;
-  const double by = wide_.rect.y + (centroids.at<double>(best, 1) + 0.5) * 2 - 0.5;
-  how_ = "automatic: the saturated blob that moved, at " + Fmt("%.0f,%.0f", bx, by);
-  if (reviewing) {
-    // A clearly better ball showed up shortly after the first choice (the first was a hand
-    // releasing a ball still cut by the border, say): start over with its colour.
-    anchor_ = color_;
-    how_ += " (second choice): " + color_.ToString();
-    predictor_.Reset();
-    radius_ = 0;
-    lost_ = 1 << 20;
-    distractors_.clear();
-    last_candidates_.clear();
-  }
-  return true;
+  if (drop.empty()) return;
+  rejected_.push_back({here_x, here_y, here_r, t + config_.auto_reject_s});
+  ++dropped_locks_;
+  auto_ = false;
+  color_ = ColorModel();
+  luma_.reset();
+  predictor_.Reset();
+  lost_ = 1 << 20;
+  how_ = "automatic: dropped the lock at " + Fmt("%.0f,%.0f", here_x, here_y) + " (" + drop + "); waiting for another";
 }
 
 bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
@@ -285,10 +298,19 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
   const Blob* best = nullptr;
   double best_d = 0;
   bool best_moved = false;
+  const bool inner_left = rect.x > roi_.x, inner_top = rect.y > roi_.y;
+  const bool inner_right = rect.br().x < roi_.br().x, inner_bottom = rect.br().y < roi_.br().y;
   for (const Blob& b : blobs) {
     const double r = EquivalentRadius(b);
     const double d = std::hypot(b.centroid.x - centre.x, b.centroid.y - centre.y);
     if (d > gate + (b.touches_edge ? r : 0)) continue;
+    // Running on beyond the window where the window is not the frame's (or ROI's) edge, and
+    // larger than the ball: a patch of the ball's hue it passes in front of, not the ball.
+    if (b.touches_edge && radius_ > 0 && std::max(b.box.width, b.box.height) > 2.6 * radius_ + 2 &&
+        ((inner_left && b.box.x <= rect.x) || (inner_top && b.box.y <= rect.y) ||
+         (inner_right && b.box.x + b.box.width >= rect.br().x) ||
+         (inner_bottom && b.box.y + b.box.height >= rect.br().y)))
+      continue;
     if (radius_ > 0 && !b.touches_edge &&
         std::abs(r - radius_) > config_.radius_change * radius_ + 1.5)
       continue;
@@ -324,9 +346,15 @@ bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
     if (radius_ > 0) score += std::abs(r - radius_) / radius_;
     if (have_pred)
       score += std::hypot(b.centroid.x - px, b.centroid.y - py) / (radius_ + 20);
+    bool lookalike = false;
     for (const Remembered& m : distractors_)
-      if (std::hypot(b.centroid.x - m.p.x, b.centroid.y - m.p.y) < std::max(3.0, 0.3 * m.r))
+      if (std::hypot(b.centroid.x - m.p.x, b.centroid.y - m.p.y) < std::max(3.0, 0.3 * m.r)) {
         score += 3;
+        // Of the ball's hue, where it already was when the ball was chosen, and unmoved:
+        // never the ball (which moved to be chosen), unless the prediction brings it there.
+        lookalike = lookalike || (m.at_choice && std::abs(EquivalentRadius(b) - m.r) < 0.3 * m.r + 1.5);
+      }
+    if (lookalike && (!have_pred || std::hypot(b.centroid.x - px, b.centroid.y - py) > 2 * radius_ + 4)) continue;
     bool moved = !last_candidates_.empty();
     for (const Blob& o : last_candidates_)
       if (std::hypot(b.centroid.x - o.centroid.x, b.centroid.y - o.centroid.y) < 1.5) moved = false;
@@ -460,7 +488,11 @@ std::string Tracker::Describe() const {
   std::snprintf(buf, sizeof buf, "; found in %lld of %lld frames, %lld full-frame searches",
                 static_cast<long long>(found_), static_cast<long long>(frames_),
                 static_cast<long long>(acquisitions_));
-  return "tracker: " + how_ + buf;
+  std::string dropped;
+  if (dropped_locks_ > 0)
+    dropped = Fmt("; automatic locks dropped or replaced before one was ballistic: %.0f",
+                  static_cast<double>(dropped_locks_), 0);
+  return "tracker: " + how_ + buf + dropped;
 }
 
 }  // namespace bouncefit

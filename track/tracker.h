@@ -4,7 +4,7 @@
 //
 // Pipeline (the seed paper's, then better): Gaussian blur -> YCbCr (YUYV frames are read as
 // they are) -> optional ROI -> chroma threshold around the ball colour (picked pixel, given
-// colour, or chosen automatically: the saturated blob that moves) -> blobs with the paper's
+// colour, or chosen automatically: track/ball_finder.h, confirmed by track/arc_check.h) -> blobs with the paper's
 // min/max box -> the blob nearest the parabolic prediction -> sub-pixel centre from a robust
 // circle fit to the rim. Once locked it only looks in a window around the prediction; the
 // whole frame (at half resolution) is searched only to (re)acquire.
@@ -14,7 +14,9 @@
 #include <vector>
 
 #include "capture/frame.h"
+#include "track/arc_check.h"
 #include "track/ball_centre.h"
+#include "track/ball_finder.h"
 #include "track/ball_observation.h"
 #include "track/ball_segmenter.h"
 #include "track/color_model.h"
@@ -54,14 +56,15 @@ struct TrackerConfig {
   // initial one, and never when the surroundings look like the ball.
   double adapt_rate = 0.02;
   double adapt_max_drift = 0.3;
-  // Automatic choice: blob with chroma/luma >= auto_min_saturation whose luma changed by
-  // >= auto_motion_luma (0-255) against auto_motion_frames frames ago on >= 30% of it.
-  double auto_min_saturation = 0.22;
-  double auto_motion_luma = 12;
-  int auto_motion_frames = 3;
-  // After the first choice, keep looking this many frames for a blob scoring twice as well
-  // (moving, saturated, round, whole) and switch to it.
-  int auto_review_frames = 20;
+  // Automatic choice: candidates from track/ball_finder.h; the lock is kept once its track
+  // becomes a ballistic arc (track/arc_check.h). Until then a better candidate elsewhere
+  // replaces a lock that is standing still, and a lock that moves for auto_drop_moving_s
+  // without an arc is dropped (and not chosen again for auto_reject_s).
+  BallFinderParams finder;
+  ArcCheckParams arc;
+  double auto_drop_moving_s = 1.2;
+  double auto_drop_lost_s = 1.0;
+  double auto_reject_s = 3;
 
   // False with a one-line reason if a value is out of range.
   bool IsValid(std::string* error) const;
@@ -90,9 +93,16 @@ class Tracker {
   struct Remembered {
     cv::Point2f p;
     float r;
+    bool at_choice = false;  // already there, of the ball's colour, when it was chosen
   };
   bool ChooseColor(const Frame& frame);
   bool AutoChoose(const Frame& frame);
+  // While the automatic lock is not yet confirmed: confirm, replace or drop it.
+  void ReviewAutoLock(const Frame& frame, const BallObservation& obs);
+  void Adopt(const BallCandidate& c);
+  // Remembers every blob of the chosen colour away from the ball: still things of its hue.
+  void RememberLookalikes(const Frame& frame);
+  bool Rejected(const BallCandidate& c, double t) const;
   bool TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
                  BallObservation* obs);
   bool Acquire(const Frame& frame, BallObservation* obs);
@@ -114,9 +124,19 @@ class Tracker {
   int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;
   std::vector<Remembered> distractors_;
   std::vector<Blob> last_candidates_;
-  std::deque<cv::Mat> auto_luma_;
-  double auto_score_ = 0;
-  int auto_review_left_ = 0;
+  BallFinder finder_;
+  ArcCheck arc_;
+  bool auto_ = false;            // automatic choice, not yet confirmed by a ballistic arc
+  BallCandidate chosen_;         // the automatic choice in force
+  double last_found_t_ = 0;      // s
+  bool has_seed_ = false;        // where the chosen candidate was seen, to find it first
+  bool lookalikes_pending_ = false;
+  bool forget_ball_ = false;      // brightness mode chosen this frame: ball out of the background
+  struct RejectedLock {
+    double x, y, r, until_t;     // pixels, and until when (s) it stays rejected
+  };
+  std::vector<RejectedLock> rejected_;
+  int64_t dropped_locks_ = 0, choices_ = 0;
   int64_t adapt_tick_ = 0;
   YccPlanes planes_, wide_;
   cv::Mat mask_;

@@ -17,7 +17,9 @@ constexpr float kCrScale = 0.5f / (1.0f - kKr);  // 0.713
 constexpr float kYLimScale = 255.0f / 219.0f;
 constexpr float kCLimScale = 255.0f / 224.0f;
 
-void CheckFormat(const Frame& frame) {
+}  // namespace
+
+void CheckFrameFormat(const Frame& frame) {
   if (frame.image.empty()) throw std::invalid_argument("empty frame");
   if (frame.format == PixelFormat::kBgr24 && frame.image.type() != CV_8UC3)
     throw std::invalid_argument("BGR frame must be CV_8UC3");
@@ -25,6 +27,8 @@ void CheckFormat(const Frame& frame) {
       (frame.image.type() != CV_8UC2 || frame.image.cols % 2 != 0))
     throw std::invalid_argument("YUYV frame must be CV_8UC2 with an even width");
 }
+
+namespace {
 
 void ExtractBgr(const cv::Mat& img, cv::Rect r, int step, YccPlanes* out) {
   const int w = r.width / step, h = r.height / step;
@@ -101,7 +105,7 @@ cv::Size FramePixelSize(const Frame& frame) { return frame.image.size(); }
 
 void ExtractYcc(const Frame& frame, cv::Rect rect, int step, double blur_sigma_px,
                 YccPlanes* out) {
-  CheckFormat(frame);
+  CheckFrameFormat(frame);
   if (step != 1 && step != 2) throw std::invalid_argument("decimation step must be 1 or 2");
   rect &= cv::Rect(0, 0, frame.image.cols, frame.image.rows);
   if (step == 2) {

@@ -21,6 +21,9 @@ struct YccPlanes {
 void ExtractYcc(const Frame& frame, cv::Rect rect, int step, double blur_sigma_px,
                 YccPlanes* out);
 
+// Throws std::invalid_argument when the image does not match its PixelFormat.
+void CheckFrameFormat(const Frame& frame);
+
 // Full-range BT.601 of one BGR colour (0-255): y, u = cb-128, v = cr-128.
 void BgrToYuv(double b, double g, double r, double* y, double* u, double* v);
 // Inverse of BgrToYuv (clamped to 0-255).
