@@ -306,7 +306,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
     if (d > gate + (b.touches_edge ? r : 0)) continue;
     // Running on beyond the window where the window is not the frame's (or ROI's) edge, and
     // larger than the ball: a patch of the ball's hue it passes in front of, not the ball.
-    if (b.touches_edge && radius_ > 0 && std::max(b.box.width, b.box.height) > 2.6 * radius_ + 2 &&
+    if (b.touches_edge && radius_ > 0 && b.pixels > 1.8 * std::numbers::pi * radius_ * radius_ + 20 &&
         ((inner_left && b.box.x <= rect.x) || (inner_top && b.box.y <= rect.y) ||
          (inner_right && b.box.x + b.box.width >= rect.br().x) ||
          (inner_bottom && b.box.y + b.box.height >= rect.br().y)))
