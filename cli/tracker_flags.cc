@@ -98,8 +98,9 @@ void AddTrackerFlags(CLI::App* cmd, TrackerConfig* config) {
          },
          "Ball colour: a name (" + ColorNames() + "), a ball preset, or B,G,R 0-255; "
          "white, black or grey (brighter, darker, either; or --pick on a nearly grey ball) track its brightness against a "
-         "background model instead. Without --pick or --color the tracker picks the "
-         "saturated blob that moves")
+         "background model instead. Without --pick or --color the tracker chooses by itself: a "
+         "round blob that moves and differs from its surroundings (by colour, else brightness), "
+         "kept once its track is a ballistic arc")
       ->group(group);
   cmd->add_option_function<std::string>(
          "--roi",

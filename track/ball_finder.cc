@@ -162,7 +162,7 @@ std::string BallCandidate::Why() const {
     std::snprintf(buf, sizeof buf, "a round blob that moved, %s than its surroundings by %.0f luma (no colour of its own), at %.0f,%.0f, radius %.1f px",
                   polarity > 0 ? "brighter" : "darker", contrast, x, y, r);
   else
-    std::snprintf(buf, sizeof buf, "a round blob that moved, its colour %.2f chroma/luma from its surroundings', at %.0f,%.0f, radius %.1f px",
+    std::snprintf(buf, sizeof buf, "a round blob that moved, its colour %.2f chroma/luma from its surroundings' colour, at %.0f,%.0f, radius %.1f px",
                   contrast, x, y, r);
   return buf;
 }
