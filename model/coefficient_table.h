@@ -11,12 +11,19 @@
 namespace bouncefit {
 
 // A coefficient table: {"coefficients": {name: value | {"value": v}}} or {name: value},
-// optionally with the "time_step_s" and "position_iterations" its coefficients hold for.
+// optionally with the "time_step_s" and "position_iterations" (or "iterations") its
+// coefficients hold for. A fit's coefficients.json also holds "values", every value the
+// model ran with (the fitted ones and those held fixed, e.g. floor_friction): when present
+// they are the table, so the file reproduces the fit's simulations exactly.
 struct CoefficientTable {
   CoefficientValues values;
   std::string source;  // the file's path, or "embedded model/presets/<file>"
   std::optional<double> time_step_s;
   std::optional<int> position_iterations;
+  std::string model;                     // "bullet-softbody", "point-mass"; "" when not said
+  std::string ball;                      // the ball preset's name; "" when not said
+  std::optional<double> mass_kg, diameter_m;  // the ball the coefficients are for
+  std::optional<double> drop_height_m;   // the drop they were fitted (or found) on
 };
 // `source` names the table in errors.
 CoefficientTable ParseCoefficientTable(std::string_view text, const std::string& source);

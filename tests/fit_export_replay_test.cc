@@ -1,0 +1,76 @@
+// A fit's exported coefficients.json, run again: `simulate` (and `predict`) at the fitted
+// drop print exactly the heights the fit reported (issue 14). A real, small soft-body fit.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "fit/fit_export.h"
+#include "fit/fit_models.h"
+#include "fit/fit_session.h"
+#include "model/ball_preset.h"
+#include "model/coefficient_table.h"
+#include "model/soft_ball_model.h"
+#include "tests/test_support.h"
+
+namespace bouncefit {
+namespace {
+
+std::string Exact(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+// A final fit of three bounces with a handful of simulations (its answer need not be good:
+// what it reports must be what its exported file gives).
+FitUpdate SmallFinalFit(const BallPreset& ball, const SoftBallModel& model) {
+  FitSessionConfig cfg;
+  cfg.max_evaluations_final = 8;
+  cfg.final_starts = 1;
+  cfg.threads = 2;
+  ConfigureSessionForModel(model, ball, &cfg);
+  // A fixed coefficient away from its default: the export must carry it too.
+  cfg.start["floor_friction"] = 0.6;
+  FitSession s(model, nullptr, cfg);
+  const double heights[] = {1.0003, 0.652, 0.46, 0.34};
+  for (int i = 0; i < 4; ++i) s.AddPeak({0, i, heights[i], 0.002, 0});
+  return s.FinalUpdate();
+}
+
+TEST(FitExportReplay, SimulateOnTheExportedFileGivesTheFitsHeights) {
+  const BallPreset ball = *FindBallPreset("pingpong");
+  const SoftBallModel model(ball);
+  const FitUpdate u = SmallFinalFit(ball, model);
+  ASSERT_EQ(u.simulated_m.size(), 3u);
+  ASSERT_GT(u.simulated_m[2], 0);
+  const auto dir = testing::ScratchDir("export");
+  WriteFitExports(dir, u, ball);
+
+  // The table read back holds every value the model ran with, not only the fitted ones.
+  const CoefficientTable t = LoadCoefficientTable(dir / "coefficients.json");
+  EXPECT_EQ(t.values, u.values);
+  EXPECT_EQ(t.values.at("floor_friction"), 0.6);
+  EXPECT_EQ(t.model, "bullet-softbody");
+  EXPECT_EQ(t.ball, "pingpong");
+  ASSERT_TRUE(t.drop_height_m.has_value());
+  EXPECT_EQ(*t.drop_height_m, u.drop_height_m);
+
+  std::string out;
+  const int rc = testing::RunCommand(testing::BouncefitExe() +
+                                         " simulate --ball pingpong --no-trajectory --json --coeffs '" +
+                                         (dir / "coefficients.json").string() + "' --drop " +
+                                         Exact(u.drop_height_m),
+                                     &out);
+  ASSERT_EQ(rc, 0) << out;
+  const auto j = nlohmann::json::parse(out);
+  const auto heights = j["bounce_heights_m"].get<std::vector<double>>();
+  ASSERT_GE(heights.size(), u.simulated_m.size()) << out;
+  for (size_t i = 0; i < u.simulated_m.size(); ++i)
+    EXPECT_EQ(heights[i], u.simulated_m[i]) << "bounce " << i + 1;
+}
+
+}  // namespace
+}  // namespace bouncefit
