@@ -16,6 +16,7 @@ void AddWatchCommand(CLI::App& app);
 void AddReportCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
 void AddSimulateCommand(CLI::App& app);
+void AddPredictCommand(CLI::App& app);
 void AddReplayLogCommand(CLI::App& app);
 
 // For subcommands whose issue has not landed yet: a clear error, never fake output.

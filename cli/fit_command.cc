@@ -138,6 +138,18 @@ void PrintUpdate(const FitUpdate& u) {
   std::printf("\n  simulated (m):");
   for (double s : u.simulated_m) std::printf(" %.4f", s);
   std::printf("\n");
+  if (!u.segment_simulated_m.empty()) {
+    std::printf("  segments  (m):");  // bounce i from the recorded apex i-1
+    for (double s : u.segment_simulated_m) std::printf(" %.4f", s);
+    std::printf("   RMS %s mm\n", Fmt(u.segment_residual_m * 1000, 3).c_str());
+  }
+  if (!u.free_run_mean_m.empty()) {
+    std::printf("  free drop, ensemble mean +- sd (m):");
+    for (size_t i = 0; i < u.free_run_mean_m.size(); ++i)
+      std::printf(" %.4f+-%.4f", u.free_run_mean_m[i], u.free_run_sd_m[i]);
+    std::printf("   RMS %s mm\n", Fmt(u.free_run_residual_m * 1000, 3).c_str());
+  }
+  if (!u.warning.empty()) std::printf("  warning: %s\n", u.warning.c_str());
   if (u.time_step_s > 0)
     std::printf("  holds for time step %.6g s, %d position iterations\n", u.time_step_s,
                 u.iterations);

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   AddReportCommand(app);
   AddSynthCommand(app);
   AddSimulateCommand(app);
+  AddPredictCommand(app);
   AddReplayLogCommand(app);
 
   std::string command = "bouncefit";

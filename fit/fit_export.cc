@@ -51,6 +51,12 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"recorded_m", u.recorded_m},
           {"simulated_m", u.simulated_m},
           {"residual_m", Num(u.residual_m)},
+          {"segment_simulated_m", u.segment_simulated_m},
+          {"segment_residual_m", Num(u.segment_residual_m)},
+          {"free_run_mean_m", u.free_run_mean_m},
+          {"free_run_sd_m", u.free_run_sd_m},
+          {"free_run_residual_m", Num(u.free_run_residual_m)},
+          {"warning", u.warning},
           {"evaluations", u.evaluations},
           {"wall_time_s", u.wall_time_s}};
 }

@@ -11,6 +11,19 @@ namespace bouncefit {
 namespace {
 constexpr double kGravity = 9.81;
 constexpr double kCacheTolerance = 1e-12;
+// Set on EvaluateBatch's workers: evaluations already run in parallel, their segments not.
+thread_local bool t_in_batch = false;
+
+SimulationResult SimulateSafely(const BallModel& model, const CoefficientValues& values,
+                                const SimulationOptions& options) {
+  try {
+    return model.Simulate(values, options);
+  } catch (const std::exception& ex) {
+    SimulationResult r;
+    r.failure = ex.what();
+    return r;
+  }
+}
 }  // namespace
 
 double HeightObjective(const std::vector<double>& recorded, const std::vector<double>& simulated) {
@@ -166,13 +179,7 @@ Evaluation FitObjective::Run(const std::vector<double>& x_in) {
     e.failure = cancelled() ? "cancelled" : "evaluation budget used";
     return e;
   }
-  SimulationResult sim;
-  try {
-    sim = problem_.model->Simulate(ToValues(x), problem_.simulation);
-  } catch (const std::exception& ex) {
-    sim.ok = false;
-    sim.failure = ex.what();
-  }
+  const SimulationResult sim = Simulate(ToValues(x), !t_in_batch && threads_ > 1);
   ++evaluations_;
   if (options_.simulations) options_.simulations->fetch_add(1);
   e.ok = sim.ok;
@@ -191,6 +198,46 @@ Evaluation FitObjective::Run(const std::vector<double>& x_in) {
   if (!e.ok) e.objective = penalty_;
   Record(x, e);
   return e;
+}
+
+SimulationResult FitObjective::Simulate(const CoefficientValues& values, bool parallel) const {
+  if (!problem_.segments) return SimulateSafely(*problem_.model, values, problem_.simulation);
+  const size_t k = problem_.recorded_m.size();
+  std::vector<SimulationResult> runs(k);
+  auto segment = [&](size_t i) {
+    SimulationOptions o = problem_.simulation;
+    o.record_trajectory = false;
+    o.drop_height_m = i == 0 ? problem_.simulation.drop_height_m : problem_.recorded_m[i - 1];
+    // Long enough for the first apex (and the samples after it that measure it).
+    o.duration_s = 1.5 * FreeFallApexTime(o.drop_height_m, {problem_.recorded_m[i]}, 1) + 0.2;
+    runs[i] = SimulateSafely(*problem_.model, values, o);
+  };
+  if (parallel) {
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+      for (size_t i = next++; i < k; i = next++) segment(i);
+    };
+    std::vector<std::future<void>> futures;
+    for (int w = 1; w < std::min<int>(threads_, static_cast<int>(k)); ++w)
+      futures.push_back(std::async(std::launch::async, work));
+    work();
+    for (auto& f : futures) f.get();
+  } else {
+    for (size_t i = 0; i < k; ++i) segment(i);
+  }
+  SimulationResult out;
+  out.ok = true;
+  for (size_t i = 0; i < k; ++i) {
+    if (!runs[i].ok) {
+      out.ok = false;
+      out.failure = "segment " + std::to_string(i + 1) + ": " + runs[i].failure;
+      return out;
+    }
+    out.bounce_heights_m.push_back(runs[i].bounce_heights_m.empty() ? 0.0
+                                                                     : runs[i].bounce_heights_m[0]);
+    out.wall_time_s += runs[i].wall_time_s;
+  }
+  return out;
 }
 
 Evaluation FitObjective::Evaluate(const std::vector<double>& x) {
@@ -216,7 +263,9 @@ std::vector<Evaluation> FitObjective::EvaluateBatch(const std::vector<std::vecto
   }
   std::atomic<size_t> next{0};
   auto work = [&] {
+    t_in_batch = true;
     for (size_t i = next++; i < xs.size(); i = next++) out[i] = Evaluate(xs[i]);
+    t_in_batch = false;
   };
   std::vector<std::future<void>> futures;
   for (int w = 1; w < workers; ++w) futures.push_back(std::async(std::launch::async, work));

@@ -36,6 +36,12 @@ struct FitProblem {
   CoefficientValues fixed;            // every other coefficient (defaults when missing)
   SimulationOptions simulation;
   std::vector<double> recorded_m;     // r_1..r_k, metres
+  // Multiple shooting (../shared/design/NOTES.md, "Fitting a chaotic simulator"): bounce i
+  // is simulated as its own segment, the ball released at rest from the recorded apex i-1
+  // (the drop height for i = 1), and s_i is that segment's first bounce. Errors cannot
+  // compound from bounce to bounce, so the objective does not follow one draw of the chaos.
+  // false: one free-running drop gives s_1..s_k (the paper's objective).
+  bool segments = false;
   // Coefficients searched on a grid (name -> step, from the lower bound): the mesh
   // parameters, so that a search visits a few cached meshes rather than a new mesh per
   // evaluation. Discrete coefficients are on a grid of 1 already.
@@ -111,6 +117,8 @@ class FitObjective {
 
  private:
   Evaluation Run(const std::vector<double>& x);
+  // The simulated heights at these values: one drop, or one segment per bounce.
+  SimulationResult Simulate(const CoefficientValues& values, bool parallel) const;
   bool Lookup(const std::vector<double>& x, Evaluation* out) const;
   void Record(const std::vector<double>& x, const Evaluation& e);
 

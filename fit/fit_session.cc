@@ -7,6 +7,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "fit/drop_ensemble.h"
 #include "fit/least_squares_search.h"
 #include "fit/live_step.h"
 #include "fit/nlopt_search.h"
@@ -44,6 +45,9 @@ FitSession::FitSession(const BallModel& model, const BallModel* quick_model,
   if (config_.live_method != "gauss-newton" && config_.live_method != "search")
     throw std::invalid_argument("unknown live method '" + config_.live_method +
                                 "' (known: gauss-newton, search)");
+  if (config_.objective != "segments" && config_.objective != "drop")
+    throw std::invalid_argument("unknown objective '" + config_.objective +
+                                "' (known: segments, drop)");
   if (config_.method != "nlopt" && config_.method != "paper")
     throw std::invalid_argument("unknown fit method '" + config_.method +
                                 "' (known: nlopt, paper)");
@@ -141,6 +145,7 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
   p.free = free;
   p.fixed = at;
   p.recorded_m = FittedHeights();
+  p.segments = config_.objective == "segments";
   for (const auto& [name, step] : config_.grid) p.grid[name] = step;
   if (p.recorded_m.empty()) throw std::logic_error("no bounce to fit yet");
   const int k = static_cast<int>(p.recorded_m.size());
@@ -169,6 +174,10 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
   u.recorded_m = problem.recorded_m;
   u.simulated_m = r.simulated_m;
   u.residual_m = RmsResidual(problem.recorded_m, r.simulated_m);
+  if (problem.segments) {
+    u.segment_simulated_m = r.simulated_m;
+    u.segment_residual_m = u.residual_m;
+  }
   u.evaluations = r.evaluations + extra_evals;
   u.wall_time_s = wall_s;
   u.time_step_s = TimeStepOf(r.values);
@@ -220,6 +229,7 @@ FitUpdate FitSession::QuickUpdate() {
   const int count = std::clamp(k - 1, 1, static_cast<int>(all.size()));
   FitProblem p = MakeProblem({all.begin(), all.begin() + count}, quick_current_);
   p.model = quick_model_;
+  p.segments = false;  // the point mass is not chaotic: its free drop is the best estimate
   SearchOptions o;
   o.max_evaluations = config_.max_evaluations_quick;
   o.threads = 1;  // each point-mass run takes a few milliseconds
@@ -300,8 +310,12 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   // deterministically (Gauss-Newton rounds on the 2, 3, 4... most influential coefficients),
   // then the thorough search. On chaotic heights one search's answer is one draw.
   const int starts = std::max(1, config_.final_starts);
-  const int budget = std::max(1, config_.max_evaluations_final / starts);
   const int k = static_cast<int>(FittedHeights().size());
+  // The budget holds everything: the searches, the Jacobian (2 runs per coefficient + 2)
+  // and the free-running check (one run per ensemble member), so progress never passes it.
+  const int after_search = 2 * static_cast<int>(FreeSpecs().size()) + 2 +
+                           std::max(0, config_.ensemble_members) + 1;
+  const int budget = std::max(1, (config_.max_evaluations_final - after_search) / starts);
   SearchOptions o;
   o.threads = config_.threads;
   o.simulations = &simulations_;
@@ -347,7 +361,40 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
     live_order_.clear();
     for (const auto& [e, name] : effect) live_order_.push_back(name);
   }
-  return Finish(p, r, true, jac, extra, Seconds(t0), model_);
+  FitUpdate u = Finish(p, r, true, jac, extra, Seconds(t0), model_);
+  if (!(cancel && cancel->cancelled())) CheckFreeRun(p, &u);
+  u.wall_time_s = Seconds(t0);
+  return u;
+}
+
+void FitSession::CheckFreeRun(const FitProblem& p, FitUpdate* u) {
+  // The free-running drop at the answer: one run exactly as `simulate` does it (so the export
+  // reproduces these heights), and the ensemble around it, the honest error bar.
+  SimulationOptions drop = p.simulation;
+  DropEnsembleOptions eo;
+  eo.members = std::max(1, config_.ensemble_members);
+  eo.threads = config_.threads;
+  const DropEnsemble e = SimulateDropEnsemble(model_, u->values, drop, eo);
+  simulations_ += e.simulations;
+  u->evaluations += e.simulations;
+  if (!e.ok) {
+    u->simulated_m.assign(p.recorded_m.size(), 0.0);
+    u->residual_m = std::nan("");
+    u->warning = "the free-running drop diverges: " + e.failure;
+    return;
+  }
+  auto first_k = [&](const std::vector<double>& v) {
+    std::vector<double> out(p.recorded_m.size(), 0.0);
+    for (size_t i = 0; i < out.size() && i < v.size(); ++i) out[i] = v[i];
+    return out;
+  };
+  u->simulated_m = first_k(e.single_m);
+  u->residual_m = RmsResidual(p.recorded_m, u->simulated_m);
+  if (config_.ensemble_members > 0) {
+    u->free_run_mean_m = first_k(e.mean_m);
+    u->free_run_sd_m = first_k(e.sd_m);
+    u->free_run_residual_m = RmsResidual(p.recorded_m, u->free_run_mean_m);
+  }
 }
 
 }  // namespace bouncefit

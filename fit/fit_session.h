@@ -15,6 +15,7 @@
 // Synchronous and single-threaded from the caller's view (simulations inside run on a
 // thread pool); FitWorker runs it on a thread with supersede semantics.
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -46,18 +47,32 @@ struct FitUpdate {
   CoefficientValues values;   // every coefficient the model was run with
   double drop_height_m = 0;
   std::vector<double> recorded_m;   // r_1..r_k (bounces above the minimum height)
-  std::vector<double> simulated_m;  // s_1..s_k
+  std::vector<double> simulated_m;  // s_1..s_k (final: one free-running drop, as `simulate`)
   double residual_m = 0;      // RMS of s_i - r_i
+  // Multiple shooting (FitSessionConfig::objective "segments"): what was fitted, bounce i
+  // simulated from the recorded apex i-1, and its RMS residual.
+  std::vector<double> segment_simulated_m;
+  double segment_residual_m = std::nan("");
+  // The final fit's check, the free-running drop as an ensemble (fit/drop_ensemble.h): mean
+  // and spread per bounce, and the RMS residual of the mean.
+  std::vector<double> free_run_mean_m;
+  std::vector<double> free_run_sd_m;
+  double free_run_residual_m = std::nan("");
   int evaluations = 0;        // simulations run
   double wall_time_s = 0;
   double time_step_s = 0;     // simulation step the coefficients hold for (0: n/a)
   int iterations = 0;         // solver iterations they hold for (0: n/a)
   std::vector<std::string> no_effect;      // coefficients found to change no height
   std::vector<std::string> unidentified;   // coefficients the data cannot determine
+  std::string warning;        // "" or why the answer is doubtful (e.g. its free drop diverges)
 };
 
 struct FitSessionConfig {
   std::string method = "nlopt";     // "nlopt" (default) or "paper"
+  // "segments" (default): multiple shooting, every bounce its own segment from the recorded
+  // apex before it (FitProblem::segments); "drop": one free-running drop (the paper's).
+  std::string objective = "segments";
+  int ensemble_members = 8;         // the final fit's free-running check (0: none)
   int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
   int max_evaluations_final = 900;      // final fit budget, plus the Jacobian (chaotic heights: docs/MODEL.md)
   int final_starts = 3;                 // the final fit's starts (budget shared), best kept
@@ -130,6 +145,9 @@ class FitSession {
   // One start of the final fit: Gauss-Newton rounds on the lead_n most influential
   // coefficients from final_start_, then the thorough search, within `budget` simulations.
   SearchResult FinalSearch(int lead_n, int budget, const SearchOptions& options) const;
+  // The final fit's free-running check: simulated_m and residual_m from one drop as
+  // `simulate` runs it, free_run_* from the ensemble.
+  void CheckFreeRun(const FitProblem& problem, FitUpdate* update);
   FitUpdate Finish(const FitProblem& problem, const SearchResult& r, bool final,
                    const std::vector<std::vector<double>>& jacobian, int extra_evals,
                    double wall_s, const BallModel& model);

@@ -35,6 +35,9 @@ struct SimulationOptions {
   double drop_height_m = 1.0;   // ball bottom above the floor at release, metres
   double duration_s = 6.0;      // simulated time, at most
   double min_bounce_height_m = 0.01;  // stop once apexes fall below this
+  // The ball turned about the vertical at release, radians (a model with an orientation,
+  // the soft ball's mesh, uses it; a point mass has none).
+  double release_turn_rad = 0;
   bool record_trajectory = false;
   double trajectory_rate_hz = 120;    // sampling of the recorded trajectory
 };

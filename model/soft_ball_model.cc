@@ -165,7 +165,8 @@ struct BuiltBall {
 
 // Builds the world of one run. Returns "" or why not.
 std::string BuildWorld(const BallPreset& ball, const SoftBallModelConfig& cfg, const Coeffs& c,
-                       const TetMesh& mesh, double drop_height_m, World* w, BuiltBall* built) {
+                       const TetMesh& mesh, double drop_height_m, double turn_rad, World* w,
+                       BuiltBall* built) {
   const double r = ball.radius_m();
   const double margin = cfg.margin_per_radius * r;
 
@@ -208,6 +209,7 @@ std::string BuildWorld(const BallPreset& ball, const SoftBallModelConfig& cfg, c
   const double t = (1 + std::sqrt(5.0)) / 2;
   const double n0 = std::sqrt(1 + t * t);
   const auto rot = RotationOnto({-1 / n0, t / n0, 0}, {0, -1, 0});
+  const double turn_cos = std::cos(turn_rad), turn_sin = std::sin(turn_rad);
   std::vector<btVector3> x(nodes.size());
   double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
   for (size_t i = 0; i < nodes.size(); ++i) {
@@ -220,6 +222,10 @@ std::string BuildWorld(const BallPreset& ball, const SoftBallModelConfig& cfg, c
     xmax = std::max(xmax, p[0]);
     ymin = std::min(ymin, p[1]);
     ymax = std::max(ymax, p[1]);
+    // Then turned about the vertical (release_turn_rad: the ensemble's perturbation).
+    const double px = turn_cos * p[0] + turn_sin * p[2], pz = -turn_sin * p[0] + turn_cos * p[2];
+    p[0] = px;
+    p[2] = pz;
     x[i] = btVector3(btScalar(p[0] * r), btScalar(p[1] * r + r + drop_height_m), btScalar(p[2] * r));
   }
   built->rest_width_height = (xmax - xmin) / (ymax - ymin);
@@ -457,7 +463,8 @@ SimulationResult SoftBallModel::Simulate(const CoefficientValues& values,
 
   World w;
   BuiltBall built;
-  if (std::string err = BuildWorld(ball_, config_, c, *mesh, options.drop_height_m, &w, &built);
+  if (std::string err = BuildWorld(ball_, config_, c, *mesh, options.drop_height_m,
+                                       options.release_turn_rad, &w, &built);
       !err.empty())
     return finish(err);
   btSoftBody& sb = *w.ball;

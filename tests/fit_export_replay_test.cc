@@ -70,6 +70,58 @@ TEST(FitExportReplay, SimulateOnTheExportedFileGivesTheFitsHeights) {
   ASSERT_GE(heights.size(), u.simulated_m.size()) << out;
   for (size_t i = 0; i < u.simulated_m.size(); ++i)
     EXPECT_EQ(heights[i], u.simulated_m[i]) << "bounce " << i + 1;
+
+  // predict: its single run is simulate's; its ensemble (same members, same perturbations)
+  // is the fit's free-running check.
+  const int prc = testing::RunCommand(testing::BouncefitExe() + " predict --json --threads 2 --coeffs '" +
+                                          (dir / "coefficients.json").string() + "' --drop " +
+                                          Exact(u.drop_height_m),
+                                      &out);
+  ASSERT_EQ(prc, 0) << out;
+  const auto p = nlohmann::json::parse(out);
+  const auto single = p["single_run_heights_m"].get<std::vector<double>>();
+  const auto mean = p["bounce_heights_m"].get<std::vector<double>>();
+  const auto sd = p["bounce_heights_sd_m"].get<std::vector<double>>();
+  ASSERT_GE(single.size(), 3u) << out;
+  ASSERT_GE(mean.size(), 3u) << out;
+  ASSERT_EQ(u.free_run_mean_m.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(single[i], u.simulated_m[i]) << "bounce " << i + 1;
+    EXPECT_EQ(mean[i], u.free_run_mean_m[i]) << "bounce " << i + 1;
+    EXPECT_EQ(sd[i], u.free_run_sd_m[i]) << "bounce " << i + 1;
+  }
+  // The perturbations are real: the later bounces of the members differ.
+  EXPECT_GT(sd[2], 0);
+}
+
+TEST(FitExportReplay, PredictRunsThePointMassModelToo) {
+  const BallPreset ball = *FindBallPreset("tennis");
+  const auto dir = testing::ScratchDir("point_mass");
+  std::string out;
+  const int rc = testing::RunCommand(testing::BouncefitExe() +
+                                         " fit --heights 1.0,0.62,0.40,0.26 --ball tennis --model "
+                                         "point-mass --final-only --max-evals 60 --export '" +
+                                         dir.string() + "'",
+                                     &out);
+  ASSERT_EQ(rc, 0) << out;
+  const int prc = testing::RunCommand(testing::BouncefitExe() + " predict --json --coeffs '" +
+                                          (dir / "coefficients.json").string() + "' --drop 1.6",
+                                      &out);
+  ASSERT_EQ(prc, 0) << out;
+  const auto p = nlohmann::json::parse(out);
+  EXPECT_EQ(p["model"], "point-mass");
+  const auto mean = p["bounce_heights_m"].get<std::vector<double>>();
+  ASSERT_GE(mean.size(), 3u) << out;
+  // Dropped from 1.6 m instead of 1.0 m, a ball with restitution ~0.79 rebounds higher.
+  EXPECT_GT(mean[0], 0.85) << out;
+  EXPECT_LT(mean[0], 1.1) << out;
+  for (size_t i = 1; i < mean.size(); ++i) EXPECT_LT(mean[i], mean[i - 1]);
+  // Bad input is a one-line error, not a crash.
+  const int bad = testing::RunCommand(testing::BouncefitExe() + " predict --coeffs '" +
+                                          (dir / "coefficients.json").string() + "' --drop -1",
+                                      &out);
+  EXPECT_EQ(bad, 1);
+  EXPECT_NE(out.find("bouncefit predict: error:"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -1,0 +1,123 @@
+// bouncefit predict: the bounce heights a fitted ball is expected to reach when dropped from
+// a given height, as the mean (and spread) of an ensemble of tiny perturbations of the release
+// (fit/drop_ensemble.h), for either model; also the single unperturbed run, which is what
+// `simulate` prints and what the fit reported at its own drop.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "fit/drop_ensemble.h"
+#include "model/ball_preset.h"
+#include "model/coefficient_table.h"
+#include "model/model_by_name.h"
+#include "model/soft_ball_model.h"
+
+namespace bouncefit::cli {
+namespace {
+
+struct PredictOptions {
+  std::string coeffs;
+  double drop_m = 0;
+  std::string ball;  // "" = the file's
+  bool json = false;
+  double min_height_m = 0.01;
+  double duration_s = 0;  // 0: long enough for bounces down to min_height_m
+  DropEnsembleOptions ensemble;
+};
+
+void Run(const PredictOptions& o) {
+  if (!(o.drop_m > 0 && o.drop_m < 100)) throw std::invalid_argument("--drop must be in (0, 100) m");
+  if (o.ensemble.members < 1 || o.ensemble.members > 1000)
+    throw std::invalid_argument("--members must be 1..1000");
+  if (!(o.min_height_m > 0)) throw std::invalid_argument("--min-height must be > 0 m");
+  const CoefficientTable table = LoadCoefficientTable(o.coeffs);
+  if (table.values.empty()) throw std::runtime_error(o.coeffs + ": no coefficients in it");
+  const std::string ball_name = !o.ball.empty() ? o.ball : !table.ball.empty() ? table.ball : "";
+  if (ball_name.empty())
+    throw std::invalid_argument(o.coeffs + " does not name its ball: give --ball");
+  const BallPreset ball =
+      ResolveBallPreset(ball_name, table.diameter_m.value_or(0), table.mass_kg.value_or(0));
+  const std::string model_name = table.model.empty() ? "bullet-softbody" : table.model;
+  const auto model = MakeBallModel(model_name, ball);
+  if (const auto* soft = dynamic_cast<const SoftBallModel*>(model.get())) {
+    // The coefficients hold for one time step and iteration count only.
+    if (table.time_step_s && std::abs(*table.time_step_s - soft->config().time_step_s) > 1e-12)
+      throw std::runtime_error(o.coeffs + ": coefficients for another time step (" +
+                               std::to_string(*table.time_step_s) + " s)");
+    if (table.position_iterations &&
+        *table.position_iterations != soft->config().position_iterations)
+      throw std::runtime_error(o.coeffs + ": coefficients for another iteration count (" +
+                               std::to_string(*table.position_iterations) + ")");
+  }
+  SimulationOptions drop;
+  drop.drop_height_m = o.drop_m;
+  drop.min_bounce_height_m = o.min_height_m;
+  // A ball with restitution e needs ~ sqrt(2H/g)(1 + 2/(1-e)) s; 20 s covers e < 0.95 from 2 m.
+  drop.duration_s = o.duration_s > 0 ? o.duration_s : 6 + 10 * std::sqrt(o.drop_m);
+  const DropEnsemble e = SimulateDropEnsemble(*model, table.values, drop, o.ensemble);
+  if (!e.ok)
+    throw std::runtime_error("the ball diverges dropped from " + std::to_string(o.drop_m) +
+                             " m (" + e.failure + ")");
+  if (o.json) {
+    nlohmann::ordered_json j;
+    j["model"] = model->name();
+    j["ball"] = ball.name;
+    j["drop_height_m"] = o.drop_m;
+    j["members"] = o.ensemble.members;
+    j["height_jitter_m"] = o.ensemble.height_jitter_m;
+    j["turn_jitter_rad"] = o.ensemble.turn_jitter_rad;
+    j["bounce_heights_m"] = e.mean_m;
+    j["bounce_heights_sd_m"] = e.sd_m;
+    j["single_run_heights_m"] = e.single_m;
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  std::printf("%s, %s dropped from %.6g m: %d runs (release +- %.3g mm, turned +- %.3g deg)\n",
+              model->name().c_str(), ball.name.c_str(), o.drop_m, o.ensemble.members,
+              o.ensemble.height_jitter_m * 1000, o.ensemble.turn_jitter_rad * 180 / M_PI);
+  std::printf("%6s %12s %10s %14s\n", "bounce", "mean_m", "sd_mm", "single_run_m");
+  for (size_t i = 0; i < e.mean_m.size(); ++i)
+    std::printf("%6zu %12.4f %10.2f %14s\n", i + 1, e.mean_m[i], e.sd_m[i] * 1000,
+                i < e.single_m.size() ? std::to_string(e.single_m[i]).c_str() : "-");
+}
+
+}  // namespace
+
+void AddPredictCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "predict",
+      "Expected bounce heights (ball bottom above the floor, m) of a fitted ball dropped from "
+      "--drop: the mean and spread of an ensemble of tiny perturbations of the release, and the "
+      "single unperturbed run (what `simulate` prints); either model.");
+  auto o = std::make_shared<PredictOptions>();
+  cmd->add_option("--coeffs", o->coeffs, "a fit's coefficients.json (or a coefficient table)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--drop,--drop-height", o->drop_m,
+                  "ball bottom above the floor at release, metres")
+      ->required();
+  cmd->add_option("--ball", o->ball, "ball preset, when the file names none: " + BallPresetNames());
+  cmd->add_flag("--json", o->json,
+                "one JSON object: bounce_heights_m (means), bounce_heights_sd_m, "
+                "single_run_heights_m");
+  cmd->add_option("--members", o->ensemble.members, "runs in the ensemble")->capture_default_str();
+  cmd->add_option("--height-jitter", o->ensemble.height_jitter_m,
+                  "release heights uniform in +- this, metres")
+      ->capture_default_str();
+  cmd->add_option("--turn-jitter", o->ensemble.turn_jitter_rad,
+                  "turns about the vertical uniform in +- this, radians")
+      ->capture_default_str();
+  cmd->add_option("--min-height", o->min_height_m, "bounces lower than this are not reported, m")
+      ->capture_default_str();
+  cmd->add_option("--duration", o->duration_s, "simulated time at most, s (0: from the drop)");
+  cmd->add_option("--threads", o->ensemble.threads, "parallel runs (0: all cores)")
+      ->capture_default_str();
+  cmd->callback([o] { Run(*o); });
+}
+
+}  // namespace bouncefit::cli

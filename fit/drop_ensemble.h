@@ -1,0 +1,39 @@
+#pragma once
+// A free-running drop judged as an ensemble (docs/MODEL.md, "chaos floor";
+// ../shared/design/NOTES.md, "Fitting a chaotic simulator"): the same coefficients dropped
+// from the release height plus tiny offsets, turned by tiny angles about the vertical, with
+// the same offsets for every coefficient set (common random numbers), so nearby sets compare
+// smoothly. The mean per bounce is the prediction, the spread its honest error bar.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "model/ball_model.h"
+
+namespace bouncefit {
+
+struct DropEnsembleOptions {
+  int members = 8;                  // perturbed runs (member 0 is the unperturbed drop)
+  double height_jitter_m = 1e-4;    // release heights uniform in +- this
+  double turn_jitter_rad = 0.05;    // turns about the vertical uniform in +- this
+  uint32_t seed = 14;               // the common random numbers
+  int threads = 0;                  // parallel runs; 0 = all cores
+};
+
+struct DropEnsemble {
+  bool ok = false;
+  std::string failure;                   // the first member's failure, when one failed
+  std::vector<double> mean_m;            // per bounce, over the members that made it
+  std::vector<double> sd_m;              // sample standard deviation, same bounces
+  std::vector<double> single_m;          // member 0: the drop exactly as asked
+  std::vector<std::vector<double>> runs; // every member's heights
+  int simulations = 0;
+};
+
+// Bounce i is reported while at least half of the members made it. Any member that fails
+// (diverges) fails the ensemble: a set that diverges near a drop is not a safe answer.
+DropEnsemble SimulateDropEnsemble(const BallModel& model, const CoefficientValues& values,
+                                  const SimulationOptions& drop,
+                                  const DropEnsembleOptions& options = {});
+
+}  // namespace bouncefit
