@@ -135,6 +135,10 @@ std::string BtSoftBodySnippet(const FitUpdate& u, const BallPreset& ball) {
       << "//   sb->addVelocity(btVector3(0, btScalar(" << G(boost)
       << ") * impact_speed, 0));\n"
       << "// impact_speed = downward speed of the centre of mass just before contact.\n";
+  const double slope = Value(u, "rebound_boost_per_mps", 0);
+  if (boost > 0 && slope != 0)
+    s << "// with the boost falling with impact speed: replace " << G(boost) << " by\n"
+      << "//   max(0, " << G(boost) << " - " << G(slope) << " * (impact_speed - 4.43))\n";
   return s.str();
 }
 

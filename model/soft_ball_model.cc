@@ -75,6 +75,9 @@ std::vector<CoefficientSpec> MakeSpecs() {
       {"rebound_boost", "", 0.0, 0.0, 1.0, false,
        "artificial, not Bullet: upward velocity given to every node when the ball leaves the "
        "floor, as a fraction of the impact speed (the paper's 'artificial extra force')"},
+      {"rebound_boost_per_mps", "1/(m/s)", 0.0, -0.1, 0.2, false,
+       "artificial: the rebound boost's loss per m/s of impact speed above 4.43 m/s (a 1 m "
+       "drop), so restitution can fall with speed as a real ball's does"},
   };
 }
 
@@ -86,7 +89,8 @@ const std::vector<CoefficientSpec>& Specs() {
 struct Coeffs {
   double kLST, kAST, kVST, pressure, kDP, kDG, kLF, kSR, kSK, kSS;
   int resolution;
-  double ratio, max_volume, volume_conservation, kKHR, floor_friction, floor_restitution, boost;
+  double ratio, max_volume, volume_conservation, kKHR, floor_friction, floor_restitution, boost,
+      boost_per_mps;
 
   static Coeffs From(const CoefficientValues& v) {
     Coeffs c;
@@ -108,6 +112,7 @@ struct Coeffs {
     c.floor_friction = v.at("floor_friction");
     c.floor_restitution = v.at("floor_restitution");
     c.boost = v.at("rebound_boost");
+    c.boost_per_mps = v.at("rebound_boost_per_mps");
     return c;
   }
   TetMeshParams MeshParams() const {
@@ -551,8 +556,9 @@ SimulationResult SoftBallModel::Simulate(const CoefficientValues& values,
     // first touches the ball (impact speed = the centre's downward speed the step before)
     // and ends when no node touches the floor and the centre moves up; then every node gets
     // boost * impact speed upward. Episodes longer than kMaxContactS are a ball at rest.
-    if (c.boost > 0) {
+    if (c.boost > 0 || c.boost_per_mps != 0) {
       constexpr double kMaxContactS = 0.1;
+      constexpr double kReferenceSpeed = 4.43;  // m/s, sqrt(2 g 1 m)
       const double vy = s.com_v.y();
       const bool contact = sb.m_rcontacts.size() > 0;
       if (!episode && contact) {
@@ -561,8 +567,10 @@ SimulationResult SoftBallModel::Simulate(const CoefficientValues& values,
         impact_speed = std::max(0.0, -prev_vy);
       } else if (episode && !contact && vy > 0) {
         episode = false;
-        if (t - episode_start < kMaxContactS)
-          sb.addVelocity(btVector3(0, btScalar(c.boost * impact_speed), 0));
+        // The boost at this impact speed (kReferenceSpeed: a 1 m drop), never negative.
+        const double boost = std::max(0.0, c.boost - c.boost_per_mps * (impact_speed - kReferenceSpeed));
+        if (t - episode_start < kMaxContactS && boost > 0)
+          sb.addVelocity(btVector3(0, btScalar(boost * impact_speed), 0));
       }
       prev_vy = vy;
     }

@@ -334,6 +334,22 @@ TEST(SoftBallModel, ReboundBoostRaisesTheBounceSmoothly) {
   }
 }
 
+// rebound_boost_per_mps: restitution that falls with impact speed. The boost is unchanged at
+// the reference speed (a 1 m drop) and smaller for a faster impact.
+TEST(SoftBallModel, ReboundBoostFallsWithImpactSpeed) {
+  const SoftBallModel model(*FindBallPreset("airball"));
+  auto first = [&](double drop, double slope) {
+    const SimulationResult r =
+        model.Simulate({{"rebound_boost", 0.3}, {"rebound_boost_per_mps", slope}}, Drop(drop, 2.0));
+    EXPECT_TRUE(r.ok) << r.failure;
+    return r.bounce_heights_m.empty() ? 0.0 : r.bounce_heights_m[0] / drop;
+  };
+  const double at2 = first(2.0, 0), at2_sloped = first(2.0, 0.1);
+  EXPECT_LT(at2_sloped, at2 - 0.03) << "from 2 m: " << at2 << " -> " << at2_sloped;
+  // From 0.3 m (slower than the reference) the boost grows instead.
+  EXPECT_GT(first(0.3, 0.1), first(0.3, 0) + 0.01);
+}
+
 // The stored coefficient tables (model/presets/) are complete and hold for this model's time
 // step and iterations (the slow test re-simulates them against the presets' heights).
 TEST(SoftBallPresets, TablesNameKnownCoefficientsForThisModel) {
