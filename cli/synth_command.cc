@@ -104,6 +104,15 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--hold", c.hold_s, "Ball held still before release, seconds")
       ->capture_default_str();
+  cmd->add_option("--throw-up", c.launch_up_mps,
+                  "Vertical speed at release, m/s, up positive (0: dropped from rest)")
+      ->capture_default_str();
+  cmd->add_option("--throw-right", c.launch_right_mps,
+                  "Horizontal speed at release, m/s, right positive (drag-free)")
+      ->capture_default_str();
+  cmd->add_option("--start-after-release", c.start_after_release_s,
+                  "Start the clip this long after the release, s (mid-bounce; no hold shown)")
+      ->capture_default_str();
   cmd->add_option("--g", c.g_mps2, "Gravitational acceleration, m/s^2")->capture_default_str();
   cmd->add_flag("--no-drag", o->no_drag, "Switch air drag off (vacuum)");
   cmd->add_option("--fps", c.fps, "Frame rate, frames per second")->capture_default_str();

@@ -23,6 +23,12 @@ const std::vector<BallPreset>& BallPresets() {
       {"airball", "air-filled children's toy ball", 0.150, 0.060, 0.80, 0.01, 0.47,
        {40, 40, 220}},
       {"tennis", "tennis ball (ITF)", 0.067, 0.058, 0.76, 0.005, 0.55, {60, 220, 200}},
+      // Balls people film at home: FIBA size 7 (dropped from 1.8 m it must rebound to
+      // 1.2-1.4 m) and FIFA size 5 (from 2 m onto steel, 1.2-1.65 m), below the drag crisis.
+      {"basketball", "basketball (size 7, 0.239 m, 0.62 kg)", 0.239, 0.62, 0.84, 0.01, 0.47,
+       {30, 90, 210}},
+      {"football", "football (size 5, 0.22 m, 0.43 kg)", 0.22, 0.43, 0.84, 0.01, 0.47,
+       {235, 235, 235}},
   };
   return presets;
 }

@@ -78,6 +78,8 @@ PointMassDropResult SimulatePointMassDrop(const PointMassDropConfig& c) {
   Require(c.g_mps2 > 0, "g must be > 0 m/s^2");
   Require(c.air_density_kgpm3 >= 0, "air density must be >= 0 kg/m^3");
   Require(c.hold_s >= 0, "hold must be >= 0 s");
+  Require(std::isfinite(c.launch_speed_mps) && std::abs(c.launch_speed_mps) <= 100,
+          "launch speed must be within +-100 m/s");
   Require(c.dt_s > 0 && c.dt_s <= 0.01, "integration step must be in (0, 0.01] s");
   Require(c.end_time_s >= c.hold_s, "end time must not be before the release");
   Require(c.min_apex_height_m > 0, "minimum apex height must be > 0 m");
@@ -92,11 +94,17 @@ PointMassDropResult SimulatePointMassDrop(const PointMassDropConfig& c) {
   r.apex_times_s.push_back(c.hold_s);
   r.apex_heights_m.push_back(c.drop_height_m);
   double t = c.hold_s;
-  PointMassState s{c.drop_height_m, 0};
+  PointMassState s{c.drop_height_m, c.launch_speed_mps};
   r.knots.reserve(static_cast<size_t>((c.end_time_s - c.hold_s) / c.dt_s) + 64);
-  r.knots.push_back({t, s.height_m, s.velocity_mps, d.Accel(0)});
+  r.knots.push_back({t, s.height_m, s.velocity_mps, d.Accel(s.velocity_mps)});
+  // Thrown up: the top of the throw, found below, replaces the release as apex 0.
+  const bool thrown_up = c.launch_speed_mps > 0;
+  if (thrown_up) {
+    r.apex_times_s.clear();
+    r.apex_heights_m.clear();
+  }
 
-  if (c.drop_height_m == 0) {  // already on the floor: nothing happens
+  if (c.drop_height_m == 0 && c.launch_speed_mps <= 0) {  // already on the floor: nothing happens
     r.knots.back().a = 0;
     r.comes_to_rest = true;
     r.rest_time_s = t;

@@ -18,6 +18,9 @@ struct PointMassDropConfig {
   BallPreset ball;                  // diameter, mass, restitution e(v), drag coefficient
   double drop_height_m = 1.0;       // ball bottom above the floor at release, metres (>= 0)
   double hold_s = 0;                // the ball is held still this long before release, s
+  // Vertical speed at release, m/s, up positive (0: dropped from rest; > 0: thrown up, the
+  // throw's apex is then apex [0]; < 0: thrown down).
+  double launch_speed_mps = 0;
   double g_mps2 = 9.81;             // gravitational acceleration, m/s^2
   double air_density_kgpm3 = 1.2;   // rho of the drag force 0.5 rho Cd A v^2, kg/m^3
   bool drag = true;                 // false: no air drag at all (vacuum)
@@ -40,7 +43,8 @@ struct PointMassDropResult {
   std::vector<double> impact_times_s;    // every floor contact, in order
   std::vector<double> impact_speeds_mps; // speed just before each impact
   std::vector<double> restitutions;      // e(v) applied at each impact
-  // Apexes: [0] is the release (time release_time_s, height drop_height_m); [k] the apex
+  // Apexes: [0] is the release (time release_time_s, height drop_height_m), or the top of
+  // the throw when launched upwards; [k] the apex
   // of the flight after impact k-1. A flight cut by end_time_s before its apex has none.
   std::vector<double> apex_times_s;
   std::vector<double> apex_heights_m;

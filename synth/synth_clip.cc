@@ -36,6 +36,10 @@ void Validate(const SynthClipConfig& c) {
   Require(c.ball.diameter_m > 0, "ball diameter must be > 0 m");
   Require(c.ball.mass_kg > 0, "ball mass must be > 0 kg");
   Require(c.hold_s >= 0, "hold must be >= 0 s (got " + Num(c.hold_s) + ")");
+  Require(std::abs(c.launch_up_mps) <= 30 && std::abs(c.launch_right_mps) <= 30,
+          "launch speeds must be within +-30 m/s");
+  Require(c.start_after_release_s >= 0 && c.start_after_release_s < 60,
+          "start after release must be in [0, 60) s");
   Require(c.g_mps2 > 0, "g must be > 0 m/s^2");
   Require(c.fps > 0 && c.fps <= 1000, "fps must be in (0, 1000] (got " + Num(c.fps) + ")");
   Require(c.width >= 16 && c.height >= 16 && c.width <= 8192 && c.height <= 8192,
@@ -80,10 +84,12 @@ SynthTrajectory PointMassSynthTrajectory(const SynthClipConfig& c) {
   pm.ball = c.ball;
   pm.drop_height_m = c.drop_height_m;
   pm.hold_s = 0;
+  pm.launch_speed_mps = c.launch_up_mps;
   pm.g_mps2 = c.g_mps2;
   pm.air_density_kgpm3 = c.air_density_kgpm3;
   pm.drag = c.drag;
-  pm.end_time_s = std::max(0.0, c.duration_s - c.hold_s) + c.exposure_s + 0.01;
+  pm.end_time_s = std::max(0.0, c.duration_s - c.hold_s) + c.start_after_release_s +
+                  c.exposure_s + 0.01;
   auto result = std::make_shared<PointMassDropResult>(SimulatePointMassDrop(pm));
   SynthTrajectory t;
   t.name = "point-mass";
@@ -170,14 +176,17 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   sc.distractor_x_px = (c.ball_x <= 0.5 ? 0.8 : 0.2) * (c.width - 1);
   const SynthScene scene(sc);
 
+  // Trajectory time (since release) = clip time + offset.
+  const double offset = c.start_after_release_s > 0 ? c.start_after_release_s : -c.hold_s;
   auto ball_at = [&](double t_clip) {
-    const TrajectorySample s = traj.at(std::max(0.0, t_clip - c.hold_s));
+    const double t_flight = std::max(0.0, t_clip + offset);
+    const TrajectorySample s = traj.at(t_flight);
     double half_h = s.center_height_m - s.bottom_height_m;
     if (!(half_h > 0)) half_h = r_m;
     const double ratio = s.width_height_ratio > 0 ? s.width_height_ratio : 1.0;
     BallAt b;
     b.bottom_m = s.bottom_height_m;
-    b.shape.x = ball_x_px;
+    b.shape.x = ball_x_px + c.launch_right_mps * t_flight * scale;
     b.shape.y = floor_px - (s.bottom_height_m + half_h) * scale;
     b.shape.b = half_h * scale;
     b.shape.a = ratio * half_h * scale;
@@ -223,17 +232,30 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   truth.noise_sigma = c.noise_sigma;
   truth.seed = c.seed;
   truth.distractor = c.distractor;
-  truth.release_t_s = c.hold_s;
+  truth.launch_up_mps = c.launch_up_mps;
+  truth.launch_right_mps = c.launch_right_mps;
+  truth.release_t_s = -offset;  // negative: released before the clip began
   const double last_t = c.duration_s;
+  auto in_clip = [&](double t_flight) {
+    return t_flight - offset >= 0 && t_flight - offset <= last_t;
+  };
   for (double t : traj.impact_times_s)
-    if (t + c.hold_s <= last_t) truth.impact_times_s.push_back(t + c.hold_s);
-  for (size_t k = 0; k < traj.apex_times_s.size() && k < traj.apex_heights_m.size(); ++k)
-    if (traj.apex_times_s[k] + c.hold_s <= last_t) {
-      truth.apex_times_s.push_back(traj.apex_times_s[k] + c.hold_s);
+    if (in_clip(t)) truth.impact_times_s.push_back(t - offset);
+  // Apexes keep their index (apex k follows impact k-1); one before the clip is left out
+  // (truth.first_apex says how many were).
+  truth.first_apex = 0;
+  for (size_t k = 0; k < traj.apex_times_s.size() && k < traj.apex_heights_m.size(); ++k) {
+    if (traj.apex_times_s[k] - offset < 0) {
+      truth.first_apex = static_cast<int>(k) + 1;
+      continue;
+    }
+    if (in_clip(traj.apex_times_s[k])) {
+      truth.apex_times_s.push_back(traj.apex_times_s[k] - offset);
       truth.apex_heights_m.push_back(traj.apex_heights_m[k]);
     }
-  truth.comes_to_rest = traj.comes_to_rest && traj.rest_time_s + c.hold_s <= last_t;
-  truth.rest_t_s = truth.comes_to_rest ? traj.rest_time_s + c.hold_s : 0;
+  }
+  truth.comes_to_rest = traj.comes_to_rest && in_clip(traj.rest_time_s);
+  truth.rest_t_s = truth.comes_to_rest ? traj.rest_time_s - offset : 0;
 
   cv::Mat frame;
   double scene_s = 0, noise_s = 0, encode_s = 0;

@@ -23,6 +23,12 @@ struct SynthClipConfig {
   BallPreset ball = *FindBallPreset("pingpong");  // size, mass, e(v), Cd, colour
   double drop_height_m = 1.0;   // ball bottom above the floor at release, m
   double hold_s = 0.5;          // ball held still before release, s
+  // Motion kinds beyond a drop from rest: a throw (vertical speed up positive, horizontal
+  // speed to the right, m/s; the horizontal motion is drag-free, the vertical has drag) and
+  // a clip that starts this long after the release (mid-bounce; the hold is not shown).
+  double launch_up_mps = 0;
+  double launch_right_mps = 0;
+  double start_after_release_s = 0;
   double g_mps2 = 9.81;
   bool drag = true;             // point-mass physics: quadratic air drag on/off
   double air_density_kgpm3 = 1.2;

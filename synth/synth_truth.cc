@@ -42,7 +42,9 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
                {"color_bgr", {t.ball_color_bgr[0], t.ball_color_bgr[1], t.ball_color_bgr[2]}}};
   j["physics"] = {{"trajectory", t.trajectory},
                   {"g_mps2", t.g_mps2},
-                  {"drop_height_m", t.drop_height_m}};
+                  {"drop_height_m", t.drop_height_m},
+                  {"launch_up_mps", t.launch_up_mps},
+                  {"launch_right_mps", t.launch_right_mps}};
   j["render"] = {{"exposure_s", t.exposure_s},
                  {"blur_samples", t.blur_samples},
                  {"noise_sigma", t.noise_sigma},
@@ -50,6 +52,7 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
                  {"distractor", t.distractor}};
   j["release_t_s"] = t.release_t_s;
   j["impact_times_s"] = t.impact_times_s;
+  j["first_apex"] = t.first_apex;
   j["apex_times_s"] = t.apex_times_s;
   j["apex_heights_m"] = t.apex_heights_m;
   j["comes_to_rest"] = t.comes_to_rest;
@@ -149,6 +152,9 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
   t.trajectory = Get<std::string>(physics, "trajectory", where + " physics");
   t.g_mps2 = Get<double>(physics, "g_mps2", where + " physics");
   t.drop_height_m = Get<double>(physics, "drop_height_m", where + " physics");
+  // Absent in files written before throws existed: a drop from rest.
+  t.launch_up_mps = physics.value("launch_up_mps", 0.0);
+  t.launch_right_mps = physics.value("launch_right_mps", 0.0);
 
   const json render = Get<json>(j, "render", where);
   t.exposure_s = Get<double>(render, "exposure_s", where + " render");
@@ -159,6 +165,7 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
 
   t.release_t_s = Get<double>(j, "release_t_s", where);
   t.impact_times_s = Get<std::vector<double>>(j, "impact_times_s", where);
+  t.first_apex = j.value("first_apex", 0);
   t.apex_times_s = Get<std::vector<double>>(j, "apex_times_s", where);
   t.apex_heights_m = Get<std::vector<double>>(j, "apex_heights_m", where);
   if (t.apex_times_s.size() != t.apex_heights_m.size())

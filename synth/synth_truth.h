@@ -49,9 +49,11 @@ struct SynthTruth {
   unsigned long long seed = 0;
   bool distractor = false;
 
-  double release_t_s = 0;                  // end of the hold
+  double launch_up_mps = 0, launch_right_mps = 0;  // a throw's speeds (0: dropped)
+  double release_t_s = 0;                  // end of the hold (< 0: before the clip began)
   std::vector<double> impact_times_s;
-  std::vector<double> apex_times_s;        // [0] = release
+  int first_apex = 0;                      // index of apex_times_s[0] (> 0: clip began later)
+  std::vector<double> apex_times_s;        // [0] = release (or the top of a throw)
   std::vector<double> apex_heights_m;      // [0] = drop height; ball bottom above the floor
   bool comes_to_rest = false;
   double rest_t_s = 0;                     // when comes_to_rest

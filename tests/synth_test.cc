@@ -572,7 +572,7 @@ TEST(SynthCli, BadOptionsAreOneLineErrors) {
   const std::string ok_out = " --out '" + (dir / "x.avi").string() + "'";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--drop-height -1" + ok_out, "drop height"},
-      {"--ball football" + ok_out, "football"},
+      {"--ball frisbee" + ok_out, "frisbee"},
       {"--out /nonexistent-dir/x.avi", "/nonexistent-dir/x.avi"},
       {"--out '" + (dir / "x.mkv").string() + "'", ".mkv"},
       {"--size 320by240" + ok_out, "--size"},
