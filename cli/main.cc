@@ -32,6 +32,20 @@ int main(int argc, char** argv) {
   AddPredictCommand(app);
   AddReplayLogCommand(app);
 
+  // CLI11 answers --help before it looks at the words around it: `bouncefit frobnicate
+  // --help` would print the main help and succeed. An unknown command is an error first.
+  std::string known;
+  bool is_command = false;
+  const CLI::App& top = app;
+  for (const auto* sub : top.get_subcommands([](const CLI::App*) { return true; })) {
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+    is_command = is_command || (argc >= 2 && sub->get_name() == argv[1]);
+  }
+  if (argc >= 2 && argv[1][0] != '-' && !is_command) {
+    std::fprintf(stderr, "bouncefit: error: unknown command '%s' (commands: %s; try --help)\n",
+                 argv[1], known.c_str());
+    return 2;
+  }
   std::string command = "bouncefit";
   try {
     app.parse(argc, argv);
