@@ -26,6 +26,7 @@ struct DetectOptions {
   std::string ball;
   double ball_diameter_m = 0;
   double px_per_m = 0;
+  double time_scale = 0;
   double drop_height_m = 0;
   double exit_after_idle_s = 0;
   bool quiet = false;
@@ -94,6 +95,7 @@ void RunDetect(const DetectOptions& o) {
   if (o.ball_diameter_m > 0) cfg.detector.calibration.ball_diameter_m = o.ball_diameter_m;
   cfg.detector.calibration.px_per_m = o.px_per_m;
   cfg.detector.calibration.drop_height_m = o.drop_height_m;
+  cfg.detector.time_scale = o.time_scale;
   std::string error;
   if (!cfg.detector.IsValid(&error)) throw std::invalid_argument(error);
 
@@ -150,6 +152,10 @@ void AddDetectCommand(CLI::App& app) {
   auto* dh = cmd->add_option("--drop-height", o->drop_height_m,
                              "release height of the ball bottom in metres: scale from it");
   ppm->excludes(dh);
+  cmd->add_option("--time-scale", o->time_scale,
+                  "real seconds per second of the boxes' timestamps (0.25: a 4x slow-motion "
+                  "file; default: as recorded)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
                   "exit when no box came for this many seconds (0: run until Ctrl-C)");
   cmd->add_flag("--quiet", o->quiet, "print only peaks and the summary");

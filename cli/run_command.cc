@@ -2,6 +2,7 @@
 // replayed at its recorded pace through the tracker, the detector and the fitter; every
 // message goes out on the bus (so `watch` can attach), into the output directory, and onto
 // the terminal as it happens.
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <deque>
@@ -22,6 +23,7 @@
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
 #include "msgs/msg_json.h"
+#include "replay/container_clock.h"
 #include "replay/pacer.h"
 #include "replay/video_file_source.h"
 #include "track/node/capture_node.h"
@@ -46,6 +48,7 @@ struct RunOptions {
   std::string method = "nlopt";
   int max_evals = 0;  // 0: the session's default
   double px_per_m = 0;
+  double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
   double drop_height_m = 0;
   int64_t max_frames = 0;
   TrackerConfig tracker;
@@ -87,6 +90,51 @@ std::unique_ptr<FrameSource> OpenSource(const RunOptions& o, const std::string& 
   return std::make_unique<VideoFileSource>(VideoFileSourceConfig{clip, false});
 }
 
+// The clock against the ball's size, said once per change: the two scales' agreement, and
+// slow motion when the detector switched to it.
+struct ClockReport {
+  std::string text;  // the last line said
+  double q = 0, time_scale = 0;
+};
+
+void ReportClock(const Calibration& c, const ContainerClock& container, ClockReport* last,
+                 RunConsole& console) {
+  const double q = c.gravity_over_size;
+  if (!(q > 0)) return;
+  if (last->q > 0 && last->time_scale == c.time_scale && std::abs(q / last->q - 1) < 0.05) return;
+  std::string r;
+  if (c.time_scale != 1) {
+    r = "clock: slow motion: the file plays " + Fixed(1 / c.time_scale, 2) +
+        "x slower than real time";
+    if (container.capture_fps > 0)
+      r += " (" + container.tag + " " + Fixed(container.capture_fps, 0) + " fps, stored at " +
+           Fixed(container.stored_fps, 2) + " fps)";
+    r += "; times and heights use real time; gravity's scale is " + Fixed(q, 2) +
+         "x the ball size's";
+  } else {
+    r = "clock: as recorded; gravity's scale is " + Fixed(q, 2) + "x the ball size's";
+    if (std::abs(std::log(q)) > std::log(1.3))
+      r += " (they disagree: a ball of another size than given, or a timeline slowed " +
+           Fixed(1 / std::sqrt(q), 2) + "x: --time-scale " + Fixed(std::sqrt(q), 3) +
+           " if so)";
+  }
+  *last = {r, q, c.time_scale};
+  console.Info(r);
+}
+
+// Flags that need the frame size, checked before anything is written.
+void ValidateAgainstFrame(const TrackerConfig& t, const SourceInfo& info) {
+  if (info.width <= 0 || info.height <= 0) return;
+  const std::string size = std::to_string(info.width) + "x" + std::to_string(info.height);
+  if (t.has_pick && !(t.pick_x >= 0 && t.pick_x < info.width && t.pick_y >= 0 &&
+                      t.pick_y < info.height))
+    throw std::invalid_argument("--pick " + Fixed(t.pick_x, 0) + "," + Fixed(t.pick_y, 0) +
+                                " is outside the " + size + " px frame");
+  if (t.roi_w > 0 && t.roi_h > 0 &&
+      (t.roi_x < 0 || t.roi_y < 0 || t.roi_x >= info.width || t.roi_y >= info.height))
+    throw std::invalid_argument("--roi starts outside the " + size + " px frame");
+}
+
 // The model's trajectory with the final coefficients, on the stream clock, for Fig. 7.
 void WriteSimulatedTrajectory(const RunOutput& out, const FitNode& fit, const FitUpdate& u,
                               int64_t release_utime) {
@@ -122,6 +170,7 @@ void Run(RunOptions o) {
   std::unique_ptr<FrameSource> source = OpenSource(o, clip);
   const SourceInfo info = source->Info();
   const bool is_file = o.device.empty();
+  ValidateAgainstFrame(o.tracker, info);  // before any output exists
   Tracker tracker(o.tracker);
   LcmBus bus(o.lcm_url);
   RunOutput out(o.out);
@@ -138,6 +187,9 @@ void Run(RunOptions o) {
   dc.detector.calibration.ball_diameter_m = ball.diameter_m;
   dc.detector.calibration.px_per_m = o.px_per_m;
   dc.detector.calibration.drop_height_m = o.drop_height_m;
+  dc.detector.time_scale = o.time_scale;
+  const ContainerClock container = is_file ? ReadContainerClock(clip) : ContainerClock{};
+  dc.detector.capture_slowdown_hint = container.SlowDown();
   DetectNode detect(&bus, dc);
 
   FitInbox inbox;
@@ -168,6 +220,7 @@ void Run(RunOptions o) {
   int64_t release_utime = 0;
   std::vector<bounce_peak_t> peaks;
   std::optional<calibration_t> calibration;
+  ClockReport clock_report;
   auto handle_fit_updates = [&] {
     for (auto& [m, u] : inbox.Take()) {
       bus.Publish(o.channels.fit_update, m);
@@ -180,6 +233,7 @@ void Run(RunOptions o) {
   auto handle_events = [&](const std::vector<DetectorEvent>& events) {
     for (const auto& e : events) {
       if (e.kind == DetectorEvent::Kind::kCalibration) {
+        ReportClock(e.calibration, container, &clock_report, console);
         const calibration_t m = ToCalibrationMsg(e.calibration);
         out.Log(o.channels.calibration, m);
         out.OnCalibration(m);
@@ -238,6 +292,17 @@ void Run(RunOptions o) {
     failure = e.what();  // keep going: close the drop, fit, and write what we have
   }
   handle_events(detect.Finish());
+  // A file cut short: say how much of it there was; with no apex found it gave nothing usable.
+  const auto* file_source = dynamic_cast<const VideoFileSource*>(source.get());
+  if (file_source && file_source->ended_short() && failure.empty()) {
+    const std::string read = clip + " ended after " + std::to_string(capture.stats().frames) +
+                             " of the " + std::to_string(info.frame_count) +
+                             " frames it announces (truncated or damaged?)";
+    if (peaks.empty())
+      failure = read + "; nothing usable was read";
+    else
+      console.Info("run: warning: " + read);
+  }
   if (fit) {
     fit->Finish();
     while (!fit->WaitIdleFor(std::chrono::milliseconds(200)))
@@ -270,6 +335,10 @@ void Run(RunOptions o) {
   if (!failure.empty()) summary["failure"] = failure;
   summary["log"] = {{"messages", logged}, {"dropped", log_dropped}};
   summary["calibration"] = calibration ? ToJson(*calibration, out.stream_start()) : nlohmann::json();
+  summary["clock"] = {{"time_scale", detect.detector().time_scale()},
+                      {"container_capture_fps", container.capture_fps},
+                      {"container_stored_fps", container.stored_fps},
+                      {"report", clock_report.text}};
   nlohmann::json jpeaks = nlohmann::json::array();
   for (const auto& p : peaks) jpeaks.push_back(ToJson(p, out.stream_start()));
   summary["peaks"] = jpeaks;
@@ -348,6 +417,11 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_option("--drop-height", o->drop_height_m,
                   "release height of the ball bottom, m (sets the scale)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--time-scale", o->time_scale,
+                  "real seconds per second of the file's timeline (0.25: a 4x slow-motion "
+                  "file; default: as recorded unless the container's capture rate and the "
+                  "ball's size agree it is slowed)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(CLI::NonNegativeNumber);
   AddBusFlags(cmd, &o->lcm_url, &o->channels);

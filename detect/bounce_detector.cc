@@ -46,10 +46,16 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
   if (!(noise_floor_px > 0) || !(initial_noise_px > 0)) return fail("noise must be > 0 px");
   if (!(release_px > 0)) return fail("release distance must be > 0 px");
   if (!(min_apex_px >= 0)) return fail("minimum apex must be >= 0 px");
+  if (!(min_flight_frames >= 0)) return fail("minimum flight must be >= 0 frames");
+  if (!(unseen_release_max_s >= 0)) return fail("unseen release time must be >= 0 s");
   if (!(lost_s > 0)) return fail("lost time must be > 0 s");
   if (!(hold_window_s >= 0)) return fail("hold window must be >= 0 s");
   if (!(max_hold_drift > 0)) return fail("hold drift must be > 0");
+  if (!(time_scale >= 0) || !std::isfinite(time_scale)) return fail("time scale must be >= 0");
+  if (!(capture_slowdown_hint > 0)) return fail("capture slow-down hint must be > 0");
+  if (!(clock_tolerance > 0 && clock_tolerance < 1)) return fail("clock tolerance must be in (0, 1)");
   if (fall_start_samples < 4) return fail("a fall start needs >= 4 samples");
+  if (arc_start_samples < 4) return fail("an arc start needs >= 4 samples");
   if (impact_confirm_samples < 1) return fail("impact confirmation needs >= 1 sample");
   if (bounce0_rising_samples < 1) return fail("bounce 0 needs >= 1 rising sample");
   return true;
@@ -66,6 +72,11 @@ BounceDetectorConfig Checked(BounceDetectorConfig c) {
 BounceDetector::BounceDetector(BounceDetectorConfig config)
     : config_(Checked(config)), calibrator_(config.calibration) {
   sigma_ = config_.initial_noise_px;
+  if (config_.time_scale > 0) {
+    scale_ = config_.time_scale;
+    clock_decided_ = true;
+    frame_dt_ *= scale_;
+  }
 }
 
 double BounceDetector::Gate() const {
@@ -73,7 +84,16 @@ double BounceDetector::Gate() const {
 }
 
 double BounceDetector::MinApexPx() const {
-  return std::max(config_.min_apex_px, 5 * sigma_);
+  double flight = 0;
+  if (calibrated_) {
+    const double t = config_.min_flight_frames * frame_dt_;
+    flight = calibration_.flight.globals.gravity_px * t * t / 8;
+  }
+  return std::max({config_.min_apex_px, 5 * sigma_, flight});
+}
+
+double BounceDetector::UnseenReleaseMaxS() const {
+  return std::max(config_.unseen_release_max_s, 2 * frame_dt_);
 }
 
 double BounceDetector::Down(const Sample& s) const {
@@ -84,7 +104,7 @@ double BounceDetector::Floor(const Sample& s) const {
   return AlongFloor(s.x, s.y, calibrated_ ? calibration_.flight.globals.roll_rad : 0.0);
 }
 
-int64_t BounceDetector::ToUtime(double t) const { return t0_ + std::llround(t * 1e6); }
+int64_t BounceDetector::ToUtime(double t) const { return t0_ + std::llround(t / scale_ * 1e6); }
 
 std::vector<FlightArcData> BounceDetector::ArcData() const {
   std::vector<FlightArcData> out;
@@ -109,12 +129,12 @@ std::vector<DetectorEvent> BounceDetector::Push(const BallObservation& o) {
                                   std::to_string(o.utime) + " < " +
                                   std::to_string(last_utime_) + " us)");
     if (o.utime == last_utime_) return ev;  // a duplicate frame
-    frame_dts_.push_back(static_cast<double>(o.utime - last_utime_) * 1e-6);
+    frame_dts_.push_back(static_cast<double>(o.utime - last_utime_) * 1e-6 * scale_);
     if (frame_dts_.size() > 64) frame_dts_.erase(frame_dts_.begin());
     frame_dt_ = Median(frame_dts_);
     last_utime_ = o.utime;
   }
-  const double t = static_cast<double>(o.utime - t0_) * 1e-6;
+  const double t = static_cast<double>(o.utime - t0_) * 1e-6 * scale_;
   const bool usable = o.found && std::isfinite(o.cx) && std::isfinite(o.cy);
   if (!usable) {
     if (phase_ == Phase::kFlight) {
@@ -156,7 +176,7 @@ std::vector<DetectorEvent> BounceDetector::Finish() {
 void BounceDetector::OnWaiting(const Sample& s, std::vector<DetectorEvent>& ev) {
   hold_.push_back(s);
   while (!hold_.empty() && hold_.front().t < s.t - 1.0) hold_.erase(hold_.begin());
-  if (!ReleasedFromHold(s, ev)) FallFromUnseenRelease(s, ev);
+  if (!ReleasedFromHold(s, ev) && !FallFromUnseenRelease(s, ev)) ArcFromUnseenStart(s, ev);
 }
 
 bool BounceDetector::ReleasedFromHold(const Sample& s, std::vector<DetectorEvent>& ev) {
@@ -236,6 +256,10 @@ bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<Detector
   if (!(c(2) > 0)) return false;
   const double rms = std::sqrt((a * c - b).squaredNorm() / static_cast<double>(m));
   if (rms > Gate()) return false;
+  // Far from its vertex already: it came from out of view, not from a hand (see below;
+  // twice the margin: five samples place the vertex roughly).
+  const double t_vertex = fall.back().t - c(1) / (2 * c(2));
+  if (fall.front().t - t_vertex > 2 * UnseenReleaseMaxS()) return false;
 
   // Released out of sight: a release arc from rest whose vertex is fitted, not seen.
   Arc arc;
@@ -245,8 +269,86 @@ bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<Detector
   return true;
 }
 
+bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEvent>& ev) {
+  auto m = static_cast<size_t>(config_.arc_start_samples);
+  if (hold_.size() < m) return false;
+  // At high frame rates a few samples show no bend: take at least 0.12 s.
+  while (m < hold_.size() && hold_.back().t - hold_[hold_.size() - m - 1].t <= 0.12) ++m;
+  std::vector<Sample> run(hold_.end() - static_cast<long>(m), hold_.end());
+  for (size_t i = 1; i < m; ++i)
+    if (run[i].t - run[i - 1].t > 3 * frame_dt_) return false;
+  const double thr = std::max(config_.release_px, Gate());
+  // A hand's hold before a throw is not on the arc: leading samples that barely move go.
+  auto step = [](const Sample& p, const Sample& q) { return std::hypot(q.x - p.x, q.y - p.y); };
+  while (run.size() > 4 && step(run[0], run[1]) < 0.3 * thr && step(run[1], run[2]) < 0.3 * thr)
+    run.erase(run.begin());
+  if (run.size() < static_cast<size_t>(config_.arc_start_samples)) return false;
+  m = run.size();
+  // Still at first, moving down at last: a release from a hold, which ReleasedFromHold
+  // takes once the move is clear.
+  if (std::hypot(run[1].x - run[0].x, run[1].y - run[0].y) < thr &&
+      Down(run[m - 1]) > Down(run[m - 2]))
+    return false;
+  double path = 0;
+  for (size_t i = 1; i < m; ++i)
+    path += std::hypot(run[i].x - run[i - 1].x, run[i].y - run[i - 1].y);
+  if (path < 3 * thr) return false;
+  // One parabola in both image axes, bending down (the roll is not known yet: gravity may
+  // lean a little sideways, a hand's path bends any way).
+  const auto rows = static_cast<Eigen::Index>(m);
+  Eigen::MatrixXd a(rows, 3);
+  Eigen::MatrixXd b(rows, 2);
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    const Sample& q = run[static_cast<size_t>(i)];
+    const double dt = q.t - run.back().t;
+    a(i, 0) = 1;
+    a(i, 1) = dt;
+    a(i, 2) = dt * dt;
+    b(i, 0) = Down(q);
+    b(i, 1) = Floor(q);
+  }
+  const Eigen::MatrixXd c = a.colPivHouseholderQr().solve(b);
+  const double span = run.back().t - run.front().t;
+  // The bend must show: the parabola's sag over the run beyond the gate.
+  if (!(c(2, 0) * span * span / 4 > Gate())) return false;
+  if (std::abs(c(2, 1)) > 0.35 * c(2, 0)) return false;
+  const Eigen::MatrixXd r = a * c - b;
+  const double rms_u = std::sqrt(r.col(0).squaredNorm() / static_cast<double>(m));
+  const double rms_w = std::sqrt(r.col(1).squaredNorm() / static_cast<double>(m));
+  if (rms_u > Gate() || rms_w > Gate()) return false;
+
+  Arc arc;
+  arc.samples = run;
+  // A fall that starts at its vertex is a release out of sight (bounce 0 is its vertex).
+  const double t_vertex = run.back().t - c(1, 0) / (2 * c(2, 0));
+  if (t_vertex >= run.front().t - UnseenReleaseMaxS() &&
+      t_vertex <= run.front().t + 0.5 * frame_dt_) {
+    StartSequence(std::move(arc), s, ev);
+    return true;
+  }
+  arc.entered = true;
+  // Its apex is bounce 0 when the ball came from the hand (seen before, not falling into
+  // the arc), bounce 1 when it came from an impact or from out of view.
+  int first_bounce = 1;
+  const size_t before = hold_.size() - m;
+  if (before >= 1 && run.front().t - hold_[before - 1].t <= 3 * frame_dt_) {
+    const bool falling_in = before >= 2 && Down(hold_[before - 1]) > Down(hold_[before - 2]) + thr;
+    first_bounce = falling_in ? 1 : 0;
+  }
+  StartSequence(std::move(arc), s, ev);
+  first_bounce_ = first_bounce;
+  return true;
+}
+
+bool BounceDetector::EnteredApexSeen() const {
+  if (arcs_.empty() || !arcs_[0].entered || !arcs_[0].fit_ok) return false;
+  const Arc& a = arcs_[0];
+  return a.fit.t_apex >= a.samples.front().t && a.fit.t_apex <= a.samples.back().t;
+}
+
 void BounceDetector::StartSequence(Arc release, const Sample& s, std::vector<DetectorEvent>& ev) {
-  release.release = true;
+  release.release = !release.entered;
+  first_bounce_ = 0;
   hold_.clear();
   arcs_.clear();
   arcs_.push_back(std::move(release));
@@ -260,7 +362,8 @@ void BounceDetector::StartSequence(Arc release, const Sample& s, std::vector<Det
   if (calibrated_) {
     RefitArc(arcs_[0]);
     // Scale and floor known from an earlier drop: the release height is known now.
-    if (calibration_.calibration.valid() && calibration_.calibration.has_floor) {
+    if (arcs_[0].release && calibration_.calibration.valid() &&
+        calibration_.calibration.has_floor) {
       EmitPeak(0, s.utime, ev);
       bounce0_emitted_ = true;
     }
@@ -415,6 +518,21 @@ void BounceDetector::Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev) 
   }
   CalibrationResult res = calibrator_.Calibrate(in);
   if (!res.flight.ok) return;
+  // A later drop of the same camera falls with the same gravity: an arc that says otherwise
+  // by far is no free flight (a hand carrying the ball) and must not replace the scale.
+  if (calibrated_ && sequence_ > calibration_sequence_ && calibration_.calibration.samples >= 15 &&
+      std::abs(std::log(res.calibration.gravity_px / calibration_.calibration.gravity_px)) >
+          std::log(1.25))
+    return;
+  calibration_.calibration.gravity_over_size = res.calibration.gravity_over_size;
+  if (!clock_decided_ && arcs_.size() >= 2 && DecideClock()) {
+    // The timeline is slowed: every time so far was stream time. Start again in real time.
+    in.arcs = ArcData();
+    in.previous_globals = nullptr;
+    in.previous_arcs = nullptr;
+    res = calibrator_.Calibrate(in);
+    if (!res.flight.ok) return;
+  }
   if (!res.calibration.has_floor && calibrated_ && calibration_.calibration.has_floor) {
     // Same camera, same floor: keep the floor of an earlier drop until this one has one.
     res.calibration.has_floor = true;
@@ -423,7 +541,9 @@ void BounceDetector::Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev) 
     res.calibration.floor_sigma_px = calibration_.calibration.floor_sigma_px;
   }
   calibration_ = res;
+  calibration_.calibration.time_scale = scale_;
   calibrated_ = true;
+  calibration_sequence_ = sequence_;
   for (size_t j = 0; j < arcs_.size() && j < res.flight.arcs.size(); ++j) {
     arcs_[j].fit = res.flight.arcs[j];
     arcs_[j].fit_ok = true;
@@ -437,6 +557,43 @@ void BounceDetector::Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev) 
   e.kind = DetectorEvent::Kind::kCalibration;
   e.calibration = calibration_.calibration;
   ev.push_back(e);
+}
+
+bool BounceDetector::DecideClock() {
+  const double q = calibration_.calibration.gravity_over_size;
+  if (!(q > 0)) return false;
+  const double tol = std::log1p(config_.clock_tolerance);
+  const double hint = config_.capture_slowdown_hint;
+  // Only a slow-down the container announces, confirmed by the size, changes the clock.
+  if (hint > 1.05 && std::abs(std::log(q * hint * hint)) < tol) {
+    clock_decided_ = true;
+    RescaleTime(1 / hint);
+    return true;
+  }
+  // Agreement as recorded (or a size that fits no clock: reported, not acted on).
+  clock_decided_ = std::abs(std::log(q)) < tol || arcs_.size() >= 3;
+  return false;
+}
+
+void BounceDetector::RescaleTime(double k) {
+  scale_ *= k;
+  auto scale = [k](std::vector<Sample>& v) {
+    for (auto& q : v) q.t *= k;
+  };
+  scale(hold_);
+  scale(pending_up_);
+  scale(pending_off_);
+  scale(rest_samples_);
+  for (auto& a : arcs_) {
+    scale(a.samples);
+    a.fit.t_apex *= k;
+    a.fit.vw /= k;
+    a.fit_ok = false;
+  }
+  for (auto& d : frame_dts_) d *= k;
+  frame_dt_ *= k;
+  last_seen_t_ *= k;
+  calibrated_ = false;
 }
 
 void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
@@ -531,7 +688,7 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
     const FlightImpact& imp = calibration_.impacts[idx - 1];
     BounceImpact bi;
     bi.sequence = sequence_;
-    bi.index = static_cast<int>(idx);
+    bi.index = static_cast<int>(idx) + first_bounce_;
     bi.utime = ToUtime(imp.t);
     bi.speed_in_mps = imp.speed_in / calibration_.calibration.px_per_m;
     bi.speed_out_mps = imp.speed_out / calibration_.calibration.px_per_m;
@@ -542,8 +699,9 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
     e.impact = bi;
     ev.push_back(e);
   }
-  // An arc whose apex went unreported (seen too briefly, or hidden): report it late.
-  if (idx >= 2 && !arcs_[idx - 1].apex_emitted && calibrated_ && arcs_[idx - 1].fit_ok) {
+  // An arc whose apex went unreported (seen too briefly, or hidden, or the arc that began
+  // the sequence in flight): report it late.
+  if ((idx >= 2 || arcs_[0].entered) && !arcs_[idx - 1].apex_emitted && calibrated_ && arcs_[idx - 1].fit_ok) {
     const double h = calibration_.calibration.floor_centre_px() - arcs_[idx - 1].fit.u_apex;
     if (h >= MinApexPx()) EmitPeak(idx - 1, s.utime, ev);
   }
@@ -577,10 +735,14 @@ void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent
   // Peaks go out in bounce order: a release height still pending goes first.
   if (j > 0 && !bounce0_emitted_) EmitPeak(0, utime, ev);
   Arc& arc = arcs_[j];
+  if (j == 0 && arc.entered && !EnteredApexSeen()) {
+    bounce0_emitted_ = true;  // entered falling: its apex was never in view
+    return;
+  }
   BouncePeak p;
   p.utime = utime;
   p.sequence = sequence_;
-  p.bounce = static_cast<int>(j);
+  p.bounce = static_cast<int>(j) + first_bounce_;
   p.apex_utime = ToUtime(arc.fit.t_apex);
   p.height_px = cal.floor_centre_px() - arc.fit.u_apex;
   // The release arc's apex is its fitted vertex (seen held, or extrapolated from the fall).
@@ -601,12 +763,18 @@ void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent
       p.apex_utime = ToUtime(a.t);
     }
   }
+  // An apex at or below the floor is no bounce (the arc was not free flight).
+  if (p.height_px < MinApexPx()) {
+    if (j == 0) bounce0_emitted_ = true;
+    arc.apex_emitted = true;
+    return;
+  }
   p.height_m = p.height_px / cal.px_per_m;
   const double rel = cal.px_per_m_sigma / cal.px_per_m;
   p.height_sigma_m = std::hypot(std::hypot(arc.u_sigma, cal.floor_sigma_px) / cal.px_per_m,
                                 p.height_m * rel);
   for (const auto& imp : impacts_)
-    if (imp.index == static_cast<int>(j)) p.impact_before_utime = imp.utime;
+    if (imp.index == p.bounce) p.impact_before_utime = imp.utime;
   p.emitted_utime = utime;
   arc.apex_emitted = true;
   if (j == 0) bounce0_emitted_ = true;
@@ -625,6 +793,7 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
     if (!bounce0_emitted_ && arcs_.size() >= 2 && !arcs_[0].held) EmitPeak(0, last_utime_, ev);
     SequenceSummary sum;
     sum.sequence = sequence_;
+    sum.first_bounce = first_bounce_;
     sum.end_reason = reason;
     sum.peaks = peaks_;
     sum.calibration = calibration_.calibration;
@@ -634,7 +803,7 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
       if (!imp.ok || !calibration_.calibration.valid()) continue;
       BounceImpact bi;
       bi.sequence = sequence_;
-      bi.index = static_cast<int>(j + 1);
+      bi.index = static_cast<int>(j + 1) + first_bounce_;
       bi.utime = ToUtime(imp.t);
       bi.speed_in_mps = imp.speed_in / calibration_.calibration.px_per_m;
       bi.speed_out_mps = imp.speed_out / calibration_.calibration.px_per_m;
@@ -660,7 +829,7 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
     }
     // Emitted peaks learn their closing impact and flight height here.
     for (auto& p : sum.peaks) {
-      const auto b = static_cast<size_t>(p.bounce);
+      const auto b = static_cast<size_t>(p.bounce - first_bounce_);
       if (b < sum.flight_height_m.size()) p.flight_height_m = sum.flight_height_m[b];
       if (b < impact_t.size() && std::isfinite(impact_t[b])) p.impact_after_utime = ToUtime(impact_t[b]);
     }

@@ -19,6 +19,11 @@
 // it: in the first drop of a stream it is emitted when the first impact is confirmed (its
 // latency from the release is the fall time plus a few frames, reported as such); in later
 // drops the floor and scale are known and it is emitted as soon as the release is.
+// A drop need not start with a release: a ball thrown, entering the view mid-flight or
+// already bouncing when the clip began starts a sequence at its first ballistic arc (a few
+// samples on one parabola, accelerating down). That arc's apex, when seen, is bounce 0 if
+// the ball was seen before it (thrown from the hand) and bounce 1 otherwise (it came from
+// an impact out of sight); the arcs after it count on from there.
 // When the tracker found the ball only once it was falling (no hold seen), the release arc
 // is a fall from rest whose vertex is fitted, and the fall alone does not tell G from drag:
 // bounce 0 then waits for the scale the first rebound's rise pins, and goes out just before
@@ -72,8 +77,9 @@ struct SequenceSummary {
   int sequence = 0;
   std::string end_reason;
   std::vector<BouncePeak> peaks;         // as emitted
-  std::vector<double> final_height_m;    // per bounce index, after the final refit
-  std::vector<double> flight_height_m;   // per bounce index: g dt^2/8 (NaN for 0 / unknown)
+  int first_bounce = 0;                  // bounce number of arc 0 (1: began mid-bounce)
+  std::vector<double> final_height_m;    // per arc, after the final refit
+  std::vector<double> flight_height_m;   // per arc: g dt^2/8 (NaN for 0 / unknown)
   std::vector<BounceImpact> impacts;
   // Trend of restitution with impact speed: e = intercept + slope * v (NaN: < 2 impacts).
   double restitution_intercept = std::numeric_limits<double>::quiet_NaN();
@@ -94,7 +100,15 @@ struct BounceDetectorConfig {
   // further down than the last, accelerating, over twice that move, start a drop whose
   // release height is the fitted vertex of the fall.
   int fall_start_samples = 5;
+  // Any other arc (thrown, already bouncing): this many samples on one parabola.
+  int arc_start_samples = 5;
   double min_apex_px = 1.0;     // rebounds lower than this (or 5 noise sigmas) mean rest
+  // ... or lower than a flight this many frames long can show (g T^2 / 8: 2.2 cm at 30 fps,
+  // 1.4 mm at 120 fps; a hop of fewer samples has no measurable apex).
+  double min_flight_frames = 4;
+  // A fall first seen this close to its vertex (or 2 frames) is a release whose hold was
+  // missed (bounce 0 is the vertex); one seen later came from out of view.
+  double unseen_release_max_s = 0.08;
   double lost_s = 1.0;          // the ball unseen this long ends the drop
   double hold_window_s = 0.25;  // hold samples kept in the release arc
   int impact_confirm_samples = 2;  // samples off the falling arc, upwards, that make an impact
@@ -107,6 +121,16 @@ struct BounceDetectorConfig {
   // within 0.1 mm RMS of each other on the synth presets (docs/ACCURACY.md).
   bool use_arc_apex = true;
   double arc_apex_window_s = 0.15;
+  // The clock (NOTES.md, "Footage from ordinary cameras"): real seconds per second of the
+  // frames' timestamps. 0 = decide: as recorded, unless the container says the file is
+  // slowed (capture_slowdown_hint = capture fps / stored fps) and the ball's known size
+  // confirms that factor: gravity measured on a timeline slowed s times is s^2 too small,
+  // so the free-fall scale over the size scale is 1/s^2. A size that disagrees by any other
+  // factor (a ball of another size than given) changes nothing but the report.
+  double time_scale = 0;
+  double capture_slowdown_hint = 1;
+  double clock_tolerance = 0.3;  // the two scales agree within this fraction
+
 
   bool IsValid(std::string* error) const;
 };
@@ -125,6 +149,7 @@ class BounceDetector {
   bool calibrated() const { return calibrated_; }
   const std::vector<SequenceSummary>& Summaries() const { return summaries_; }
   double noise_px() const { return sigma_; }
+  double time_scale() const { return scale_; }
   double frame_period_s() const { return frame_dt_; }
 
  private:
@@ -138,6 +163,8 @@ class BounceDetector {
     std::vector<Sample> samples;
     bool held = false;
     bool release = false;  // the first arc of a drop: a fall from rest (held seen or not)
+    bool entered = false;  // the first arc of a drop, not from rest: thrown, or already
+                           // in flight when first seen
     bool apex_emitted = false;
     bool fit_ok = false;
     FlightArcParams fit;
@@ -148,18 +175,23 @@ class BounceDetector {
   void OnWaiting(const Sample& s, std::vector<DetectorEvent>& ev);
   bool ReleasedFromHold(const Sample& s, std::vector<DetectorEvent>& ev);
   bool FallFromUnseenRelease(const Sample& s, std::vector<DetectorEvent>& ev);
+  bool ArcFromUnseenStart(const Sample& s, std::vector<DetectorEvent>& ev);
+  bool EnteredApexSeen() const;
   void StartSequence(Arc release, const Sample& s, std::vector<DetectorEvent>& ev);
   void OnFlight(const Sample& s, std::vector<DetectorEvent>& ev);
   void OnRest(const Sample& s, std::vector<DetectorEvent>& ev);
   bool Predict(const Arc& arc, double t, double* u, double* w, double* v_down) const;
   void RefitArc(Arc& arc);
   void Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev);
+  bool DecideClock();
+  void RescaleTime(double k);
   void ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev);
   void TryEmitApex(double t, int64_t utime, bool have_sample, std::vector<DetectorEvent>& ev);
   void EmitPeak(size_t arc_index, int64_t utime, std::vector<DetectorEvent>& ev);
   void EndSequence(const std::string& reason, std::vector<DetectorEvent>& ev);
   double Gate() const;
   double MinApexPx() const;
+  double UnseenReleaseMaxS() const;
   double Down(const Sample& s) const;
   double Floor(const Sample& s) const;
   int64_t ToUtime(double t) const;
@@ -171,7 +203,9 @@ class BounceDetector {
   bool have_t0_ = false;
   int64_t t0_ = 0;
   int64_t last_utime_ = 0;
-  std::vector<double> frame_dts_;
+  double scale_ = 1;            // real seconds per stream second
+  bool clock_decided_ = false;
+  std::vector<double> frame_dts_;  // real seconds
   double frame_dt_ = 1.0 / 120;
   double sigma_ = 0.3;
   bool sigma_measured_ = false;
@@ -184,12 +218,14 @@ class BounceDetector {
   std::vector<double> radii_;
   int sequence_ = -1;
   bool bounce0_emitted_ = false;
+  int first_bounce_ = 0;  // bounce number of arc 0 in this sequence
   std::vector<BouncePeak> peaks_;       // this sequence
   std::vector<BounceImpact> impacts_;   // this sequence
   std::vector<Sample> rest_samples_;
   int rest_moves_ = 0;
 
   bool calibrated_ = false;
+  int calibration_sequence_ = -1;  // the drop the current calibration comes from
   CalibrationResult calibration_;
   std::vector<SequenceSummary> summaries_;
 };

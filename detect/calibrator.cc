@@ -42,6 +42,14 @@ bool ArcAcceleration(const FlightArcData& arc, double* ax, double* ay, int* n_us
   return std::isfinite(*ax) && std::isfinite(*ay);
 }
 
+// The arc's own vertex lies within its samples or just before them (a fall from rest whose
+// first frames were missed): its shape pins the start of the fall.
+bool ApexInside(const FlightArcData& arc, const FlightGlobals& g) {
+  if (arc.samples.size() < 3) return false;
+  const FlightArcParams p = InitialArcParams(arc, g);
+  return p.t_apex > arc.samples.front().t - 0.1 && p.t_apex < arc.samples.back().t;
+}
+
 }  // namespace
 
 bool CalibratorConfig::IsValid(std::string* error) const {
@@ -133,7 +141,11 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
         init_arcs.push_back(InitialArcParams(chosen[c], init));
     }
     FlightFitOptions opt;
-    opt.fit_drag = config_.fit_drag;
+    // One arc seen from neither a hold nor its vertex (it entered the view falling) does
+    // not tell gravity from drag: the fit trades one for the other (40% off seen on a
+    // 0.16 s fall). Drag waits for a second arc.
+    opt.fit_drag = config_.fit_drag && (chosen.size() >= 2 || chosen[0].held_before_apex ||
+                                        ApexInside(chosen[0], init));
     FlightFit global = FitFlight(chosen, init, init_arcs, opt);
     // Drag must slow the ball: a negative fit is noise, refit without it.
     if (global.ok && global.globals.drag_per_px < 0) {
@@ -239,6 +251,9 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
     cal.px_per_m_sigma = 0.05 * cal.px_per_m;  // edge blur and threshold: a few percent
     cal.method = "ball-diameter";
   }
+  if (config_.ball_diameter_m > 0 && in.radius_px > 0 && cal.free_fall_px_per_m > 0)
+    cal.gravity_over_size =
+        cal.free_fall_px_per_m / (2 * in.radius_px / config_.ball_diameter_m);
   if (config_.ball_diameter_m > 0 && cal.px_per_m > 0 && in.radius_px > 0)
     cal.diameter_ratio = 2 * in.radius_px / cal.px_per_m / config_.ball_diameter_m;
 

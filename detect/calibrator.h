@@ -37,6 +37,10 @@ struct Calibration {
   double radius_px = 0;        // ball radius used to turn centres into ball bottoms
   double diameter_ratio = 0;   // measured / given ball diameter (0: no diameter given)
   double rms_px = 0;           // residual of the free-flight fit, px per coordinate
+  double time_scale = 1;       // real seconds per second of the frames' timestamps
+  // Free-fall scale over the ball-size scale, on the clock used (0: no size given); 1/s^2
+  // on a timeline slowed s times and read as real.
+  double gravity_over_size = 0;
 
   bool valid() const { return px_per_m > 0; }
   // Ball-centre coordinate along true down at contact (floor_px - radius_px).

@@ -37,6 +37,10 @@ struct SimOptions {
   std::vector<std::pair<double, double>> gaps;  // [t0, t1) with no detection, seconds
   double missing_fraction = 0;  // random frames with no detection
   double start_s = 0;           // stream clock at frame 0
+  // Beyond a drop from rest: a throw (m/s, up and right) and a clip that begins this long
+  // after the release (mid-bounce: no hold seen).
+  double launch_up_mps = 0, launch_right_mps = 0;
+  double begin_after_release_s = 0;
 };
 
 struct SimClip {
@@ -47,10 +51,10 @@ struct SimClip {
 };
 
 inline void SimImagePoint(const SimOptions& o, double height_bottom_m, double radius_m,
-                          double* x, double* y) {
+                          double* x, double* y, double right_m = 0) {
   // Unrolled: straight down is +y. Then rotate about the image centre so that true down
   // becomes (sin roll, cos roll).
-  const double ux = o.x0;
+  const double ux = o.x0 + right_m * o.px_per_m;
   const double uy = o.floor_y - (height_bottom_m + radius_m) * o.px_per_m;
   const double cx = (o.width - 1) / 2, cy = (o.height - 1) / 2;
   const double r = o.roll_deg * std::numbers::pi / 180;
@@ -65,8 +69,10 @@ inline SimClip MakeSimClip(const SimOptions& o, int64_t frame_offset = 0) {
   PointMassDropConfig c;
   c.ball = ResolveBallPreset(o.ball);
   c.drop_height_m = o.drop_m;
-  c.hold_s = o.hold_s;
-  c.end_time_s = o.hold_s + 8;
+  const double begin = o.begin_after_release_s;
+  c.hold_s = begin > 0 ? 0.0 : o.hold_s;
+  c.launch_speed_mps = o.launch_up_mps;
+  c.end_time_s = c.hold_s + begin + 8;
   clip.truth = SimulatePointMassDrop(c);
   const double end = (clip.truth.comes_to_rest ? clip.truth.rest_time_s : clip.truth.end_time_s) +
                      o.after_rest_s;
@@ -74,12 +80,12 @@ inline SimClip MakeSimClip(const SimOptions& o, int64_t frame_offset = 0) {
   std::mt19937 rng(o.seed);
   std::normal_distribution<double> noise(0, o.noise_px);
   std::uniform_real_distribution<double> uni(0, 1);
-  const int frames = static_cast<int>(end * o.fps) + 1;
+  const int frames = static_cast<int>((end - begin) * o.fps) + 1;
   for (int i = 0; i < frames; ++i) {
-    const double t = i / o.fps;
+    const double t = i / o.fps + begin;  // on the drop's clock
     BallObservation b;
     b.frame = frame_offset + i;
-    b.utime = static_cast<int64_t>(std::llround((o.start_s + t) * 1e6));
+    b.utime = static_cast<int64_t>(std::llround((o.start_s + t - begin) * 1e6));
     bool hidden = o.missing_fraction > 0 && uni(rng) < o.missing_fraction;
     for (const auto& g : o.gaps) hidden = hidden || (t >= g.first && t < g.second);
     // Exposure average of the centre (8 sub-exposures).
@@ -89,7 +95,8 @@ inline SimClip MakeSimClip(const SimOptions& o, int64_t frame_offset = 0) {
     for (int k = 0; k < n_sub; ++k) {
       const double ts = t + exp_s * ((k + 0.5) / n_sub - 0.5);
       double x, y;
-      SimImagePoint(o, clip.truth.At(ts).height_m, c.ball.radius_m(), &x, &y);
+      SimImagePoint(o, clip.truth.At(ts).height_m, c.ball.radius_m(), &x, &y,
+                    o.launch_right_mps * std::max(0.0, ts - c.hold_s));
       sx += x;
       sy += y;
     }
@@ -113,7 +120,7 @@ inline SimClip MakeSimClip(const SimOptions& o, int64_t frame_offset = 0) {
 
 // Apex of the truth (bounce index b) in stream seconds.
 inline double SimApexTime(const SimClip& c, size_t b) {
-  return c.options.start_s + c.truth.apex_times_s[b];
+  return c.options.start_s + c.truth.apex_times_s[b] - c.options.begin_after_release_s;
 }
 
 struct PeakScore {
@@ -144,17 +151,28 @@ struct TruthApexes {
 inline TruthApexes TruthOf(const SimClip& c) {
   TruthApexes t;
   t.fps = c.options.fps;
+  const double begin = c.options.begin_after_release_s;
+  // Begun after the release: the first apex in view after an impact out of view is
+  // bounce 1 to the detector (it cannot know how many came before).
+  if (begin > 0) {
+    t.apex_t_s.push_back(-100);
+    t.apex_h_m.push_back(0);
+  }
   for (size_t b = 0; b < c.truth.apex_times_s.size(); ++b) {
+    if (c.truth.apex_times_s[b] < begin) continue;
     t.apex_t_s.push_back(SimApexTime(c, b));
     t.apex_h_m.push_back(c.truth.apex_heights_m[b]);
   }
-  for (double i : c.truth.impact_times_s) t.impact_t_s.push_back(c.options.start_s + i);
+  for (double i : c.truth.impact_times_s)
+    if (i >= begin) t.impact_t_s.push_back(c.options.start_s + i - begin);
   return t;
 }
 
 // Peaks of one sequence against its truth: a peak matches the true apex with the same
 // bounce index whose time is within 3 frames of the peak's apex time.
-inline PeakScore ScorePeaks(const TruthApexes& c, const std::vector<BouncePeak>& peaks) {
+// Apexes at or below min_truth_m are not required (a peak matching one still counts).
+inline PeakScore ScorePeaks(const TruthApexes& c, const std::vector<BouncePeak>& peaks,
+                            double min_truth_m = 0.01) {
   PeakScore s;
   const double frame = 1.0 / c.fps;
   std::vector<bool> matched(c.apex_h_m.size(), false);
@@ -190,7 +208,7 @@ inline PeakScore ScorePeaks(const TruthApexes& c, const std::vector<BouncePeak>&
     s.report += line;
   }
   for (size_t b = 0; b < matched.size(); ++b) {
-    if (c.apex_h_m[b] <= 0.01) continue;
+    if (c.apex_h_m[b] <= min_truth_m) continue;
     ++s.truth_over_1cm;
     if (matched[b]) {
       ++s.found_over_1cm;
