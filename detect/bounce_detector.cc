@@ -53,7 +53,8 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
   if (!(max_hold_drift > 0)) return fail("hold drift must be > 0");
   if (!(time_scale >= 0) || !std::isfinite(time_scale)) return fail("time scale must be >= 0");
   if (!(capture_slowdown_hint > 0)) return fail("capture slow-down hint must be > 0");
-  if (!(clock_tolerance > 0 && clock_tolerance < 1)) return fail("clock tolerance must be in (0, 1)");
+  if (!(clock_tolerance > 0 && clock_tolerance < 1))
+    return fail("clock tolerance must be in (0, 1)");
   if (fall_start_samples < 4) return fail("a fall start needs >= 4 samples");
   if (arc_start_samples < 4) return fail("an arc start needs >= 4 samples");
   if (impact_confirm_samples < 1) return fail("impact confirmation needs >= 1 sample");
@@ -312,6 +313,20 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   // The bend must show: the parabola's sag over the run beyond the gate.
   if (!(c(2, 0) * span * span / 4 > Gate())) return false;
   if (std::abs(c(2, 1)) > 0.35 * c(2, 0)) return false;
+  // A hand moves the ball along gentle curves too. With the ball's size known, free flight
+  // bends at g in the size's px/m (on the container's clock): within 4x (a ball given with
+  // the wrong preset), not 50x less.
+  if (calibrator_.config().ball_diameter_m > 0 && !radii_.empty()) {
+    const double size_px_per_m = 2 * Median(radii_) / calibrator_.config().ball_diameter_m;
+    const double g_px = calibrator_.config().g_mps2 * size_px_per_m;  // px/s^2, real time
+    // Our seconds are real ones, or (clock undecided) maybe `slowdown` times too long.
+    auto bends_at = [&](double slowdown) {
+      const double expected = g_px / (slowdown * slowdown);
+      return 2 * c(2, 0) > expected / 4 && 2 * c(2, 0) < expected * 4;
+    };
+    if (!bends_at(1) && !(!clock_decided_ && bends_at(config_.capture_slowdown_hint)))
+      return false;
+  }
   const Eigen::MatrixXd r = a * c - b;
   const double rms_u = std::sqrt(r.col(0).squaredNorm() / static_cast<double>(m));
   const double rms_w = std::sqrt(r.col(1).squaredNorm() / static_cast<double>(m));
@@ -701,7 +716,8 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
   }
   // An arc whose apex went unreported (seen too briefly, or hidden, or the arc that began
   // the sequence in flight): report it late.
-  if ((idx >= 2 || arcs_[0].entered) && !arcs_[idx - 1].apex_emitted && calibrated_ && arcs_[idx - 1].fit_ok) {
+  if ((idx >= 2 || arcs_[0].entered) && !arcs_[idx - 1].apex_emitted && calibrated_ &&
+      arcs_[idx - 1].fit_ok) {
     const double h = calibration_.calibration.floor_centre_px() - arcs_[idx - 1].fit.u_apex;
     if (h >= MinApexPx()) EmitPeak(idx - 1, s.utime, ev);
   }

@@ -88,8 +88,9 @@ SynthTrajectory PointMassSynthTrajectory(const SynthClipConfig& c) {
   pm.g_mps2 = c.g_mps2;
   pm.air_density_kgpm3 = c.air_density_kgpm3;
   pm.drag = c.drag;
-  pm.end_time_s = std::max(0.0, c.duration_s - c.hold_s) + c.start_after_release_s +
-                  c.exposure_s + 0.01;
+  // The clip's last frame on the drop's clock (the hold is not shown when it starts later).
+  const double offset = c.start_after_release_s > 0 ? c.start_after_release_s : -c.hold_s;
+  pm.end_time_s = std::max(0.0, c.duration_s + offset) + c.exposure_s + 0.01;
   auto result = std::make_shared<PointMassDropResult>(SimulatePointMassDrop(pm));
   SynthTrajectory t;
   t.name = "point-mass";

@@ -390,7 +390,8 @@ TEST_P(DetectorMotionKinds, EveryApexWithoutARelease) {
   // its apex goes out at the first impact, so it is left out of the latency.
   if (m.begin_s > 0 && !s.latency_frames.empty()) s.latency_frames.erase(s.latency_frames.begin());
   const double med = testing::Median(s.latency_frames), mx = testing::MaxOf(s.latency_frames);
-  std::printf("%s%s: %d/%d apexes, %d false, max err %.2f mm, latency median %.2f max %.2f frames\n",
+  std::printf("%s%s: %d/%d apexes, %d false, max err %.2f mm, latency median %.2f max %.2f "
+              "frames\n",
               s.report.c_str(), m.name.c_str(), s.found_over_1cm, s.truth_over_1cm, s.false_peaks,
               s.max_err_mm, med, mx);
   EXPECT_EQ(s.found_over_1cm, s.truth_over_1cm) << s.report;

@@ -47,6 +47,10 @@ TEST(Cli, UnknownSubcommandAndNoSubcommandFail) {
   EXPECT_EQ(LineCount(out), 1) << out;
   EXPECT_NE(RunCommand(BouncefitExe(), &out), 0);
   EXPECT_EQ(LineCount(out), 1) << out;
+  // --help does not make an unknown command known (it printed the main help, exit 0).
+  EXPECT_NE(RunCommand(BouncefitExe() + " frobnicate --help", &out), 0);
+  EXPECT_EQ(LineCount(out), 1) << out;
+  EXPECT_NE(out.find("frobnicate"), std::string::npos) << out;
 }
 
 }  // namespace

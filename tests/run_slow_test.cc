@@ -143,6 +143,31 @@ TEST(Run, BadInputIsOneLineErrorAndNonZero) {
                        &out),
             0);
   EXPECT_NE(out.find("unknown ball"), std::string::npos) << out;
+
+  // A pick outside the frame is refused before any output exists.
+  const fs::path picked = dir / "out_pick";
+  EXPECT_NE(RunCommand(BouncefitExe() + " run " + PingPongClip().string() +
+                           " --pick 5000,20 --out " + picked.string() + " --lcm-url memq://",
+                       &out),
+            0);
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  EXPECT_NE(out.find("outside"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(picked));
+
+  // A file cut short: how many frames of how many, and non-zero when nothing usable came.
+  const fs::path clip = PingPongClip();
+  const fs::path cut = dir / "cut.avi";
+  {
+    std::ifstream in(clip, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 40);
+  }
+  EXPECT_NE(RunCommand(BouncefitExe() + " run " + cut.string() + " --no-fit --speed 0 --out " +
+                           (dir / "out_cut").string() + " --lcm-url memq://",
+                       &out),
+            0) << out;
+  EXPECT_NE(out.find("ended after"), std::string::npos) << out;
+  EXPECT_NE(out.find("frames it announces"), std::string::npos) << out;
 }
 
 std::string Tmux(const std::string& args) {
