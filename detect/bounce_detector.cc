@@ -94,7 +94,9 @@ double BounceDetector::MinApexPx() const {
 }
 
 double BounceDetector::UnseenReleaseMaxS() const {
-  return std::max(config_.unseen_release_max_s, 2 * frame_dt_);
+  // Before the clock is decided a slowed file's seconds may be `slow-down` times too long.
+  const double slow = clock_decided_ ? 1.0 : config_.capture_slowdown_hint;
+  return std::max(config_.unseen_release_max_s * slow, 2 * frame_dt_);
 }
 
 double BounceDetector::Down(const Sample& s) const {
