@@ -295,6 +295,11 @@ void AddFitCommand(CLI::App& app) {
                   "search: nlopt (BOBYQA, parallel screening) or paper (the seed's serial search)")
       ->check(CLI::IsMember({"nlopt", "paper"}))
       ->capture_default_str();
+  cmd->add_option("--objective", o->node.session.objective,
+                  "segments (every bounce from the recorded apex before it: multiple shooting) "
+                  "or drop (one free-running drop, the paper's)")
+      ->check(CLI::IsMember({"segments", "drop"}))
+      ->capture_default_str();
   cmd->add_option("--max-evals", o->max_evals, "simulations for the final fit (default " +
                                                    std::to_string(o->node.session.max_evaluations_final) + ")");
   cmd->add_option("--max-evals-bounce", o->max_evals_bounce,

@@ -260,6 +260,37 @@ TEST(Searches, DefaultReachesPaperResidualWithFewerSimulations) {
       << "default " << reached << " vs paper " << paper.evaluations;
 }
 
+// Multiple shooting: every bounce simulated from the recorded apex before it. At the true
+// coefficients each segment lands on its recorded apex; a wrong restitution misses every one
+// by about the same fraction (errors do not compound from bounce to bounce).
+TEST(Searches, SegmentsStartFromTheRecordedApexes) {
+  const BallPreset ball = *FindBallPreset("tennis");
+  const auto h = DropHeights(ball, 1.0, 5);
+  PointMassModel model(ball);
+  FitProblem p;
+  p.model = &model;
+  p.free = {model.Coefficients()[0]};  // restitution
+  p.simulation.drop_height_m = h[0];
+  p.simulation.duration_s = 6;
+  p.recorded_m.assign(h.begin() + 1, h.end());
+  p.segments = true;
+  SearchOptions o;
+  o.threads = 2;
+  FitObjective f(p, o);
+  const Evaluation at_truth = f.Evaluate(f.ToUnit({{"restitution", ball.restitution}}));
+  ASSERT_TRUE(at_truth.ok) << at_truth.failure;
+  for (size_t i = 0; i < p.recorded_m.size(); ++i)
+    EXPECT_NEAR(at_truth.simulated_m[i], p.recorded_m[i], 1e-3 * p.recorded_m[i]) << i;
+  const Evaluation off = f.Evaluate(f.ToUnit({{"restitution", ball.restitution - 0.05}}));
+  ASSERT_TRUE(off.ok) << off.failure;
+  std::vector<double> ratio;
+  for (size_t i = 0; i < p.recorded_m.size(); ++i) ratio.push_back(off.simulated_m[i] / p.recorded_m[i]);
+  EXPECT_LT(ratio[0], 0.95);
+  // Free running, the 5th bounce would be ~0.87^5 of the truth; a segment is one step off.
+  EXPECT_NEAR(ratio.back(), ratio.front(), 0.03);
+  EXPECT_EQ(f.evaluations(), 2);
+}
+
 TEST(Searches, CancelledBetweenSimulations) {
   const auto ball = *FindBallPreset("pingpong");
   SlowModel slow(ball, 20ms);
