@@ -24,9 +24,19 @@ ColorModel LumaContrast::BallModel(const LumaContrastParams& params, ColorModelP
 }
 
 void LumaContrast::SetFrame(const Frame& frame) {
-  const cv::Size size = FramePixelSize(frame);
-  if (!now_.y.empty()) previous_ = now_.y.clone();
-  ExtractYcc(frame, cv::Rect(0, 0, size.width, size.height), 1, 0, &now_);
+  if (!now_.y.empty()) std::swap(previous_, now_.y);
+  // Luma only (the same BT.601 weights as ExtractYcc), through OpenCV's vectorised paths.
+  CheckFrameFormat(frame);
+  cv::Mat grey;
+  if (frame.format == PixelFormat::kYuyv) {
+    cv::extractChannel(frame.image, grey, 0);  // Y bytes, limited range
+    grey.convertTo(now_.y, CV_32F, 255.0 / 219.0, -16.0 * 255.0 / 219.0);
+  } else {
+    cv::cvtColor(frame.image, grey, cv::COLOR_BGR2GRAY);
+    grey.convertTo(now_.y, CV_32F);
+  }
+  now_.rect = cv::Rect(0, 0, now_.y.cols, now_.y.rows);
+  now_.step = 1;
   if (background_.size() != now_.y.size()) background_ = now_.y.clone();
   // Exposure and white balance drift move the whole frame: the median difference over a
   // coarse grid is that global offset, not the ball.
@@ -86,21 +96,15 @@ double LumaContrast::MovedFraction(cv::Rect2f box) const {
 
 void LumaContrast::UpdateBackground(double cx, double cy, double r) {
   if (background_.empty()) return;
-  const float a = static_cast<float>(params_.background_rate);
   const double keep = r > 0 ? params_.keep_out_radii * r + 4 : -1;
-  const double keep2 = keep * keep;
-  for (int j = 0; j < background_.rows; ++j) {
-    float* pb = background_.ptr<float>(j);
-    const float* pn = now_.y.ptr<float>(j);
-    const double dy = j - cy;
-    const bool row_near = keep > 0 && std::abs(dy) < keep;
-    for (int i = 0; i < background_.cols; ++i) {
-      if (row_near) {
-        const double dx = i - cx;
-        if (dx * dx + dy * dy < keep2) continue;
-      }
-      pb[i] += a * (pn[i] - pb[i]);
-    }
+  if (keep > 0) {
+    keep_mask_.create(background_.size(), CV_8U);
+    keep_mask_.setTo(255);
+    cv::circle(keep_mask_, cv::Point(static_cast<int>(std::lround(cx)), static_cast<int>(std::lround(cy))),
+               static_cast<int>(std::ceil(keep)), cv::Scalar(0), cv::FILLED);
+    cv::accumulateWeighted(now_.y, background_, params_.background_rate, keep_mask_);
+  } else {
+    cv::accumulateWeighted(now_.y, background_, params_.background_rate);
   }
 }
 

@@ -61,6 +61,7 @@ class LumaContrast {
   cv::Mat previous_;    // CV_32F: the previous frame's luma
   cv::Mat background_;  // CV_32F, frame size
   cv::Mat diff_;        // CV_32F: current frame minus background, drift and shadows removed
+  cv::Mat keep_mask_;   // CV_8U: where the background is updated
 };
 
 }  // namespace bouncefit
