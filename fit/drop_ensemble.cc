@@ -3,11 +3,61 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <future>
 #include <random>
 #include <thread>
 
 namespace bouncefit {
+
+namespace {
+
+// Runs job(i) for i in [0, n) on up to `threads` threads (0: all cores).
+template <class Job>
+void ParallelFor(int n, int threads, const Job& job) {
+  std::atomic<int> next{0};
+  auto work = [&] {
+    for (int i = next++; i < n; i = next++) job(i);
+  };
+  const int t = std::min(
+      n, threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
+  std::vector<std::future<void>> futures;
+  for (int w = 1; w < t; ++w) futures.push_back(std::async(std::launch::async, work));
+  work();
+  for (auto& f : futures) f.get();
+}
+
+SimulationResult SimulateSafely(const BallModel& model, const CoefficientValues& values,
+                                const SimulationOptions& options) {
+  try {
+    return model.Simulate(values, options);
+  } catch (const std::exception& e) {
+    SimulationResult r;
+    r.failure = e.what();
+    return r;
+  }
+}
+
+}  // namespace
+
+std::string UnsafeDrop(const BallModel& model, const CoefficientValues& values,
+                       const std::vector<double>& drops_m, int threads) {
+  std::vector<SimulationResult> results(drops_m.size());
+  ParallelFor(static_cast<int>(drops_m.size()), threads, [&](int i) {
+    SimulationOptions o;
+    o.drop_height_m = drops_m[i];
+    o.min_bounce_height_m = 0.01;
+    o.duration_s = 6 + 4 * drops_m[i];
+    results[i] = SimulateSafely(model, values, o);
+  });
+  for (size_t i = 0; i < drops_m.size(); ++i)
+    if (!results[i].ok) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.3g", drops_m[i]);
+      return std::string("diverges dropped from ") + buf + " m (" + results[i].failure + ")";
+    }
+  return {};
+}
 
 DropEnsemble SimulateDropEnsemble(const BallModel& model, const CoefficientValues& values,
                                   const SimulationOptions& drop, const DropEnsembleOptions& o) {
@@ -21,23 +71,7 @@ DropEnsemble SimulateDropEnsemble(const BallModel& model, const CoefficientValue
     runs[m].release_turn_rad = drop.release_turn_rad + o.turn_jitter_rad * unit(rng);
   }
   std::vector<SimulationResult> results(static_cast<size_t>(n));
-  std::atomic<int> next{0};
-  auto work = [&] {
-    for (int m = next++; m < n; m = next++) {
-      try {
-        results[m] = model.Simulate(values, runs[m]);
-      } catch (const std::exception& e) {
-        results[m].ok = false;
-        results[m].failure = e.what();
-      }
-    }
-  };
-  const int threads = std::min(
-      n, o.threads > 0 ? o.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
-  std::vector<std::future<void>> futures;
-  for (int w = 1; w < threads; ++w) futures.push_back(std::async(std::launch::async, work));
-  work();
-  for (auto& f : futures) f.get();
+  ParallelFor(n, o.threads, [&](int m) { results[m] = SimulateSafely(model, values, runs[m]); });
 
   DropEnsemble e;
   e.simulations = n;

@@ -36,4 +36,10 @@ DropEnsemble SimulateDropEnsemble(const BallModel& model, const CoefficientValue
                                   const SimulationOptions& drop,
                                   const DropEnsembleOptions& options = {});
 
+// Safety (issue 14 item 5): "" when the ball, dropped from each of these heights, runs until
+// its bounces fall below 1 cm (or 6 s + 4 s/m) without diverging; else "diverges dropped from
+// H m (reason)" for the first that does. The drops run in parallel.
+std::string UnsafeDrop(const BallModel& model, const CoefficientValues& values,
+                       const std::vector<double>& drops_m, int threads = 0);
+
 }  // namespace bouncefit

@@ -314,7 +314,8 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   // The budget holds everything: the searches, the Jacobian (2 runs per coefficient + 2)
   // and the free-running check (one run per ensemble member), so progress never passes it.
   const int after_search = 2 * static_cast<int>(FreeSpecs().size()) + 2 +
-                           std::max(0, config_.ensemble_members) + 1;
+                           std::max(0, config_.ensemble_members) + 1 +
+                           static_cast<int>(config_.safe_drops_m.size());
   const int budget = std::max(1, (config_.max_evaluations_final - after_search) / starts);
   SearchOptions o;
   o.threads = config_.threads;
@@ -382,6 +383,13 @@ void FitSession::CheckFreeRun(const FitProblem& p, FitUpdate* u) {
     u->residual_m = std::nan("");
     u->warning = "the free-running drop diverges: " + e.failure;
     return;
+  }
+  if (!config_.safe_drops_m.empty()) {
+    const std::string unsafe = UnsafeDrop(model_, u->values, config_.safe_drops_m, config_.threads);
+    const int n = static_cast<int>(config_.safe_drops_m.size());
+    simulations_ += n;
+    u->evaluations += n;
+    if (!unsafe.empty()) u->warning = "the fitted ball " + unsafe;
   }
   auto first_k = [&](const std::vector<double>& v) {
     std::vector<double> out(p.recorded_m.size(), 0.0);

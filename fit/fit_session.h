@@ -75,6 +75,9 @@ struct FitSessionConfig {
   // (docs/ACCURACY.md, issue 14).
   std::string objective = "drop";
   int ensemble_members = 8;         // the final fit's free-running check (0: none)
+  // The final answer is dropped from these heights too; one that diverges gets a warning
+  // (issue 14 item 5: the user may drop it anywhere in 0.3-2 m).
+  std::vector<double> safe_drops_m = {0.3, 2.0};
   int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
   int max_evaluations_final = 900;      // final fit budget, plus the Jacobian (chaotic heights: docs/MODEL.md)
   int final_starts = 3;                 // the final fit's starts (budget shared), best kept
