@@ -653,7 +653,17 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
       // A rebound rises: the newest sample must be above the first one off the arc; if it
       // is not, the first one was a stray detection.
       if (pending_up_.size() == 1 || Down(pending_up_.back()) < Down(pending_up_.front())) {
-        ConfirmImpact(s, ev);
+        if (NearTheFloor(cur)) {
+          ConfirmImpact(s, ev);
+        } else {
+          // High above the floor: the arc's young fit turned down too early (few samples
+          // at a low frame rate); these samples belong to it.
+          for (const auto& q : pending_up_) cur.samples.push_back(q);
+          pending_up_.clear();
+          pending_off_.clear();
+          misses_ = 0;
+          RefitArc(cur);
+        }
         return;
       }
       pending_up_.erase(pending_up_.begin());
@@ -674,6 +684,17 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     if (!near_floor)
       for (const auto& o : recent) OnWaiting(o, ev);
   }
+}
+
+bool BounceDetector::NearTheFloor(const Arc& cur) const {
+  if (!calibrated_ || !calibration_.calibration.has_floor || !cur.fit_ok) return true;
+  const double floor = calibration_.calibration.floor_centre_px();
+  const double apex = floor - cur.fit.u_apex;
+  if (!(apex > MinApexPx())) return true;
+  // Around an impact the samples either side lie within one frame's travel of the floor,
+  // so the lower of the two is in the lower part of the arc; near the apex both are high.
+  const double low = floor - std::max(Down(cur.samples.back()), Down(pending_up_.front()));
+  return low < 0.6 * apex;
 }
 
 void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev) {

@@ -186,6 +186,7 @@ class BounceDetector {
   bool DecideClock();
   void RescaleTime(double k);
   void ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev);
+  bool NearTheFloor(const Arc& cur) const;
   void TryEmitApex(double t, int64_t utime, bool have_sample, std::vector<DetectorEvent>& ev);
   void EmitPeak(size_t arc_index, int64_t utime, std::vector<DetectorEvent>& ev);
   void EndSequence(const std::string& reason, std::vector<DetectorEvent>& ev);
