@@ -1,5 +1,7 @@
 #include "fit/drop_ensemble.h"
 
+#include "fit/fit_objective.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -25,17 +27,6 @@ void ParallelFor(int n, int threads, const Job& job) {
   for (int w = 1; w < t; ++w) futures.push_back(std::async(std::launch::async, work));
   work();
   for (auto& f : futures) f.get();
-}
-
-SimulationResult SimulateSafely(const BallModel& model, const CoefficientValues& values,
-                                const SimulationOptions& options) {
-  try {
-    return model.Simulate(values, options);
-  } catch (const std::exception& e) {
-    SimulationResult r;
-    r.failure = e.what();
-    return r;
-  }
 }
 
 }  // namespace

@@ -13,6 +13,7 @@ constexpr double kGravity = 9.81;
 constexpr double kCacheTolerance = 1e-12;
 // Set on EvaluateBatch's workers: evaluations already run in parallel, their segments not.
 thread_local bool t_in_batch = false;
+}  // namespace
 
 SimulationResult SimulateSafely(const BallModel& model, const CoefficientValues& values,
                                 const SimulationOptions& options) {
@@ -24,7 +25,6 @@ SimulationResult SimulateSafely(const BallModel& model, const CoefficientValues&
     return r;
   }
 }
-}  // namespace
 
 double HeightObjective(const std::vector<double>& recorded, const std::vector<double>& simulated) {
   double sum = 0;

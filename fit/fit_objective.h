@@ -136,6 +136,10 @@ class FitObjective {
   std::vector<double> history_;
 };
 
+// model.Simulate, with an exception turned into a failed run (ok = false, its message).
+SimulationResult SimulateSafely(const BallModel& model, const CoefficientValues& values,
+                                const SimulationOptions& options);
+
 // sum (r_i - s_i)^2 with s_i = 0 for bounces the simulation did not make.
 double HeightObjective(const std::vector<double>& recorded, const std::vector<double>& simulated);
 double RmsResidual(const std::vector<double>& recorded, const std::vector<double>& simulated);
