@@ -15,6 +15,9 @@ void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
   if (config->live_priority.empty())
     config->live_priority = {"rebound_boost", "linear_stiffness", "contact_hardness", "drag",
                              "volume_conservation", "pressure"};
+  // The boost's speed slope is fitted by the segment objective only (bounces from several
+  // heights tell it apart); the free-running default keeps the search it was measured with.
+  if (config->objective == "drop") config->never_fit.push_back("rebound_boost_per_mps");
   // Warm start: the model's coefficient table for this ball, when there is one (values the
   // model does not know are ignored by the session).
   if (const auto table = SoftBallPresetTable(ball.name))
