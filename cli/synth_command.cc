@@ -21,6 +21,8 @@ struct SynthOptions {
   bool no_drag = false;
   bool quiet = false;
   std::string out = "synth.avi";
+  bool sound = false;
+  SynthAudioConfig audio;
 };
 
 Bgr ParseColor(const std::string& text, const char* what) {
@@ -62,6 +64,10 @@ void Run(SynthOptions o) {
   if (!o.floor_color.empty()) o.clip.floor_bgr = ParseColor(o.floor_color, "--floor-color");
   o.clip.drag = !o.no_drag;
   o.clip.out = o.out;
+  if (o.sound || o.audio.chatter || o.audio.hum || o.audio.offset_s != 0) {
+    o.audio.seed = o.clip.seed;
+    o.clip.sound = o.audio;
+  }
 
   const double fps = o.clip.fps;
   const bool quiet = o.quiet;
@@ -147,6 +153,18 @@ void AddSynthCommand(CLI::App& app) {
   cmd->add_flag("--distractor", c.distractor,
                 "Add a static sphere of similar hue resting on the floor");
   cmd->add_option("--quality", c.quality, "MJPEG quality, 1-100")->capture_default_str();
+  cmd->add_flag("--sound", o->sound,
+                "Add a sound track: a click at each impact (louder for faster ones) over room "
+                "noise (.avi only)");
+  cmd->add_option("--sound-offset", o->audio.offset_s,
+                  "The sound lags the picture by this, seconds (negative: leads; implies --sound)")
+      ->capture_default_str();
+  cmd->add_flag("--chatter", o->audio.chatter, "Voices in the room's sound (implies --sound)");
+  cmd->add_flag("--hum", o->audio.hum, "Mains hum in the sound, 50 Hz and harmonics (implies --sound)");
+  cmd->add_option("--sound-rate", o->audio.sample_rate, "Sound sample rate, Hz")
+      ->capture_default_str();
+  cmd->add_option("--room-noise", o->audio.noise_rms, "Room noise RMS, full scale 1")
+      ->capture_default_str();
   cmd->add_flag("--quiet,-q", o->quiet, "Print only the final summary line");
   cmd->callback([o] { Run(*o); });
 }

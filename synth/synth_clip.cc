@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "model/point_mass_drop.h"
+#include "synth/synth_audio_mux.h"
 #include "synth/synth_noise.h"
 #include "synth/synth_video.h"
 
@@ -55,6 +56,11 @@ void Validate(const SynthClipConfig& c) {
   Require(c.blur_samples >= 0 && c.blur_samples <= 256, "blur samples must be in 0-256");
   Require(c.noise_sigma >= 0 && c.noise_sigma <= 100, "noise must be in 0-100 grey levels");
   Require(c.quality >= 1 && c.quality <= 100, "quality must be in 1-100");
+  if (c.sound) {
+    const std::string e = c.sound->Validate();
+    Require(e.empty(), e);
+    Require(c.out.extension() == ".avi", "a clip with sound must be .avi (MJPEG + PCM)");
+  }
   if (c.ball_bgr) ValidateColor(*c.ball_bgr, "ball");
   ValidateColor(c.wall_bgr, "wall");
   ValidateColor(c.floor_bgr, "floor");
@@ -76,6 +82,30 @@ struct BallAt {
   BallShape shape;
   double bottom_m;
 };
+
+// Impact speed from the trajectory itself (any model): the fall over the last 0.1 ms.
+double ImpactSpeed(const SynthTrajectory& traj, double t_since_release, double g) {
+  const double dt = 1e-4;
+  const double before = traj.at(t_since_release - dt).bottom_height_m;
+  const double at = traj.at(t_since_release).bottom_height_m;
+  return std::max(0.0, (before - at) / dt + 0.5 * g * dt);
+}
+
+// Renders the clicks of the truth's impacts and muxes them into the written clip.
+void AddClipSound(const SynthClipConfig& c, const SynthTrajectory& traj, SynthTruth* truth) {
+  truth->impact_speeds_mps.clear();
+  for (double t : truth->impact_times_s)
+    truth->impact_speeds_mps.push_back(ImpactSpeed(traj, t - c.hold_s, c.g_mps2));
+  const double duration = truth->frame_count / c.fps;
+  AddSoundTrack(c.out, RenderSynthAudio(*c.sound, duration, truth->impact_times_s,
+                                        truth->impact_speeds_mps),
+                c.sound->sample_rate);
+  truth->has_sound = true;
+  truth->sound_sample_rate = c.sound->sample_rate;
+  truth->sound_offset_s = c.sound->offset_s;
+  truth->sound_chatter = c.sound->chatter;
+  truth->sound_hum = c.sound->hum;
+}
 
 }  // namespace
 
@@ -309,6 +339,8 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   const double t_release = CpuSeconds();
   writer.release();
   encode_s += CpuSeconds() - t_release;
+
+  if (c.sound) AddClipSound(c, traj, &truth);
 
   SynthClipResult result;
   result.clip_path = c.out;

@@ -14,6 +14,7 @@
 
 #include "model/ball_model.h"
 #include "model/ball_preset.h"
+#include "synth/synth_audio.h"
 #include "synth/synth_scene.h"
 #include "synth/synth_truth.h"
 
@@ -51,6 +52,7 @@ struct SynthClipConfig {
   bool distractor = false;      // a static sphere of similar hue on the floor
   int quality = 95;             // MJPEG quality, 1-100
   std::filesystem::path out = "synth.avi";  // .avi (MJPEG) or .mp4
+  std::optional<SynthAudioConfig> sound;    // a sound track with the impacts' clicks (not .mp4)
 };
 
 // A ball trajectory to render. Times are seconds since release; before release the ball is

@@ -57,6 +57,12 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
   j["apex_heights_m"] = t.apex_heights_m;
   j["comes_to_rest"] = t.comes_to_rest;
   j["rest_t_s"] = t.comes_to_rest ? ojson(t.rest_t_s) : ojson(nullptr);
+  if (t.has_sound)
+    j["sound"] = {{"sample_rate_hz", t.sound_sample_rate},
+                  {"offset_s", t.sound_offset_s},
+                  {"chatter", t.sound_chatter},
+                  {"hum", t.sound_hum},
+                  {"impact_speeds_mps", t.impact_speeds_mps}};
   ojson frames = ojson::array();
   for (const auto& f : t.frames)
     frames.push_back({{"i", f.index},
@@ -172,6 +178,15 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
     throw std::runtime_error(where + ": apex_times_s and apex_heights_m differ in length");
   t.comes_to_rest = Get<bool>(j, "comes_to_rest", where);
   if (t.comes_to_rest) t.rest_t_s = Get<double>(j, "rest_t_s", where);
+  if (j.contains("sound")) {
+    const json sound = Get<json>(j, "sound", where);
+    t.has_sound = true;
+    t.sound_sample_rate = Get<int>(sound, "sample_rate_hz", where + " sound");
+    t.sound_offset_s = Get<double>(sound, "offset_s", where + " sound");
+    t.sound_chatter = Get<bool>(sound, "chatter", where + " sound");
+    t.sound_hum = Get<bool>(sound, "hum", where + " sound");
+    t.impact_speeds_mps = Get<std::vector<double>>(sound, "impact_speeds_mps", where + " sound");
+  }
 
   const json frames = Get<json>(j, "per_frame", where);
   if (!frames.is_array()) throw std::runtime_error(where + ": 'per_frame' is not an array");

@@ -57,6 +57,12 @@ struct SynthTruth {
   std::vector<double> apex_heights_m;      // [0] = drop height; ball bottom above the floor
   bool comes_to_rest = false;
   double rest_t_s = 0;                     // when comes_to_rest
+  // The clip's sound track (synth/synth_audio.h), when it has one.
+  bool has_sound = false;
+  int sound_sample_rate = 0;
+  double sound_offset_s = 0;               // the sound lags the picture by this, s
+  bool sound_chatter = false, sound_hum = false;
+  std::vector<double> impact_speeds_mps;   // one per impact time
   std::vector<SynthTruthFrame> frames;
 };
 

@@ -1,0 +1,203 @@
+#include "detect/impact_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace bouncefit {
+namespace {
+
+double Db(double ratio) { return 10 * std::log10(std::max(ratio, 1e-30)); }
+
+}  // namespace
+
+std::string ImpactDetectorConfig::Validate() const {
+  if (!(highpass_hz >= 0)) return "high-pass must be >= 0 Hz";
+  if (!(block_s > 0 && block_s <= 0.01)) return "block must be in (0, 10] ms";
+  if (!(floor_window_s >= 20 * block_s)) return "noise-floor window must hold >= 20 blocks";
+  if (!(floor_percentile > 0 && floor_percentile < 1)) return "floor percentile must be in (0, 1)";
+  if (!(min_snr_db > 0) || !(min_rise_db > 0) || !(decay_db > 0)) return "dB thresholds must be > 0";
+  if (!(rise_window_s >= block_s)) return "rise window must be >= one block";
+  if (!(max_click_s > block_s)) return "max click length must be > one block";
+  if (!(min_spacing_s >= 0)) return "min spacing must be >= 0 s";
+  if (!(onset_fraction > 0 && onset_fraction < 1)) return "onset fraction must be in (0, 1)";
+  if (!(min_floor > 0)) return "min floor must be > 0";
+  return "";
+}
+
+ImpactDetector::ImpactDetector(ImpactDetectorConfig config, int sample_rate)
+    : config_(config), rate_(sample_rate) {
+  if (const std::string e = config_.Validate(); !e.empty())
+    throw std::invalid_argument("impact detector: " + e);
+  if (sample_rate < 4000 || sample_rate > 384000)
+    throw std::invalid_argument("impact detector: sample rate must be 4-384 kHz, got " +
+                                std::to_string(sample_rate) + " Hz");
+  block_len_ = std::max(1, static_cast<int>(std::lround(config_.block_s * rate_)));
+  const double fc = std::min(config_.highpass_hz, 0.45 * rate_);
+  if (fc > 0) {  // RBJ cookbook high-pass, Q = 1/sqrt(2)
+    const double w = 2 * std::numbers::pi * fc / rate_;
+    const double alpha = std::sin(w) / std::numbers::sqrt2;
+    const double cw = std::cos(w);
+    const double a0 = 1 + alpha;
+    b0_ = (1 + cw) / 2 / a0;
+    b1_ = -(1 + cw) / a0;
+    b2_ = (1 + cw) / 2 / a0;
+    a1_ = -2 * cw / a0;
+    a2_ = (1 - alpha) / a0;
+  } else {
+    b0_ = 1;
+  }
+}
+
+double ImpactDetector::Floor() {
+  if (block_energies_.empty()) return config_.min_floor * config_.min_floor;
+  scratch_.assign(block_energies_.begin(), block_energies_.end());
+  const size_t k = static_cast<size_t>(config_.floor_percentile * (scratch_.size() - 1));
+  std::nth_element(scratch_.begin(), scratch_.begin() + k, scratch_.end());
+  return std::max(scratch_[k], config_.min_floor * config_.min_floor);
+}
+
+std::vector<AudioImpact> ImpactDetector::Push(double t0_s, const float* samples, size_t count) {
+  std::vector<AudioImpact> out;
+  if (!started_) {
+    t_origin_s_ = t0_s;
+    started_ = true;
+  } else {
+    // A gap in the stream re-bases the clock; the sample indexes stay contiguous.
+    const double expected = t_origin_s_ + static_cast<double>(next_sample_) / rate_;
+    if (std::abs(t0_s - expected) > 2.0 / rate_) t_origin_s_ = t0_s - static_cast<double>(next_sample_) / rate_;
+  }
+  const size_t keep = static_cast<size_t>(
+      (config_.max_click_s + config_.rise_window_s + 0.01) * rate_ + 4 * block_len_);
+  for (size_t i = 0; i < count; ++i) {
+    const double x = samples[i];
+    const double y = b0_ * x + b1_ * x1_ + b2_ * x2_ - a1_ * y1_ - a2_ * y2_;
+    x2_ = x1_, x1_ = x, y2_ = y1_, y1_ = y;
+    filtered_.push_back(static_cast<float>(y));
+    if (filtered_.size() > keep) {
+      filtered_.pop_front();
+      ++history_start_;
+    }
+    ++next_sample_;
+    block_energy_acc_ += y * y;
+    if (++block_fill_ == block_len_) ProcessBlock(&out);
+  }
+  return out;
+}
+
+void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
+  const double e = block_energy_acc_ / block_len_;
+  block_energy_acc_ = 0;
+  block_fill_ = 0;
+  const int64_t block = block_index_++;
+  const int64_t block_start = next_sample_ - block_len_;
+
+  if (block % 8 == 0 || block_energies_.size() < 40) floor_rms_ = std::sqrt(Floor());
+  const double floor_e = floor_rms_ * floor_rms_;
+
+  if (in_click_ && Db(e / candidate_.peak_energy) >= config_.min_rise_db) {
+    // Far louder than what triggered: a new click on top of a weaker sound; start over.
+    candidate_.before_energy = candidate_.peak_energy;
+    candidate_.early_energy = e;
+    candidate_.block = block;
+    candidate_.peak_energy = e;
+  }
+  if (in_click_) {
+    if (e > candidate_.peak_energy) candidate_.peak_energy = e;
+    if ((block - candidate_.block) * block_len_ <= 0.002 * rate_)
+      candidate_.early_energy = std::max(candidate_.early_energy, e);
+    const double faded = candidate_.peak_energy * std::pow(10.0, -config_.decay_db / 10);
+    const double age_s = static_cast<double>(block - candidate_.block) * block_len_ / rate_;
+    if (e < faded || e < 2 * floor_e) {
+      in_click_ = false;
+      Decide(candidate_, out);
+    } else if (age_s > config_.max_click_s) {
+      in_click_ = false;  // a sustained sound, not a click
+    }
+  } else if (block_energies_.size() >= 20) {
+    // The loudest block of the rise window before it, skipping the last millisecond (a
+    // click that starts late in a block puts part of itself there). A voice's pitch pulses
+    // or a drum roll repeat within the window; an impact stands alone.
+    const size_t n = std::min(block_energies_.size(),
+                              static_cast<size_t>(std::ceil(config_.rise_window_s * rate_ / block_len_)));
+    const size_t skip = std::min(n - 1, static_cast<size_t>(std::ceil(0.001 * rate_ / block_len_)));
+    double before = 0;
+    for (size_t k = block_energies_.size() - n; k < block_energies_.size() - skip; ++k)
+      before = std::max(before, block_energies_[k]);
+    const double snr = Db(e / floor_e);
+    const double rise = Db(e / std::max(before, floor_e));
+    const bool spaced =
+        block_start - last_onset_sample_ >= config_.min_spacing_s * rate_;
+    // Triggered at half the rise in dB; the click's first 2 ms must reach the full rise.
+    if (snr >= config_.min_snr_db && rise >= config_.min_rise_db / 2 && spaced) {
+      in_click_ = true;
+      candidate_ = Candidate{};
+      candidate_.block = block;
+      candidate_.peak_energy = e;
+      candidate_.early_energy = e;
+      candidate_.before_energy = std::max(before, floor_e);
+      candidate_.floor_energy = floor_e;
+    }
+  }
+  block_energies_.push_back(e);
+  const size_t window = static_cast<size_t>(config_.floor_window_s * rate_ / block_len_);
+  while (block_energies_.size() > window) block_energies_.pop_front();
+}
+
+bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
+  const double rise_db = Db(c.early_energy / c.before_energy);
+  if (rise_db < config_.min_rise_db) return false;
+  // The click's first peak: the largest |y| from a block before the trigger to 2 ms after.
+  const int64_t trigger = c.block * block_len_;
+  const int64_t from = std::max(history_start_, trigger - block_len_);
+  const int64_t to = std::min<int64_t>(next_sample_ - 1,
+                                       trigger + block_len_ + static_cast<int64_t>(0.002 * rate_));
+  int64_t peak = from;
+  double peak_abs = 0;
+  for (int64_t s = from; s <= to; ++s) {
+    const double a = std::abs(filtered_[s - history_start_]);
+    if (a > peak_abs) peak_abs = a, peak = s;
+  }
+  if (peak_abs <= 0) return false;
+  // Onset: walk back from the peak; the earliest sample above the threshold, stopping after
+  // half a millisecond below it (the click oscillates; the noise before it stays below).
+  const double threshold = std::max(config_.onset_fraction * peak_abs, 4 * std::sqrt(c.floor_energy));
+  const int64_t quiet_run = std::max<int64_t>(2, static_cast<int64_t>(0.0005 * rate_));
+  int64_t onset = peak;
+  for (int64_t s = peak, below = 0; s >= history_start_ && below < quiet_run; --s) {
+    if (std::abs(filtered_[s - history_start_]) >= threshold) onset = s, below = 0;
+    else ++below;
+  }
+  if (onset - last_onset_sample_ < config_.min_spacing_s * rate_) return false;
+  last_onset_sample_ = onset;
+  AudioImpact impact;
+  impact.t_s = t_origin_s_ + static_cast<double>(onset) / rate_;
+  impact.strength = peak_abs;
+  impact.snr_db = Db(c.peak_energy / c.floor_energy);
+  // Confidence: how far above the thresholds the click stood (10 dB margin each = certain).
+  const double snr_margin = (impact.snr_db - config_.min_snr_db) / 10;
+  const double rise_margin = (rise_db - config_.min_rise_db) / 10;
+  impact.confidence = std::clamp(0.5 + 0.5 * std::min(snr_margin, rise_margin), 0.0, 1.0);
+  out->push_back(impact);
+  return true;
+}
+
+std::vector<AudioImpact> ImpactDetector::Finish() {
+  std::vector<AudioImpact> out;
+  if (in_click_) {
+    in_click_ = false;
+    Decide(candidate_, &out);
+  }
+  return out;
+}
+
+std::vector<AudioImpact> DetectImpacts(const std::vector<float>& samples, int sample_rate,
+                                       double t0_s, const ImpactDetectorConfig& config) {
+  ImpactDetector d(config, sample_rate);
+  std::vector<AudioImpact> all = d.Push(t0_s, samples.data(), samples.size());
+  for (const auto& i : d.Finish()) all.push_back(i);
+  return all;
+}
+
+}  // namespace bouncefit
