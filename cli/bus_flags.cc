@@ -13,6 +13,8 @@ void AddBusFlags(CLI::App* cmd, std::string* lcm_url, Channels* channels) {
       ->capture_default_str();
   cmd->add_option("--fit-update-channel", channels->fit_update, "channel of fit updates")
       ->capture_default_str();
+  cmd->add_option("--impact-channel", channels->impact, "channel of impacts (heard, seen)")
+      ->capture_default_str();
 }
 
 }  // namespace bouncefit::cli

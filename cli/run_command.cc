@@ -14,6 +14,7 @@
 #include "cli/commands.h"
 #include "cli/run_console.h"
 #include "cli/run_output.h"
+#include "cli/run_sound.h"
 #include "cli/sample_clip.h"
 #include "cli/tracker_flags.h"
 #include "detect/node/detect_node.h"
@@ -42,6 +43,7 @@ struct RunOptions {
   bool quiet = false;
   bool json = false;
   bool no_fit = false;
+  bool no_audio = false;
   std::string lcm_url = kDefaultLcmUrl;
   Channels channels;
   std::string model = "bullet-softbody";
@@ -182,6 +184,12 @@ void Run(RunOptions o) {
   capture.set_log(&out.log());
   if (is_file && o.speed > 0) capture.set_pacer([&pacer](int64_t t) { return pacer.WaitFor(t); });
 
+  RunSound sound(is_file && !o.no_audio ? clip : "", ball);
+  auto publish_impact = [&](const impact_t& m) {
+    bus.Publish(o.channels.impact, m);
+    out.Log(o.channels.impact, m);
+  };
+
   DetectNodeConfig dc;
   dc.channels = o.channels;
   dc.detector.calibration.ball_diameter_m = ball.diameter_m;
@@ -213,7 +221,8 @@ void Run(RunOptions o) {
 
   console.Info("run: " + info.description + ", " + Fixed(info.nominal_fps, 2) + " fps; ball " +
                ball.name + " (" + Fixed(ball.diameter_m * 1e3, 1) + " mm, " +
-               Fixed(ball.mass_kg * 1e3, 1) + " g); output " + out.dir().string() + "; bus " + o.lcm_url);
+               Fixed(ball.mass_kg * 1e3, 1) + " g); output " + out.dir().string() + "; bus " + o.lcm_url +
+               "; sound: " + (o.no_audio ? "off (--no-audio)" : sound.Describe()));
 
   std::optional<FitUpdate> final_fit;
   int64_t now_utime = 0;  // capture time of the latest frame: the stream's "now"
@@ -247,6 +256,8 @@ void Run(RunOptions o) {
         if (m.bounce == 0) release_utime = m.apex_utime;
         peaks.push_back(m);
         if (fit) fit->OnPeak(m);
+      } else if (e.kind == DetectorEvent::Kind::kImpact) {
+        publish_impact(sound.Seen(SecondsSince(e.impact.utime, out.stream_start()), out.stream_start()));
       } else if (e.kind == DetectorEvent::Kind::kSequenceEnd) {
         console.Info("drop ended (" + e.reason + ")");
         if (fit) {
@@ -270,6 +281,8 @@ void Run(RunOptions o) {
     now_utime = frame.utime;
     out.OnBox(ToBallBox(obs));
     handle_events(detect.OnObservation(obs));
+    for (const auto& m : sound.AdvanceTo(SecondsSince(frame.utime, out.stream_start()), out.stream_start()))
+      publish_impact(m);
   });
 
   struct sigaction sa {};
@@ -303,6 +316,12 @@ void Run(RunOptions o) {
     else
       console.Info("run: warning: " + read);
   }
+  std::vector<double> seen_impacts;
+  for (const auto& d : detect.Summaries())
+    for (const auto& i : d.impacts) seen_impacts.push_back(SecondsSince(i.utime, out.stream_start()));
+  console.Info("sound: " + sound.Finish(seen_impacts, SecondsSince(now_utime, out.stream_start())).verdict);
+  sound.WriteImpactsCsv(out.dir());
+  sound.RewritePeaksCsv(out.dir(), peaks, out.stream_start());
   if (fit) {
     fit->Finish();
     while (!fit->WaitIdleFor(std::chrono::milliseconds(200)))
@@ -330,7 +349,9 @@ void Run(RunOptions o) {
   summary["wall_time_s"] = cs.wall_s;
   summary["timings_ms"] = {{"decode", cs.read_s * 1e3},
                            {"track", cs.track_s * 1e3},
-                           {"detect", detect.stats().detect_s * 1e3}};
+                           {"detect", detect.stats().detect_s * 1e3},
+                           {"sound", sound.cpu_s() * 1e3}};
+  summary["sound"] = sound.Summary();
   summary["stopped_by_user"] = g_stop.load();
   if (!failure.empty()) summary["failure"] = failure;
   summary["log"] = {{"messages", logged}, {"dropped", log_dropped}};
@@ -406,6 +427,7 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_flag("--quiet,-q", o->quiet, "print nothing but errors");
   cmd->add_flag("--json", o->json, "print one JSON object per event (calibration, peak, fit, summary)");
   cmd->add_flag("--no-fit", o->no_fit, "track and detect only");
+  cmd->add_flag("--no-audio", o->no_audio, "ignore the clip's sound track (impacts from the picture only)");
   cmd->add_option("--model", o->model, "model fitted: " + BallModelNames())->capture_default_str();
   cmd->add_option("--method", o->method, "search: nlopt (default) or paper")
       ->check(CLI::IsMember({"nlopt", "paper"}))

@@ -12,6 +12,7 @@ struct Channels {
   std::string calibration = "CALIBRATION";
   std::string bounce_peak = "BOUNCE_PEAK";
   std::string fit_update = "FIT_UPDATE";
+  std::string impact = "IMPACT";
 };
 
 }  // namespace bouncefit

@@ -1,0 +1,170 @@
+#include "cli/run_sound.h"
+
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <numbers>
+#include <stdexcept>
+
+#include "msgs/msg_json.h"
+
+namespace bouncefit::cli {
+namespace {
+
+double CpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+std::string Cell(double v, const char* format) {
+  if (!std::isfinite(v)) return "";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+int64_t Utime(double t_s, int64_t t0_utime) { return t0_utime + std::llround(t_s * 1e6); }
+
+}  // namespace
+
+RunSound::RunSound(const std::string& clip, const BallPreset& ball) : ball_(ball) {
+  if (clip.empty()) {
+    description_ = "no sound";
+    return;
+  }
+  auto source = std::make_unique<AudioFileSource>(clip);
+  if (!source->has_audio()) {
+    description_ = "no sound track";
+    return;
+  }
+  description_ = source->Describe();
+  detector_ = std::make_unique<ImpactDetector>(ImpactDetectorConfig{}, source->sample_rate());
+  source_ = std::move(source);
+}
+
+std::vector<impact_t> RunSound::AdvanceTo(double t_s, int64_t t0_utime) {
+  std::vector<impact_t> out;
+  if (!enabled()) return out;
+  const double cpu0 = CpuSeconds();
+  AudioChunk chunk;
+  while (!ended_ && decoded_to_s_ < t_s) {
+    if (!source_->Next(&chunk)) {
+      ended_ = true;
+      for (const auto& i : detector_->Finish()) heard_.push_back(i);
+      break;
+    }
+    const size_t before = heard_.size();
+    for (const auto& i : detector_->Push(chunk.t0_s, chunk.samples.data(), chunk.samples.size()))
+      heard_.push_back(i);
+    decoded_to_s_ = chunk.t0_s + static_cast<double>(chunk.samples.size()) / chunk.sample_rate;
+    for (size_t k = before; k < heard_.size(); ++k) {
+      impact_t m;
+      m.utime = Utime(heard_[k].t_s, t0_utime);
+      m.index = next_index_++;
+      m.source = "audio";
+      m.strength = heard_[k].strength;
+      m.confidence = heard_[k].confidence;
+      out.push_back(m);
+    }
+  }
+  cpu_s_ += CpuSeconds() - cpu0;
+  return out;
+}
+
+impact_t RunSound::Seen(double t_s, int64_t t0_utime) {
+  impact_t m;
+  m.utime = Utime(t_s, t0_utime);
+  m.index = next_index_++;
+  m.source = "video";
+  m.strength = 0;
+  m.confidence = 0;
+  return m;
+}
+
+const FusionResult& RunSound::Finish(const std::vector<double>& seen_t_s, double video_end_s) {
+  if (enabled()) AdvanceTo(1e300, 0);
+  ImpactFusionConfig fc;
+  const double area = std::numbers::pi * ball_.diameter_m * ball_.diameter_m / 4;
+  fc.drag_per_m = 0.5 * 1.2 * ball_.drag_coefficient * area / ball_.mass_kg;
+  fused_ = FuseImpacts(heard_, seen_t_s, video_end_s, fc);
+  if (!enabled()) fused_.verdict = description_ + ": impacts from the picture only";
+  finished_ = true;
+  return fused_;
+}
+
+void RunSound::WriteImpactsCsv(const std::filesystem::path& dir) const {
+  std::ofstream f(dir / "impacts.csv", std::ios::trunc);
+  if (!f) throw std::runtime_error("cannot write '" + (dir / "impacts.csv").string() + "'");
+  f << "impact,t_s,source,strength,confidence,video_t_s,flight_s,flight_height_m\n";
+  for (size_t i = 0; i < fused_.impacts.size(); ++i) {
+    const FusedImpact& m = fused_.impacts[i];
+    double flight = NAN, height = NAN;
+    for (const auto& fl : fused_.flights)
+      if (fl.from == static_cast<int>(i)) flight = fl.flight_s, height = fl.height_m;
+    const bool heard = m.source != ImpactSource::kVideo;
+    f << i << ',' << Cell(m.t_s, "%.6f") << ',' << ImpactSourceName(m.source) << ','
+      << (heard ? Cell(m.strength, "%.4f") : "") << ',' << (heard ? Cell(m.confidence, "%.3f") : "")
+      << ',' << Cell(m.video_t_s, "%.6f") << ',' << Cell(flight, "%.6f") << ','
+      << Cell(height, "%.5f") << '\n';
+  }
+}
+
+void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
+                               const std::vector<bounce_peak_t>& peaks, int64_t t0) const {
+  const auto path = dir / "peaks.csv";
+  const std::string tmp = path.string() + ".tmp";
+  std::ofstream f(tmp, std::ios::trunc);
+  if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
+  f << "bounce,t_s,height_m,height_px,flight_height_m,emitted_t_s,heard,fused_height_m\n";
+  auto flight_at = [&](double t_s) -> const HeardFlight* {
+    for (const auto& fl : fused_.flights) {
+      const double a = fused_.impacts[fl.from].t_s;
+      if (t_s > a && t_s < a + fl.flight_s) return &fl;
+    }
+    return nullptr;
+  };
+  int last_bounce = -1;
+  double last_t = -1e300;
+  for (const auto& m : peaks) {
+    const double t_s = SecondsSince(m.apex_utime, t0);
+    const HeardFlight* fl = m.bounce > 0 ? flight_at(t_s) : nullptr;
+    const double flight_h = fl ? fl->height_m : m.flight_height_m;
+    f << m.bounce << ',' << Cell(t_s, "%.6f") << ',' << Cell(m.height_m, "%.5f") << ','
+      << Cell(m.height_px, "%.3f") << ',' << Cell(flight_h, "%.5f") << ','
+      << Cell(SecondsSince(m.emitted_utime, t0), "%.6f") << ',' << (fl ? "both" : "") << ','
+      << Cell(fl ? fl->height_m : m.height_m, "%.5f") << '\n';
+    last_bounce = std::max(last_bounce, static_cast<int>(m.bounce));
+    last_t = std::max(last_t, t_s);
+  }
+  for (const auto& fl : fused_.flights) {  // bounces heard but too small to see
+    if (!fl.heard_only || fl.apex_t_s <= last_t) continue;
+    f << ++last_bounce << ',' << Cell(fl.apex_t_s, "%.6f") << ",,," << Cell(fl.height_m, "%.5f")
+      << ",,heard only," << Cell(fl.height_m, "%.5f") << '\n';
+  }
+  f.close();
+  std::filesystem::rename(tmp, path);
+}
+
+nlohmann::json RunSound::Summary() const {
+  nlohmann::json j;
+  j["track"] = description_;
+  j["used"] = fused_.sound_used;
+  j["verdict"] = fused_.verdict;
+  j["offset_s"] = fused_.offset_s;
+  j["heard"] = fused_.heard;
+  j["seen"] = fused_.seen;
+  j["matched"] = fused_.matched;
+  j["rejected_sounds"] = fused_.rejected_sounds;
+  j["impacts"] = fused_.impacts.size();
+  j["cpu_s"] = cpu_s_;
+  nlohmann::json heard = nlohmann::json::array();  // every click heard, impact or not
+  for (const auto& a : heard_)
+    heard.push_back({{"t_s", a.t_s}, {"strength", a.strength}, {"snr_db", a.snr_db},
+                     {"confidence", a.confidence}});
+  j["clicks"] = heard;
+  return j;
+}
+
+}  // namespace bouncefit::cli

@@ -1,0 +1,243 @@
+#include "detect/impact_fusion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace bouncefit {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Rise time to the apex of height h with drag k (closed forms of v' = -g - k v^2 and
+// v' = g - k v^2 on the way down).
+double RiseTime(double h, double g, double k) {
+  if (k <= 0) return std::sqrt(2 * h / g);
+  return std::atan(std::sqrt(std::expm1(2 * k * h))) / std::sqrt(g * k);
+}
+double FallTime(double h, double g, double k) {
+  if (k <= 0) return std::sqrt(2 * h / g);
+  return std::acosh(std::exp(k * h)) / std::sqrt(g * k);
+}
+
+// For each seen impact, the heard one nearest to seen + offset within the tolerance
+// (-1: none), one-to-one, in time order.
+std::vector<int> Pair(const std::vector<double>& heard, const std::vector<double>& seen,
+                      double offset, double tol, double* residual_sum) {
+  std::vector<int> pair(seen.size(), -1);
+  std::vector<bool> used(heard.size(), false);
+  *residual_sum = 0;
+  for (size_t v = 0; v < seen.size(); ++v) {
+    const double want = seen[v] + offset;
+    int best = -1;
+    for (size_t a = 0; a < heard.size(); ++a)
+      if (!used[a] && std::abs(heard[a] - want) <= tol &&
+          (best < 0 || std::abs(heard[a] - want) < std::abs(heard[best] - want)))
+        best = static_cast<int>(a);
+    if (best >= 0) {
+      used[best] = true;
+      pair[v] = best;
+      *residual_sum += std::abs(heard[best] - want);
+    }
+  }
+  return pair;
+}
+
+int Count(const std::vector<int>& pair) {
+  return static_cast<int>(std::count_if(pair.begin(), pair.end(), [](int p) { return p >= 0; }));
+}
+
+std::string Fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+// The longest chain of clicks with flights shrinking like a bounce train's (indexes into t,
+// ascending). Clicks just after an impact are skipped as its echoes.
+std::vector<int> LongestBounceTrain(const std::vector<double>& t, const ImpactFusionConfig& c) {
+  std::vector<int> best;
+  const size_t n = std::min<size_t>(t.size(), 400);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      std::vector<int> chain = {static_cast<int>(i), static_cast<int>(j)};
+      double flight = t[j] - t[i], ratio = -1;
+      for (size_t k = j + 1; k < n; ++k) {
+        const double f = t[k] - t[chain.back()];
+        const double q = f / flight;
+        if (f < c.lone_train_echo_s) continue;  // an echo of the last impact
+        if (q < c.lone_train_min_ratio || q > c.lone_train_max_ratio) break;
+        if (ratio > 0 && std::abs(q - ratio) > c.lone_train_ratio_step) break;
+        chain.push_back(static_cast<int>(k));
+        flight = f, ratio = q;
+      }
+      if (chain.size() > best.size()) best = chain;
+    }
+  return best;
+}
+
+}  // namespace
+
+const char* ImpactSourceName(ImpactSource s) {
+  switch (s) {
+    case ImpactSource::kAudio: return "audio";
+    case ImpactSource::kVideo: return "video";
+    case ImpactSource::kBoth: return "both";
+  }
+  return "?";
+}
+
+double FlightTimeHeight(double flight_s, double g, double k) {
+  if (!(flight_s > 0) || !(g > 0)) return kNaN;
+  if (k <= 0) return g * flight_s * flight_s / 8;
+  // Flight time grows with the apex height: bisect.
+  double lo = 0, hi = g * flight_s * flight_s / 4;
+  while (RiseTime(hi, g, k) + FallTime(hi, g, k) < flight_s) hi *= 2;
+  for (int i = 0; i < 100 && hi - lo > 1e-12; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (RiseTime(mid, g, k) + FallTime(mid, g, k) < flight_s ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::vector<double>& seen,
+                         double video_end_s, const ImpactFusionConfig& c) {
+  FusionResult r;
+  std::vector<AudioImpact> heard;
+  for (const auto& a : heard_in)
+    if (a.t_s >= -c.max_offset_s && a.t_s <= video_end_s + 1.0) heard.push_back(a);
+  std::sort(heard.begin(), heard.end(), [](const auto& x, const auto& y) { return x.t_s < y.t_s; });
+  std::vector<double> ht;
+  for (const auto& a : heard) ht.push_back(a.t_s);
+  r.seen = static_cast<int>(seen.size());
+  r.heard = static_cast<int>(heard.size());
+
+  // The offset pairing the most impacts (ties: the smallest residuals).
+  std::vector<int> pair(seen.size(), -1);
+  double best_residual = 0;
+  for (double a : ht)
+    for (double v : seen) {
+      const double d = a - v;
+      if (std::abs(d) > c.max_offset_s) continue;
+      double residual = 0;
+      const std::vector<int> p = Pair(ht, seen, d, c.match_tolerance_s, &residual);
+      if (Count(p) > Count(pair) || (Count(p) == Count(pair) && Count(p) > 0 && residual < best_residual)) {
+        pair = p;
+        best_residual = residual;
+        r.offset_s = d;
+      }
+    }
+  if (Count(pair) > 0) {  // refine: the median of the pairs' differences
+    std::vector<double> diffs;
+    for (size_t v = 0; v < seen.size(); ++v)
+      if (pair[v] >= 0) diffs.push_back(ht[pair[v]] - seen[v]);
+    std::nth_element(diffs.begin(), diffs.begin() + diffs.size() / 2, diffs.end());
+    r.offset_s = diffs[diffs.size() / 2];
+    double residual = 0;
+    const std::vector<int> refined = Pair(ht, seen, r.offset_s, c.match_tolerance_s, &residual);
+    if (Count(refined) >= Count(pair)) pair = refined;
+  }
+  r.matched = Count(pair);
+  int heard_in_span = 0;  // clicks heard while the picture saw impacts
+  if (!seen.empty())
+    for (double a : ht)
+      if (a >= seen.front() + r.offset_s - c.match_tolerance_s &&
+          a <= seen.back() + r.offset_s + c.match_tolerance_s)
+        ++heard_in_span;
+  r.sound_used = r.matched >= std::min<int>(c.min_matches, seen.size()) && r.matched >= 2 &&
+                 r.matched >= c.min_match_fraction * heard_in_span;
+  if (seen.empty())
+    r.verdict = "no impact seen: the sound cannot be checked against the picture";
+  else if (!r.sound_used)
+    r.verdict = "the sound does not agree with the picture (" + std::to_string(r.matched) + " of " +
+                std::to_string(seen.size()) + " seen impacts and of " +
+                std::to_string(heard_in_span) + " clicks paired at any one offset), not used";
+  else
+    r.verdict = "sound used: " + std::to_string(r.matched) + " of " + std::to_string(seen.size()) +
+                " seen impacts heard, sound lags the picture by " + Fixed(r.offset_s * 1e3, 1) + " ms";
+
+  std::vector<bool> used(heard.size(), false);
+  for (size_t v = 0; v < seen.size(); ++v) {
+    FusedImpact f;
+    f.video_t_s = seen[v];
+    f.t_s = seen[v];
+    f.audio_t_s = kNaN;
+    if (r.sound_used && pair[v] >= 0) {
+      const AudioImpact& a = heard[pair[v]];
+      used[pair[v]] = true;
+      f.source = ImpactSource::kBoth;
+      f.t_s = a.t_s - r.offset_s;
+      f.audio_t_s = a.t_s;
+      f.strength = a.strength;
+      f.confidence = a.confidence;
+    }
+    r.impacts.push_back(f);
+  }
+
+  // Heard only: the bounce train going on after the last impact both heard and seen,
+  // flights shrinking.
+  int last_both = -1;
+  for (size_t i = 0; i < r.impacts.size(); ++i)
+    if (r.impacts[i].source == ImpactSource::kBoth) last_both = static_cast<int>(i);
+  if (r.sound_used && last_both >= 1) {
+    double last = r.impacts[last_both].t_s;
+    double flight = last - r.impacts[last_both - 1].t_s;
+    for (size_t a = 0; a < heard.size(); ++a) {
+      const double t = heard[a].t_s - r.offset_s;
+      if (used[a] || t <= last) continue;
+      const double f = t - last;
+      if (f < c.train_min_ratio * flight) continue;  // an echo or a stray sound
+      if (f > c.train_growth * flight) break;        // the train has ended
+      FusedImpact h;
+      h.t_s = t;
+      h.source = ImpactSource::kAudio;
+      h.strength = heard[a].strength;
+      h.confidence = heard[a].confidence;
+      h.video_t_s = kNaN;
+      h.audio_t_s = heard[a].t_s;
+      r.impacts.push_back(h);
+      used[a] = true;
+      last = t, flight = f;
+    }
+  }
+  if (seen.empty()) {  // nothing to check against: a heard bounce train, or nothing
+    r.offset_s = 0;
+    const std::vector<int> train = LongestBounceTrain(ht, c);
+    if (static_cast<int>(train.size()) >= c.lone_train_min_impacts) {
+      r.heard_train_only = true;
+      r.verdict += "; listing the heard bounce train of " + std::to_string(train.size()) + " impacts";
+      for (int a : train) {
+        FusedImpact h;
+        h.t_s = heard[a].t_s;
+        h.source = ImpactSource::kAudio;
+        h.strength = heard[a].strength;
+        h.confidence = heard[a].confidence;
+        h.video_t_s = kNaN;
+        h.audio_t_s = heard[a].t_s;
+        r.impacts.push_back(h);
+        used[a] = true;
+      }
+    } else {
+      r.verdict += "; no bounce train heard either";
+    }
+  }
+  r.rejected_sounds = static_cast<int>(std::count(used.begin(), used.end(), false));
+  std::stable_sort(r.impacts.begin(), r.impacts.end(),
+                   [](const FusedImpact& a, const FusedImpact& b) { return a.t_s < b.t_s; });
+
+  for (size_t i = 0; i + 1 < r.impacts.size(); ++i) {
+    const FusedImpact& a = r.impacts[i];
+    const FusedImpact& b = r.impacts[i + 1];
+    if (a.source == ImpactSource::kVideo || b.source == ImpactSource::kVideo) continue;
+    HeardFlight f;
+    f.from = static_cast<int>(i);
+    f.flight_s = b.t_s - a.t_s;
+    f.height_m = FlightTimeHeight(f.flight_s, c.g_mps2, c.drag_per_m);
+    f.apex_t_s = a.t_s + RiseTime(f.height_m, c.g_mps2, c.drag_per_m);
+    f.heard_only = a.source == ImpactSource::kAudio || b.source == ImpactSource::kAudio;
+    r.flights.push_back(f);
+  }
+  return r;
+}
+
+}  // namespace bouncefit

@@ -1,0 +1,136 @@
+// Fusing heard and seen impacts, on real point-mass drops (times, speeds and apex heights
+// from the model): the offset, the heard-only bounce train, flight-time heights, and sound
+// that disagrees with the picture.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <algorithm>
+#include <random>
+
+#include "detect/impact_fusion.h"
+#include "model/ball_preset.h"
+#include "model/point_mass_drop.h"
+
+namespace bouncefit {
+namespace {
+
+PointMassDropResult Drop(const std::string& ball, double height) {
+  PointMassDropConfig c;
+  c.ball = ResolveBallPreset(ball);
+  c.drop_height_m = height;
+  c.hold_s = 0.5;
+  c.end_time_s = 8;
+  c.min_apex_height_m = 0.001;
+  return SimulatePointMassDrop(c);
+}
+
+double DragPerM(const BallPreset& b) {
+  const double area = std::numbers::pi * b.diameter_m * b.diameter_m / 4;
+  return 0.5 * 1.2 * b.drag_coefficient * area / b.mass_kg;
+}
+
+std::vector<AudioImpact> Heard(const std::vector<double>& times, double offset) {
+  std::vector<AudioImpact> out;
+  for (double t : times) out.push_back({t + offset, 0.1, 30, 1});
+  return out;
+}
+
+TEST(FlightTimeHeight, VacuumFormulaAndDragAgainstThePointMassModel) {
+  EXPECT_NEAR(FlightTimeHeight(0.9, 9.81, 0), 9.81 * 0.81 / 8, 1e-12);
+  for (const std::string ball : {"pingpong", "tennis", "wiffle"}) {
+    const PointMassDropResult r = Drop(ball, 1.5);
+    const double k = DragPerM(ResolveBallPreset(ball));
+    int checked = 0;
+    for (size_t i = 0; i + 1 < r.impact_times_s.size(); ++i) {
+      const double truth = r.apex_heights_m[i + 1];
+      if (truth < 0.02) break;
+      const double h = FlightTimeHeight(r.impact_times_s[i + 1] - r.impact_times_s[i], 9.81, k);
+      EXPECT_NEAR(h, truth, 0.005 * truth) << ball << " bounce " << i + 1;
+      ++checked;
+    }
+    EXPECT_GE(checked, 3) << ball;
+  }
+}
+
+TEST(ImpactFusion, OffsetPairsHeardOnlyTrainAndStraySoundsRejected) {
+  const PointMassDropResult r = Drop("pingpong", 1.0);
+  ASSERT_GE(r.impact_times_s.size(), 12u);
+  // Seen: the first 6 impacts, each off by up to a third of a 30 fps frame.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.011, 0.011);
+  std::vector<double> seen;
+  for (int i = 0; i < 6; ++i) seen.push_back(r.impact_times_s[i] + jitter(rng));
+  // Heard: every impact, 30 ms late, plus a door slam before the drop and a cough after.
+  auto heard = Heard(r.impact_times_s, 0.03);
+  heard.push_back({0.2, 0.3, 30, 1});
+  heard.push_back({r.impact_times_s.back() + 0.7, 0.3, 30, 1});
+  ImpactFusionConfig c;
+  c.drag_per_m = DragPerM(ResolveBallPreset("pingpong"));
+  const FusionResult f = FuseImpacts(heard, seen, r.impact_times_s.back() + 1, c);
+  ASSERT_TRUE(f.sound_used) << f.verdict;
+  EXPECT_NEAR(f.offset_s, 0.03, 0.011);
+  EXPECT_EQ(f.matched, 6);
+  EXPECT_EQ(f.rejected_sounds, 2);
+  ASSERT_EQ(f.impacts.size(), r.impact_times_s.size());
+  for (size_t i = 0; i < f.impacts.size(); ++i) {
+    EXPECT_EQ(f.impacts[i].source, i < 6 ? ImpactSource::kBoth : ImpactSource::kAudio);
+    EXPECT_NEAR(f.impacts[i].t_s, r.impact_times_s[i], 0.011);
+  }
+  ASSERT_EQ(f.flights.size(), r.impact_times_s.size() - 1);
+  for (const auto& fl : f.flights) {
+    const double truth = r.apex_heights_m[fl.from + 1];
+    EXPECT_NEAR(fl.height_m, truth, 0.005 * truth + 0.0002) << "bounce " << fl.from + 1;
+    EXPECT_EQ(fl.heard_only, fl.from >= 5);
+  }
+}
+
+TEST(ImpactFusion, SoundThatDisagreesWithThePictureIsNotUsed) {
+  const PointMassDropResult r = Drop("tennis", 1.2);
+  std::vector<double> seen(r.impact_times_s.begin(), r.impact_times_s.begin() + 5);
+  // A slow-motion file: the picture slowed 4x, the sound in real time.
+  std::vector<double> slow;
+  for (double t : seen) slow.push_back(4 * t);
+  const FusionResult f = FuseImpacts(Heard(r.impact_times_s, 0.0), slow, 20, {});
+  EXPECT_FALSE(f.sound_used);
+  EXPECT_NE(f.verdict.find("does not agree"), std::string::npos) << f.verdict;
+  for (const auto& i : f.impacts) EXPECT_EQ(i.source, ImpactSource::kVideo);
+  EXPECT_TRUE(f.flights.empty());
+  // Random knocks, nothing to do with the ball.
+  std::vector<AudioImpact> knocks;
+  for (double t = 0.13; t < 5; t += 0.37) knocks.push_back({t, 0.1, 20, 0.8});
+  const FusionResult g = FuseImpacts(knocks, seen, 5, {});
+  EXPECT_FALSE(g.sound_used) << g.verdict;
+  // No sound at all, and nothing seen.
+  EXPECT_FALSE(FuseImpacts({}, seen, 5, {}).sound_used);
+  EXPECT_FALSE(FuseImpacts(Heard(seen, 0), {}, 5, {}).sound_used);
+}
+
+TEST(ImpactFusion, NothingSeenListsOnlyAHeardBounceTrain) {
+  const PointMassDropResult r = Drop("tennis", 1.0);
+  auto heard = Heard(r.impact_times_s, 0.0);
+  heard.push_back({0.6, 0.2, 30, 1});                          // a knock during the fall
+  heard.push_back({r.impact_times_s[2] + 0.004, 0.2, 30, 1});  // an echo
+  const FusionResult f = FuseImpacts(heard, {}, 8, {});
+  EXPECT_FALSE(f.sound_used);
+  EXPECT_TRUE(f.heard_train_only) << f.verdict;
+  ASSERT_EQ(f.impacts.size(), r.impact_times_s.size());
+  for (size_t i = 0; i < f.impacts.size(); ++i) {
+    EXPECT_EQ(f.impacts[i].source, ImpactSource::kAudio);
+    EXPECT_DOUBLE_EQ(f.impacts[i].t_s, r.impact_times_s[i]);
+  }
+  EXPECT_EQ(f.rejected_sounds, 2);
+  // Knocks at random times make no train.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> when(0, 10);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<AudioImpact> knocks;
+    for (int i = 0; i < 8; ++i) knocks.push_back({when(rng), 0.1, 25, 0.9});
+    std::sort(knocks.begin(), knocks.end(), [](auto& a, auto& b) { return a.t_s < b.t_s; });
+    const FusionResult g = FuseImpacts(knocks, {}, 10, {});
+    EXPECT_TRUE(g.impacts.empty()) << "trial " << trial << ": " << g.verdict;
+  }
+}
+
+}  // namespace
+}  // namespace bouncefit

@@ -1,0 +1,175 @@
+// `bouncefit run` with sound, end to end: synth clips with clicks at known impact times
+// (clean; chatter + hum + a 30 ms offset; 30 fps) and the shared real clips.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "synth/synth_truth.h"
+#include "tests/test_support.h"
+
+namespace bouncefit {
+namespace {
+
+using testing::BouncefitExe;
+using testing::RunCommand;
+using testing::ScratchDir;
+
+// A CSV file as rows of column name -> cell.
+std::vector<std::map<std::string, std::string>> ReadCsv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<std::map<std::string, std::string>> rows;
+  std::string line;
+  std::vector<std::string> header;
+  auto split = [](const std::string& l) {
+    std::vector<std::string> cells;
+    std::stringstream ss(l);
+    std::string c;
+    while (std::getline(ss, c, ',')) cells.push_back(c);
+    if (!l.empty() && l.back() == ',') cells.push_back("");
+    return cells;
+  };
+  if (!std::getline(in, line)) return rows;
+  header = split(line);
+  while (std::getline(in, line)) {
+    const auto cells = split(line);
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+double Num(const std::map<std::string, std::string>& row, const std::string& col) {
+  const auto it = row.find(col);
+  return it == row.end() || it->second.empty() ? NAN : std::stod(it->second);
+}
+
+SynthTruth Synth(const std::filesystem::path& dir, const std::string& flags) {
+  std::string out;
+  const auto clip = dir / "clip.avi";
+  const int rc = RunCommand(BouncefitExe() + " synth -q --duration 4.5 --size 320x240 " + flags +
+                                " --out " + clip.string(), &out);
+  EXPECT_EQ(rc, 0) << out;
+  return LoadSynthTruth(SynthTruthPathFor(clip));
+}
+
+std::filesystem::path RunClip(const std::filesystem::path& clip, const std::string& flags,
+                             const std::filesystem::path& out_dir) {
+  std::string out;
+  const int rc = RunCommand(BouncefitExe() + " run " + clip.string() + " --no-fit --speed 0 -q " +
+                                "--lcm-url memq:// --out " + out_dir.string() + " " + flags, &out);
+  EXPECT_EQ(rc, 0) << out;
+  return out_dir;
+}
+
+// Every impact faster than 0.5 m/s is listed as heard within tol of the truth (video clock);
+// every heard row matches a truth impact. Returns the largest error.
+double CheckHeard(const SynthTruth& t, const std::filesystem::path& run, double tol) {
+  const auto rows = ReadCsv(run / "impacts.csv");
+  double worst = 0;
+  for (size_t k = 0; k < t.impact_times_s.size(); ++k) {
+    if (t.impact_speeds_mps[k] <= 0.5 || t.impact_times_s[k] + t.sound_offset_s > 4.45) continue;
+    bool heard = false;
+    for (const auto& r : rows)
+      if (r.at("source") != "video" && std::abs(Num(r, "t_s") - t.impact_times_s[k]) < tol) {
+        heard = true;
+        worst = std::max(worst, std::abs(Num(r, "t_s") - t.impact_times_s[k]));
+      }
+    EXPECT_TRUE(heard) << "impact at " << t.impact_times_s[k] << " s ("
+                       << t.impact_speeds_mps[k] << " m/s) not heard";
+  }
+  for (const auto& r : rows) {
+    if (r.at("source") == "video") continue;
+    bool real = false;
+    for (double ti : t.impact_times_s) real = real || std::abs(Num(r, "t_s") - ti) < tol;
+    EXPECT_TRUE(real) << "invented impact at " << r.at("t_s") << " s";
+  }
+  return worst;
+}
+
+TEST(RunSound, CleanSoundTimesAndFlightHeights) {
+  const auto dir = ScratchDir("clean");
+  const SynthTruth t = Synth(dir, "--sound --fps 60 --ball tennis");
+  const auto run = RunClip(dir / "clip.avi", "--ball tennis", dir / "run");
+  EXPECT_LT(CheckHeard(t, run, 0.0003), 0.0003);
+  // Flight-time heights of every bounce of 2 cm or more within 0.5%.
+  int checked = 0;
+  for (const auto& r : ReadCsv(run / "impacts.csv")) {
+    const double h = Num(r, "flight_height_m");
+    if (!std::isfinite(h)) continue;
+    const double t0 = Num(r, "t_s");
+    for (size_t k = 0; k + 1 < t.impact_times_s.size(); ++k)
+      if (std::abs(t.impact_times_s[k] - t0) < 0.001 && k + 1 < t.apex_heights_m.size() &&
+          t.apex_heights_m[k + 1] >= 0.02) {
+        EXPECT_NEAR(h, t.apex_heights_m[k + 1], 0.005 * t.apex_heights_m[k + 1]) << "bounce " << k + 1;
+        ++checked;
+      }
+  }
+  EXPECT_GE(checked, 5);
+}
+
+TEST(RunSound, ChatterHumAndOffsetNoneMissedNoneInvented) {
+  const auto dir = ScratchDir("noisy");
+  const SynthTruth t = Synth(dir, "--chatter --hum --sound-offset 0.03 --fps 60 --seed 5");
+  const auto run = RunClip(dir / "clip.avi", "", dir / "run");
+  EXPECT_LT(CheckHeard(t, run, 0.002), 0.002);
+  std::ifstream summary(run / "summary.json");
+  const std::string text((std::istreambuf_iterator<char>(summary)), {});
+  EXPECT_NE(text.find("sound lags the picture by 30"), std::string::npos);
+}
+
+// Apex heights at 30 fps: with sound within max(2 mm, 1%) and closer than without.
+TEST(RunSound, ThirtyFpsApexHeightsBetterWithSound) {
+  const auto dir = ScratchDir("fps30");
+  const SynthTruth t = Synth(dir, "--sound --hum --sound-offset 0.03 --fps 30 --noise 6 --exposure 0.02 --ball tennis");
+  double sq[2] = {0, 0};
+  int n[2] = {0, 0};
+  for (int with_sound = 0; with_sound < 2; ++with_sound) {
+    const auto run = RunClip(dir / "clip.avi", with_sound ? "--ball tennis" : "--ball tennis --no-audio",
+                         dir / (with_sound ? "with" : "without"));
+    for (const auto& r : ReadCsv(run / "peaks.csv")) {
+      const int b = std::stoi(r.at("bounce"));
+      if (b == 0 || b >= static_cast<int>(t.apex_heights_m.size()) || r.at("heard") == "heard only")
+        continue;
+      const double truth = t.apex_heights_m[b];
+      const double h = Num(r, "fused_height_m");
+      if (with_sound) EXPECT_NEAR(h, truth, std::max(0.002, 0.01 * truth)) << "bounce " << b;
+      sq[with_sound] += (h - truth) * (h - truth);
+      ++n[with_sound];
+    }
+  }
+  ASSERT_GE(n[0], 4);
+  ASSERT_EQ(n[0], n[1]);
+  const double rms_without = std::sqrt(sq[0] / n[0]), rms_with = std::sqrt(sq[1] / n[1]);
+  EXPECT_LT(rms_with, 0.5 * rms_without) << "rms " << rms_with * 1e3 << " mm with sound, "
+                                         << rms_without * 1e3 << " mm without";
+}
+
+TEST(RunSound, RealClipsHeardTrainsAndNothingFromNoise) {
+  const auto clips = testing::RealClipsDir();
+  if (clips.empty()) GTEST_SKIP() << "shared real clips not found";
+  const auto dir = ScratchDir("real");
+  struct Case {
+    std::string file;
+    int min_heard, max_heard;  // audio/both rows expected
+  };
+  // Counts from the clips' README (rebound apexes a person sees + 1 impact each) and
+  // above where the ball bounces on below what the video resolves; the slow-motion clip's
+  // sound holds no bounce train.
+  for (const Case& c : {Case{"basketball_tile_ochre_24fps.mp4", 5, 12},
+                        Case{"football_door_wood_20fps.mp4", 6, 12},
+                        Case{"red_ball_ceiling_drop_slomo120_30fps.mp4", 0, 0}}) {
+    SCOPED_TRACE(c.file);
+    const auto run = RunClip(clips / c.file, "--max-frames 300", dir / c.file);
+    int heard = 0;
+    for (const auto& r : ReadCsv(run / "impacts.csv")) heard += r.at("source") != "video";
+    EXPECT_GE(heard, c.min_heard);
+    EXPECT_LE(heard, c.max_heard);
+  }
+}
+
+}  // namespace
+}  // namespace bouncefit
