@@ -55,7 +55,7 @@ class RunSound {
   bool finished_ = false, ended_ = false;
   int next_index_ = 0;
   double decoded_to_s_ = -1e9;
-  double cpu_s_ = 0;  // decoding + detecting, process CPU seconds
+  double cpu_s_ = 0;  // decoding + detecting, CPU seconds of the calling thread
 };
 
 }  // namespace bouncefit::cli

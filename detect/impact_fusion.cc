@@ -76,6 +76,17 @@ std::vector<int> LongestBounceTrain(const std::vector<double>& t, const ImpactFu
   return best;
 }
 
+FusedImpact HeardOnly(const AudioImpact& a, double offset_s) {
+  FusedImpact h;
+  h.t_s = a.t_s - offset_s;
+  h.source = ImpactSource::kAudio;
+  h.strength = a.strength;
+  h.confidence = a.confidence;
+  h.video_t_s = kNaN;
+  h.audio_t_s = a.t_s;
+  return h;
+}
+
 }  // namespace
 
 const char* ImpactSourceName(ImpactSource s) {
@@ -188,14 +199,7 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
       const double f = t - last;
       if (f < c.train_min_ratio * flight) continue;  // an echo or a stray sound
       if (f > c.train_growth * flight) break;        // the train has ended
-      FusedImpact h;
-      h.t_s = t;
-      h.source = ImpactSource::kAudio;
-      h.strength = heard[a].strength;
-      h.confidence = heard[a].confidence;
-      h.video_t_s = kNaN;
-      h.audio_t_s = heard[a].t_s;
-      r.impacts.push_back(h);
+      r.impacts.push_back(HeardOnly(heard[a], r.offset_s));
       used[a] = true;
       last = t, flight = f;
     }
@@ -207,14 +211,7 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
       r.heard_train_only = true;
       r.verdict += "; listing the heard bounce train of " + std::to_string(train.size()) + " impacts";
       for (int a : train) {
-        FusedImpact h;
-        h.t_s = heard[a].t_s;
-        h.source = ImpactSource::kAudio;
-        h.strength = heard[a].strength;
-        h.confidence = heard[a].confidence;
-        h.video_t_s = kNaN;
-        h.audio_t_s = heard[a].t_s;
-        r.impacts.push_back(h);
+        r.impacts.push_back(HeardOnly(heard[a], 0));
         used[a] = true;
       }
     } else {

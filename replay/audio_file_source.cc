@@ -12,14 +12,10 @@ extern "C" {
 #include <libswresample/swresample.h>
 }
 
+#include "replay/ffmpeg_error.h"
+
 namespace bouncefit {
 namespace {
-
-std::string AvError(int code) {
-  char buf[AV_ERROR_MAX_STRING_SIZE] = {};
-  av_strerror(code, buf, sizeof buf);
-  return buf;
-}
 
 double StreamStart(const AVStream* s) {
   return s->start_time == AV_NOPTS_VALUE ? 0.0 : s->start_time * av_q2d(s->time_base);
@@ -50,9 +46,9 @@ struct AudioFileSource::Impl {
   void Open() {
     av_log_set_level(AV_LOG_ERROR);  // phones' containers draw warnings that change nothing
     int rc = avformat_open_input(&format, path.c_str(), nullptr, nullptr);
-    if (rc < 0) throw std::runtime_error("cannot open '" + path + "': " + AvError(rc));
+    if (rc < 0) throw std::runtime_error("cannot open '" + path + "': " + FfmpegErrorText(rc));
     rc = avformat_find_stream_info(format, nullptr);
-    if (rc < 0) throw std::runtime_error("cannot read '" + path + "': " + AvError(rc));
+    if (rc < 0) throw std::runtime_error("cannot read '" + path + "': " + FfmpegErrorText(rc));
     const int video = av_find_best_stream(format, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
     const AVCodec* decoder = nullptr;
     stream = av_find_best_stream(format, AVMEDIA_TYPE_AUDIO, -1, -1, &decoder, 0);
@@ -66,7 +62,7 @@ struct AudioFileSource::Impl {
     avcodec_parameters_to_context(codec, s->codecpar);
     codec->pkt_timebase = s->time_base;
     rc = avcodec_open2(codec, decoder, nullptr);
-    if (rc < 0) throw std::runtime_error("'" + path + "': cannot decode its sound: " + AvError(rc));
+    if (rc < 0) throw std::runtime_error("'" + path + "': cannot decode its sound: " + FfmpegErrorText(rc));
     AVChannelLayout mono = AV_CHANNEL_LAYOUT_MONO;
     rc = swr_alloc_set_opts2(&swr, &mono, AV_SAMPLE_FMT_FLT, codec->sample_rate,
                              &codec->ch_layout, codec->sample_fmt, codec->sample_rate, 0, nullptr);
@@ -131,7 +127,7 @@ bool AudioFileSource::Next(AudioChunk* chunk) {
       return false;
     }
     if (rc != AVERROR(EAGAIN))
-      throw std::runtime_error("'" + m.path + "': sound decoding failed: " + AvError(rc));
+      throw std::runtime_error("'" + m.path + "': sound decoding failed: " + FfmpegErrorText(rc));
     if (m.flushing) {
       m.done = true;
       return false;

@@ -8,14 +8,9 @@
 #include <string>
 #include <vector>
 
-namespace bouncefit {
+#include "capture/audio_chunk.h"
 
-// A stretch of mono samples: samples[i] was heard at t0_s + i / sample_rate (video clock).
-struct AudioChunk {
-  double t0_s = 0;
-  int sample_rate = 0;
-  std::vector<float> samples;  // mono, full scale +-1
-};
+namespace bouncefit {
 
 class AudioFileSource {
  public:
@@ -31,7 +26,8 @@ class AudioFileSource {
   // "aac 44100 Hz stereo", for the run's banner.
   std::string Describe() const;
 
-  // The next decoded stretch (a few ms to tens of ms); false at the end of the track.
+  // The next decoded stretch (a few ms to tens of ms; t0_s in the video's clock); false at
+  // the end of the track.
   // Samples of consecutive chunks are contiguous unless the container leaves a gap.
   bool Next(AudioChunk* chunk);
 

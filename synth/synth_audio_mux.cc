@@ -11,17 +11,13 @@ extern "C" {
 #include <libavutil/channel_layout.h>
 }
 
+#include "replay/ffmpeg_error.h"
+
 namespace bouncefit {
 namespace {
 
-std::string AvError(int code) {
-  char buf[AV_ERROR_MAX_STRING_SIZE] = {};
-  av_strerror(code, buf, sizeof buf);
-  return buf;
-}
-
 void Check(int rc, const std::string& what) {
-  if (rc < 0) throw std::runtime_error(what + ": " + AvError(rc));
+  if (rc < 0) throw std::runtime_error(what + ": " + FfmpegErrorText(rc));
 }
 
 // Owns the contexts so every exit path closes them.
