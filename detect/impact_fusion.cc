@@ -155,10 +155,12 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
       if (a >= seen.front() + r.offset_s - c.match_tolerance_s &&
           a <= seen.back() + r.offset_s + c.match_tolerance_s)
         ++heard_in_span;
-  r.sound_used = r.matched >= std::min<int>(c.min_matches, seen.size()) && r.matched >= 2 &&
+  const bool too_few_seen = static_cast<int>(seen.size()) < c.min_matches;
+  r.sound_used = !too_few_seen && r.matched >= c.min_matches &&
                  r.matched >= c.min_match_fraction * heard_in_span;
-  if (seen.empty())
-    r.verdict = "no impact seen: the sound cannot be checked against the picture";
+  if (too_few_seen)
+    r.verdict = std::to_string(seen.size()) +
+                " impact(s) seen: too few to check the sound against the picture";
   else if (!r.sound_used)
     r.verdict = "the sound does not agree with the picture (" + std::to_string(r.matched) + " of " +
                 std::to_string(seen.size()) + " seen impacts and of " +
@@ -204,7 +206,7 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
       last = t, flight = f;
     }
   }
-  if (seen.empty()) {  // nothing to check against: a heard bounce train, or nothing
+  if (too_few_seen) {  // nothing to check against: a heard bounce train, or nothing
     r.offset_s = 0;
     const std::vector<int> train = LongestBounceTrain(ht, c);
     if (static_cast<int>(train.size()) >= c.lone_train_min_impacts) {

@@ -25,7 +25,7 @@ const char* ImpactSourceName(ImpactSource s);  // "audio", "video", "both"
 struct ImpactFusionConfig {
   double max_offset_s = 0.5;       // search the offset within +-this
   double match_tolerance_s = 0.02; // a heard and a seen impact this close (after the offset) pair
-  int min_matches = 3;             // pairs needed (or every seen impact, when fewer)
+  int min_matches = 3;             // pairs needed; fewer seen impacts cannot check the sound
   // Of the clicks heard while the picture saw impacts (after the offset), at least this
   // fraction must pair with seen ones (small bounces may be too quiet to hear; but a
   // sound full of clicks the picture does not explain is not this drop's).
@@ -34,7 +34,7 @@ struct ImpactFusionConfig {
   // than the one before and at least this fraction of it.
   double train_growth = 1.05;
   double train_min_ratio = 0.3;
-  // Nothing seen (the tracker lost the ball): the heard impacts are listed only if they form
+  // Too few seen (the tracker lost the ball): the heard impacts are listed only if they form
   // a bounce train of at least this many impacts, each flight shorter than the one before
   // by a ratio (the restitution, roughly) within [min, max] that changes by at most
   // ratio_step from one bounce to the next.
@@ -65,7 +65,7 @@ struct HeardFlight {
 
 struct FusionResult {
   bool sound_used = false;     // paired with the picture
-  bool heard_train_only = false; // nothing seen; impacts are a heard bounce train
+  bool heard_train_only = false; // too few seen; impacts are a heard bounce train
   std::string verdict;        // one line: why the sound is used or not
   double offset_s = 0;        // heard time = seen time + offset
   int matched = 0;            // pairs
