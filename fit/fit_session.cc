@@ -378,10 +378,8 @@ void FitSession::CheckFreeRun(const FitProblem& p, FitUpdate* u) {
   const DropEnsemble e = SimulateDropEnsemble(model_, u->values, drop, eo);
   simulations_ += e.simulations;
   u->evaluations += e.simulations;
-  if (!e.ok) {
-    u->simulated_m.assign(p.recorded_m.size(), 0.0);
-    u->residual_m = std::nan("");
-    u->warning = "the free-running drop diverges: " + e.failure;
+  if (!e.ok) {  // simulated_m stays the search's own run at the answer (what simulate gives)
+    u->warning = "a perturbed free-running drop diverges: " + e.failure;
     return;
   }
   if (!config_.safe_drops_m.empty()) {
