@@ -370,12 +370,8 @@ SimulationResult FemBallModel::Simulate(const CoefficientValues& values,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     return result;
   };
-  if (!(options.drop_height_m > 0) || !(options.drop_height_m < 100))
-    return finish("drop height must be in (0, 100) m");
-  if (!(options.duration_s > 0) || !(options.duration_s <= 600))
-    return finish("duration must be in (0, 600] s");
-  if (options.record_trajectory && !(options.trajectory_rate_hz > 0))
-    return finish("trajectory rate must be > 0");
+  if (const std::string invalid = SimulationOptionsError(options); !invalid.empty())
+    return finish(invalid);
 
   std::string error;
   const CoefficientValues all = Complete(values, &error);
@@ -476,17 +472,8 @@ SimulationResult FemBallModel::Simulate(const CoefficientValues& values,
   }
 
   const MeasuredBounces mb = MeasureBounces(cam_t, cam_y, config_.apex_window_frames, 0);
-  result.impact_times_s = mb.impact_times_s;
-  for (size_t i = 0; i < mb.apex_heights_m.size(); ++i) {
-    const double h = mb.apex_heights_m[i];
-    if (h < options.min_bounce_height_m) break;
-    const double previous = i == 0 ? options.drop_height_m : mb.apex_heights_m[i - 1];
-    if (h > previous + 1e-3 * previous + 1e-4)
-      return finish("diverged (energy growth: bounce " + std::to_string(i + 1) + " at " + Num(h, 4) +
-                    " m is higher than the one before, " + Num(previous, 4) + " m)");
-    result.bounce_heights_m.push_back(h);
-    result.apex_times_s.push_back(mb.apex_times_s[i]);
-  }
+  if (const std::string diverged = TakeMeasuredBounces(mb, options, &result); !diverged.empty())
+    return finish(diverged);
   if (options.record_trajectory && result.trajectory.empty()) return finish("no trajectory samples");
   return finish({});
 }

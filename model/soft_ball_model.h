@@ -68,6 +68,14 @@ struct MeasuredBounces {
 MeasuredBounces MeasureBounces(const std::vector<double>& t_s, const std::vector<double>& bottom_m,
                                int window_frames, double contact_height_m = 0);
 
+// Shared by the Bullet ball models (the classic soft ball and the FEM ball):
+// why `options` cannot be simulated, or "" when they can;
+std::string SimulationOptionsError(const SimulationOptions& options);
+// the measured bounces down to options.min_bounce_height_m into `result` (heights, apex and
+// impact times), or why they are a divergence: a bounce higher than the one before.
+std::string TakeMeasuredBounces(const MeasuredBounces& measured, const SimulationOptions& options,
+                                SimulationResult* result);
+
 class SoftBallModel : public BallModel {
  public:
   explicit SoftBallModel(BallPreset ball, SoftBallModelConfig config = {});
