@@ -16,13 +16,6 @@ double EquivalentRadius(const Blob& b) {
   return std::sqrt(std::max(b.pixels, 1) / std::numbers::pi);
 }
 
-double Median(std::vector<float>& v) {
-  if (v.empty()) return 0;
-  auto mid = v.begin() + static_cast<long>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
 std::string Fmt(const char* fmt, double a, double b) {
   char buf[96];
   std::snprintf(buf, sizeof buf, fmt, a, b);
@@ -36,7 +29,7 @@ bool TrackerConfig::IsValid(std::string* error) const {
     if (error) *error = why;
     return false;
   };
-  if (has_pick && has_color) return fail("give either a pick point or a colour, not both");
+  if (has_pick + has_color + has_chroma > 1) return fail("give either a pick point or a colour, not both");
   if (has_pick && (pick_x < 0 || pick_y < 0)) return fail("pick point must not be negative");
   for (double c : color_bgr)
     if (c < 0 || c > 255) return fail("colour components must be 0-255");
@@ -149,33 +142,16 @@ bool Tracker::ChooseColor(const Frame& frame) {
     color_ = ColorModel::FromBgr(config_.color_bgr[0], config_.color_bgr[1],
                                  config_.color_bgr[2], cp);
     how_ = "colour " + (config_.color_name.empty() ? std::string("given") : config_.color_name);
+  } else if (config_.has_chroma) {
+    color_ = ColorModel(config_.chroma_nu, config_.chroma_nv, cp);
+    how_ = config_.color_name.empty() ? std::string("colour given") : config_.color_name;
   } else if (config_.has_pick) {
-    const int x = static_cast<int>(std::lround(config_.pick_x));
-    const int y = static_cast<int>(std::lround(config_.pick_y));
-    if (x >= size_.width || y >= size_.height)
-      throw std::invalid_argument("tracker: pick point " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y) +
-                                  " is outside the frame");
-    YccPlanes p;
-    ExtractYcc(frame, cv::Rect(x - 5, y - 5, 11, 11), 1, config_.blur_sigma_px, &p);
-    std::vector<float> nu, nv;
-    const int cx = x - p.rect.x, cy = y - p.rect.y;
-    for (int j = std::max(0, cy - 2); j <= std::min(p.y.rows - 1, cy + 2); ++j)
-      for (int i = std::max(0, cx - 2); i <= std::min(p.y.cols - 1, cx + 2); ++i) {
-        const float yy = std::max(p.y.at<float>(j, i), static_cast<float>(cp.luma_floor));
-        nu.push_back(p.u.at<float>(j, i) / yy);
-        nv.push_back(p.v.at<float>(j, i) / yy);
-      }
-    color_ = ColorModel(Median(nu), Median(nv), cp);
+    const PickedColor picked = PickColor(frame, config_.pick_x, config_.pick_y, cp, config_.blur_sigma_px);
+    color_ = picked.color;
     how_ = "picked pixel " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y);
-    if (std::hypot(color_.nu(), color_.nv()) < 0.06) {
-      // Nearly grey: follow its brightness instead, brighter or darker than its surroundings
-      // (the median of a 121 px square around the pick, mostly background).
-      YccPlanes around;
-      ExtractYcc(frame, cv::Rect(x - 60, y - 60, 121, 121) & cv::Rect({}, size_), 1, 0, &around);
-      std::vector<float> ys(around.y.begin<float>(), around.y.end<float>());
-      const double ball_y = p.y.at<float>(std::clamp(cy, 0, p.y.rows - 1), std::clamp(cx, 0, p.y.cols - 1));
-      const double back_y = Median(ys);
-      StartLumaMode(ball_y >= back_y ? +1 : -1);
+    // Nearly grey: follow its brightness instead, brighter or darker than its surroundings.
+    if (picked.grey) {
+      StartLumaMode(picked.polarity);
       how_ = "picked pixel " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y) + ", nearly grey:" + how_;
     }
   } else {

@@ -20,6 +20,7 @@
 #include "track/ball_observation.h"
 #include "track/ball_segmenter.h"
 #include "track/color_model.h"
+#include "track/color_pick.h"
 #include "track/luma_contrast.h"
 #include "track/motion_predictor.h"
 #include "track/ycc_planes.h"
@@ -33,6 +34,10 @@ struct TrackerConfig {
   bool has_color = false;
   double color_bgr[3] = {0, 0, 0};  // B, G, R 0-255
   std::string color_name;           // how the user named it, for Describe()
+  // ... or as luma-normalised chroma (Cb-128, Cr-128) / Y, as picked in a window on a frame
+  // the tracker may never see (a live camera's first frame).
+  bool has_chroma = false;
+  double chroma_nu = 0, chroma_nv = 0;
   // Brightness mode for a near-colourless ball (track/luma_contrast.h): segment on luma
   // contrast against a background model instead of chroma. Set by `--color white|black`, or
   // by a pick on a nearly grey pixel (polarity from the pick against its surroundings).
