@@ -11,6 +11,7 @@
 #include "capture/v4l2_camera.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
+#include "cli/pick_window.h"
 #include "cli/tracker_flags.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
@@ -40,6 +41,7 @@ struct CaptureOptions {
   int64_t max_frames = 0;
   bool quiet = false;
   TrackerConfig tracker;
+  bool pick_window = false;
 };
 
 std::atomic<bool> g_stop{false};
@@ -106,6 +108,7 @@ void Run(CaptureOptions& o) {
   if (!o.replay.empty() && !o.record.empty())
     throw std::invalid_argument("--record saves a camera; a replayed clip is already a file");
   Pacer pacer(o.speed);  // validates --speed
+  if (o.pick_window) CheckPickWindowDisplay();  // at once, before the camera or any file is opened
 
   std::unique_ptr<FrameSource> source;
   bool is_file = false;
@@ -125,6 +128,10 @@ void Run(CaptureOptions& o) {
     source = std::make_unique<V4l2Camera>(c);
   }
   const SourceInfo info = source->Info();
+  if (o.pick_window) {
+    const std::string picked = PickOnFirstFrame(o.replay, is_file ? nullptr : source.get(), &o.tracker);
+    if (!o.quiet) std::printf("capture: %s\n", picked.c_str());
+  }
   Tracker tracker(o.tracker);
   LcmBus bus(o.lcm_url);
   std::unique_ptr<LcmLogRecorder> log;
@@ -220,7 +227,7 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet,-q", o->quiet, "print only the final line");
-  AddTrackerFlags(cmd, &o->tracker);
+  AddTrackerFlags(cmd, &o->tracker, &o->pick_window);
   cmd->callback([o] { Run(*o); });
 }
 

@@ -12,6 +12,7 @@
 #include "capture/v4l2_camera.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
+#include "cli/pick_window.h"
 #include "cli/run_console.h"
 #include "cli/run_output.h"
 #include "cli/run_sound.h"
@@ -54,6 +55,7 @@ struct RunOptions {
   double drop_height_m = 0;
   int64_t max_frames = 0;
   TrackerConfig tracker;
+  bool pick_window = false;
 };
 
 std::atomic<bool> g_stop{false};
@@ -159,6 +161,7 @@ void Run(RunOptions o) {
                                                            : ConsoleMode::kHuman,
                      stdout);
   ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
+  if (o.pick_window) CheckPickWindowDisplay();  // at once, before anything is rendered or written
 
   std::string clip = o.clip;
   if (clip.empty() && o.device.empty()) {
@@ -172,6 +175,7 @@ void Run(RunOptions o) {
   std::unique_ptr<FrameSource> source = OpenSource(o, clip);
   const SourceInfo info = source->Info();
   const bool is_file = o.device.empty();
+  if (o.pick_window) console.Info(PickOnFirstFrame(clip, is_file ? nullptr : source.get(), &o.tracker));
   ValidateAgainstFrame(o.tracker, info);  // before any output exists
   Tracker tracker(o.tracker);
   LcmBus bus(o.lcm_url);
@@ -447,7 +451,7 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(CLI::NonNegativeNumber);
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
-  AddTrackerFlags(cmd, &o->tracker);
+  AddTrackerFlags(cmd, &o->tracker, &o->pick_window);
   cmd->callback([o] { Run(*o); });
 }
 

@@ -71,9 +71,9 @@ void ParseTrackerColor(const std::string& text, double bgr[3]) {
   }
 }
 
-void AddTrackerFlags(CLI::App* cmd, TrackerConfig* config) {
+void AddTrackerFlags(CLI::App* cmd, TrackerConfig* config, bool* pick_window) {
   const std::string group = "Tracker";
-  cmd->add_option_function<std::string>(
+  auto* pick = cmd->add_option_function<std::string>(
          "--pick",
          [config](const std::string& s) {
            const auto v = ParseNumbers(s, 2, "--pick");
@@ -83,7 +83,7 @@ void AddTrackerFlags(CLI::App* cmd, TrackerConfig* config) {
          },
          "Ball colour from this pixel of the first frame, X,Y in pixels")
       ->group(group);
-  cmd->add_option_function<std::string>(
+  auto* color = cmd->add_option_function<std::string>(
          "--color",
          [config](const std::string& s) {
            config->color_name = s;
@@ -102,6 +102,11 @@ void AddTrackerFlags(CLI::App* cmd, TrackerConfig* config) {
          "round blob that moves and differs from its surroundings (by colour, else brightness), "
          "kept once its track is a ballistic arc")
       ->group(group);
+  cmd->add_flag("--pick-window", *pick_window,
+                "Pick the ball as in the paper's Fig. 1: a window on the first frame; click the "
+                "ball, drag a region of interest, check the Cb/Cr histograms and the mask, then "
+                "Enter or space (Esc cancels). Needs a display")
+      ->excludes(pick)->excludes(color)->group(group);
   cmd->add_option_function<std::string>(
          "--roi",
          [config](const std::string& s) {
