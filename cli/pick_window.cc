@@ -130,8 +130,9 @@ std::string PickInWindow(const Frame& frame, const std::string& title, TrackerCo
   while (true) {
     refresh();
     const int key = cv::waitKey(20);
-    // Closed with the window's own button (the property reads below 1 once it is gone).
-    if (shown && cv::getWindowProperty(title, cv::WND_PROP_AUTOSIZE) < 0) {
+    // Closed by its title bar's button (the window manager's WM_DELETE_WINDOW): Qt hides it.
+    if (shown && cv::getWindowProperty(title, cv::WND_PROP_VISIBLE) < 1) {
+      close();
       throw std::runtime_error("--pick-window: cancelled (the window was closed); nothing written");
     }
     if (key < 0) continue;

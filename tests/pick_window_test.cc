@@ -19,6 +19,9 @@
 #include "tests/test_support.h"
 #include "track/pick_view.h"
 
+// Last: Xlib's macros (None, Bool, Status) would break the headers above.
+#include <X11/Xlib.h>
+
 namespace bouncefit {
 namespace {
 
@@ -112,6 +115,21 @@ std::string PickWindowId(const std::string& display) {
   std::string id;
   in >> id;
   return id;
+}
+
+// What a window manager does when its close button is pressed: ask the client, politely.
+void CloseLikeAWindowManager(const std::string& display, const std::string& id) {
+  Display* d = XOpenDisplay(display.c_str());
+  ASSERT_NE(d, nullptr);
+  XEvent e{};
+  e.xclient.type = ClientMessage;
+  e.xclient.window = std::stoul(id);
+  e.xclient.message_type = XInternAtom(d, "WM_PROTOCOLS", False);
+  e.xclient.format = 32;
+  e.xclient.data.l[0] = static_cast<long>(XInternAtom(d, "WM_DELETE_WINDOW", False));
+  e.xclient.data.l[1] = CurrentTime;
+  XSendEvent(d, e.xclient.window, False, NoEventMask, &e);
+  XCloseDisplay(d);
 }
 
 std::string At(const PickLayout& l, double x, double y) {
@@ -251,6 +269,24 @@ TEST(PickWindow, EscCancelsAndWritesNothing) {
   const std::string text = ReadFile(log);
   EXPECT_EQ(text, "bouncefit run: error: --pick-window: cancelled (Esc); nothing written\n");
   EXPECT_FALSE(fs::exists(out));
+}
+
+// Closing the window (its title bar's button) cancels too: no hang.
+TEST(PickWindow, ClosingTheWindowCancels) {
+  REQUIRE_XVFB();
+  const fs::path dir = testing::ScratchDir("pick_close");
+  const SynthClipResult clip = RenderClip(dir, 0.6);
+  VirtualDisplay x;
+  ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
+  const fs::path log = dir / "capture.txt";
+  const pid_t cap = Spawn(BouncefitExe() + " capture --replay " + clip.clip_path.string() +
+                              " --speed 0 --lcm-url memq:// --pick-window",
+                          x.name(), log);
+  const std::string id = PickWindowId(x.name());
+  ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
+  CloseLikeAWindowManager(x.name(), id);
+  EXPECT_EQ(WaitFor(cap, std::chrono::seconds(30)), 1);
+  EXPECT_EQ(ReadFile(log), "bouncefit capture: error: --pick-window: cancelled (the window was closed); nothing written\n");
 }
 
 // No display: a one-line error at once, before anything is written (no Xvfb needed).
