@@ -91,8 +91,8 @@ void DrawHistogram(cv::Mat& view, const cv::Rect& box, const ChromaHistogram& h,
   const double bin_w = static_cast<double>(box.width) / ChromaHistogram::kBins;
   int peak = 1;
   for (int c : h.all) peak = std::max(peak, c);
-  // Square-root counts: the ball's few pixels stay visible beside the wall's many.
-  const double k = plot_h / std::sqrt(static_cast<double>(peak));
+  // Logarithmic counts: the ball's few hundred pixels stay visible beside the wall's 10^5.
+  const double k = plot_h / std::log1p(static_cast<double>(peak));
   auto x_of = [&](double value) {
     return static_cast<int>((value + ChromaHistogram::kRange) / (2 * ChromaHistogram::kRange) * box.width);
   };
@@ -103,8 +103,8 @@ void DrawHistogram(cv::Mat& view, const cv::Rect& box, const ChromaHistogram& h,
   }
   for (int b = 0; b < ChromaHistogram::kBins; ++b) {
     const int x0 = static_cast<int>(b * bin_w), x1 = std::max(x0 + 1, static_cast<int>((b + 1) * bin_w));
-    const int all = static_cast<int>(std::lround(k * std::sqrt(static_cast<double>(h.all[b]))));
-    const int match = static_cast<int>(std::lround(k * std::sqrt(static_cast<double>(h.matching[b]))));
+    const int all = static_cast<int>(std::lround(k * std::log1p(static_cast<double>(h.all[b]))));
+    const int match = static_cast<int>(std::lround(k * std::log1p(static_cast<double>(h.matching[b]))));
     if (all > 0) cv::rectangle(area, cv::Point(x0, top + plot_h - all), cv::Point(x1 - 1, top + plot_h - 1), kGrey, cv::FILLED);
     if (match > 0) cv::rectangle(area, cv::Point(x0, top + plot_h - match), cv::Point(x1 - 1, top + plot_h - 1), kGreen, cv::FILLED);
   }
@@ -160,9 +160,9 @@ cv::Mat ComposePickView(const Frame& frame, const PickLayout& l, const PickPrevi
   ChromaHistogram empty;
   const bool band = p && !p->picked.grey;
   DrawHistogram(view, l.cb_area, p ? p->cb : empty, p ? p->cb_low : 0, p ? p->cb_high : 0, band,
-                "Cb/Y of the region (sqrt count)");
+                "Cb/Y of the region (log count)");
   DrawHistogram(view, l.cr_area, p ? p->cr : empty, p ? p->cr_low : 0, p ? p->cr_high : 0, band,
-                "Cr/Y of the region (sqrt count)");
+                "Cr/Y of the region (log count)");
   for (size_t i = 0; i < lines.size(); ++i)
     Label(view, lines[i], l.text_area.tl() + cv::Point(6, 14 + static_cast<int>(i) * kLineHeight), kWhite);
   return view;
