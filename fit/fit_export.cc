@@ -1,5 +1,6 @@
 #include "fit/fit_export.h"
 
+#include "fit/fitted_ball_project.h"
 #include "model/soft_ball_model.h"
 
 #include <cmath>
@@ -157,7 +158,18 @@ std::vector<std::filesystem::path> WriteFitExports(const std::filesystem::path& 
     out << BtSoftBodySnippet(u, ball);
     if (!out) throw std::runtime_error("cannot write " + cc_path.string());
   }
-  return {json_path, cc_path};
+  std::vector<std::filesystem::path> written{json_path, cc_path};
+  if (FittedBallProjectUnavailable(u.model).empty()) {
+    written.push_back(WriteFittedBallProject(dir, u, ball));
+  } else {  // said where a user looks for it
+    const auto note = dir / "fitted_ball" / "README.md";
+    std::filesystem::create_directories(note.parent_path());
+    std::ofstream out(note);
+    out << "# fitted_ball: nothing to build\n\n" << FittedBallProjectUnavailable(u.model) << ".\n";
+    if (!out) throw std::runtime_error("cannot write " + note.string());
+    written.push_back(note);
+  }
+  return written;
 }
 
 }  // namespace bouncefit

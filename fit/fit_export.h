@@ -22,7 +22,9 @@ nlohmann::json FitUpdateToJson(const FitUpdate& update, const BallPreset& ball);
 // the "bullet-softbody" model; other models get a comment saying there is nothing to set.
 std::string BtSoftBodySnippet(const FitUpdate& update, const BallPreset& ball);
 
-// Writes DIR/coefficients.json and DIR/soft_body_config.cc; returns the paths written.
+// Writes DIR/coefficients.json, DIR/soft_body_config.cc and the fitted_ball project
+// (fit/fitted_ball_project.h; for a model without one, DIR/fitted_ball/README.md saying
+// why); returns the paths written.
 std::vector<std::filesystem::path> WriteFitExports(const std::filesystem::path& dir,
                                                    const FitUpdate& update,
                                                    const BallPreset& ball);

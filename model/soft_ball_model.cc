@@ -1,30 +1,15 @@
 #include "model/soft_ball_model.h"
 
-#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
-#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
-#include <BulletCollision/CollisionShapes/btBoxShape.h>
-#include <BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.h>
-#include <BulletDynamics/Dynamics/btRigidBody.h>
-#include <BulletSoftBody/btSoftBody.h>
-#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
-#include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
 
-#include "model/arc_apex.h"
-
 namespace bouncefit {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::string Num(double v, int digits = 4) {
   char buf[64];
@@ -85,318 +70,16 @@ const std::vector<CoefficientSpec>& Specs() {
   static const std::vector<CoefficientSpec> specs = MakeSpecs();
   return specs;
 }
-
-struct Coeffs {
-  double kLST, kAST, kVST, pressure, kDP, kDG, kLF, kSR, kSK, kSS;
-  int resolution;
-  double ratio, max_volume, volume_conservation, kKHR, floor_friction, floor_restitution, boost,
-      boost_per_mps;
-
-  static Coeffs From(const CoefficientValues& v) {
-    Coeffs c;
-    c.kLST = v.at("linear_stiffness");
-    c.kAST = v.at("angular_stiffness");
-    c.kVST = v.at("volume_stiffness");
-    c.pressure = v.at("pressure");
-    c.kDP = v.at("damping");
-    c.kDG = v.at("drag");
-    c.kLF = v.at("lift");
-    c.kSR = v.at("soft_rigid_impulse_split");
-    c.kSK = v.at("soft_kinetic_impulse_split");
-    c.kSS = v.at("soft_soft_impulse_split");
-    c.resolution = static_cast<int>(std::lround(v.at("mesh_resolution")));
-    c.ratio = v.at("radius_edge_ratio");
-    c.max_volume = v.at("max_volume");
-    c.volume_conservation = v.at("volume_conservation");
-    c.kKHR = v.at("contact_hardness");
-    c.floor_friction = v.at("floor_friction");
-    c.floor_restitution = v.at("floor_restitution");
-    c.boost = v.at("rebound_boost");
-    c.boost_per_mps = v.at("rebound_boost_per_mps");
-    return c;
-  }
-  TetMeshParams MeshParams() const {
-    TetMeshParams p;
-    p.resolution = resolution;
-    p.radius_edge_ratio = ratio;
-    p.max_volume = max_volume;
-    return p;
-  }
-};
-
-// One Bullet world with the floor and the ball, torn down in the right order.
-struct World {
-  btSoftBodyWorldInfo info;
-  std::unique_ptr<btSoftBodyRigidBodyCollisionConfiguration> collision_config;
-  std::unique_ptr<btCollisionDispatcher> dispatcher;
-  std::unique_ptr<btDbvtBroadphase> broadphase;
-  std::unique_ptr<btSequentialImpulseConstraintSolver> solver;
-  std::unique_ptr<btSoftRigidDynamicsWorld> world;
-  std::unique_ptr<btBoxShape> floor_shape;
-  std::unique_ptr<btRigidBody> floor;
-  std::unique_ptr<btSoftBody> ball;
-
-  ~World() {
-    if (world && ball) world->removeSoftBody(ball.get());
-    if (world && floor) world->removeRigidBody(floor.get());
-    ball.reset();
-    floor.reset();
-    world.reset();
-    info.m_sparsesdf.Reset();
-  }
-};
-
-// Rotation taking unit vector a onto unit vector b (Rodrigues), as a row-major 3x3.
-std::array<double, 9> RotationOnto(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-  const std::array<double, 3> v{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                                a[0] * b[1] - a[1] * b[0]};
-  const double c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-  std::array<double, 9> r{1, 0, 0, 0, 1, 0, 0, 0, 1};
-  if (c < -1 + 1e-12) return {1, 0, 0, 0, -1, 0, 0, 0, -1};  // a = -b (only ever +-y here)
-  const double k = 1 / (1 + c);
-  const double vx[9] = {0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      double vx2 = 0;
-      for (int m = 0; m < 3; ++m) vx2 += vx[i * 3 + m] * vx[m * 3 + j];
-      r[static_cast<size_t>(i * 3 + j)] += vx[i * 3 + j] + vx2 * k;
-    }
-  return r;
-}
-
-struct BuiltBall {
-  double rest_width_height = 1;  // x extent / y extent of the undeformed mesh
-};
-
-// Builds the world of one run. Returns "" or why not.
-std::string BuildWorld(const BallPreset& ball, const SoftBallModelConfig& cfg, const Coeffs& c,
-                       const TetMesh& mesh, double drop_height_m, double turn_rad, World* w,
-                       BuiltBall* built) {
-  const double r = ball.radius_m();
-  const double margin = cfg.margin_per_radius * r;
-
-  w->collision_config = std::make_unique<btSoftBodyRigidBodyCollisionConfiguration>();
-  w->dispatcher = std::make_unique<btCollisionDispatcher>(w->collision_config.get());
-  w->broadphase = std::make_unique<btDbvtBroadphase>();
-  w->solver = std::make_unique<btSequentialImpulseConstraintSolver>();
-  w->world = std::make_unique<btSoftRigidDynamicsWorld>(w->dispatcher.get(), w->broadphase.get(),
-                                                        w->solver.get(), w->collision_config.get());
-  w->world->setGravity(btVector3(0, -btScalar(cfg.gravity_mps2), 0));
-
-  btSoftBodyWorldInfo& info = w->info;
-  info.m_broadphase = w->broadphase.get();
-  info.m_dispatcher = w->dispatcher.get();
-  info.m_gravity = btVector3(0, -btScalar(cfg.gravity_mps2), 0);  // what soft bodies use
-  info.air_density = btScalar(cfg.air_density_kgpm3);
-  info.water_density = 0;
-  info.m_sparsesdf.Initialize();
-  info.m_sparsesdf.setDefaultVoxelsz(btScalar(cfg.sdf_voxel_per_radius * r));
-  info.m_sparsesdf.Reset();  // takes the voxel size; fresh per run
-
-  // Floor: a big box (SDF contact works against convex shapes only) whose top face is at
-  // y = -margin, so the ball's mesh surface touches y = 0 when its skin touches the floor.
-  const btScalar half_size = btScalar(std::max(2.0, 20 * r));
-  const btScalar half_thickness = btScalar(std::max(0.5, 5 * r));
-  w->floor_shape = std::make_unique<btBoxShape>(btVector3(half_size, half_thickness, half_size));
-  btTransform floor_tr;
-  floor_tr.setIdentity();
-  floor_tr.setOrigin(btVector3(0, -half_thickness - btScalar(margin), 0));
-  btRigidBody::btRigidBodyConstructionInfo floor_ci(0, nullptr, w->floor_shape.get());
-  floor_ci.m_startWorldTransform = floor_tr;
-  floor_ci.m_friction = btScalar(c.floor_friction);
-  floor_ci.m_restitution = btScalar(c.floor_restitution);
-  w->floor = std::make_unique<btRigidBody>(floor_ci);
-  w->world->addRigidBody(w->floor.get());
-
-  // Ball: the unit-sphere mesh turned so that one surface vertex points straight down
-  // (symmetric first contact), scaled to the radius, bottom at the drop height.
-  const auto& nodes = mesh.nodes;
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  const double n0 = std::sqrt(1 + t * t);
-  const auto rot = RotationOnto({-1 / n0, t / n0, 0}, {0, -1, 0});
-  const double turn_cos = std::cos(turn_rad), turn_sin = std::sin(turn_rad);
-  std::vector<btVector3> x(nodes.size());
-  double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    double p[3];
-    for (int a = 0; a < 3; ++a)
-      p[a] = rot[static_cast<size_t>(a * 3)] * nodes[i][0] +
-             rot[static_cast<size_t>(a * 3 + 1)] * nodes[i][1] +
-             rot[static_cast<size_t>(a * 3 + 2)] * nodes[i][2];
-    xmin = std::min(xmin, p[0]);
-    xmax = std::max(xmax, p[0]);
-    ymin = std::min(ymin, p[1]);
-    ymax = std::max(ymax, p[1]);
-    // Then turned about the vertical (release_turn_rad: the ensemble's perturbation).
-    const double px = turn_cos * p[0] + turn_sin * p[2], pz = -turn_sin * p[0] + turn_cos * p[2];
-    p[0] = px;
-    p[2] = pz;
-    x[i] = btVector3(btScalar(p[0] * r), btScalar(p[1] * r + r + drop_height_m), btScalar(p[2] * r));
-  }
-  built->rest_width_height = (xmax - xmin) / (ymax - ymin);
-
-  w->ball = std::make_unique<btSoftBody>(&info, static_cast<int>(x.size()), x.data(), nullptr);
-  btSoftBody* sb = w->ball.get();
-  btSoftBody::Material* mat = sb->m_materials[0];
-  mat->m_kLST = btScalar(c.kLST);
-  mat->m_kAST = btScalar(c.kAST);
-  mat->m_kVST = btScalar(c.kVST);
-  // What btSoftBodyHelpers::CreateFromTetGenData does (tetras, their 6 edges as links),
-  // without its printf and float parsing, plus the boundary faces it never appends.
-  std::set<std::pair<int, int>> seen;
-  for (const auto& tet : mesh.tetras) {
-    sb->appendTetra(tet[0], tet[1], tet[2], tet[3]);
-    const int e[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
-    for (const auto& ed : e) {
-      int a = tet[static_cast<size_t>(ed[0])], b = tet[static_cast<size_t>(ed[1])];
-      if (seen.insert({std::min(a, b), std::max(a, b)}).second) sb->appendLink(a, b, nullptr, false);
-    }
-  }
-  for (const auto& f : mesh.faces) sb->appendFace(f[0], f[1], f[2]);
-  sb->setTotalMass(btScalar(ball.mass_kg), false);
-
-  btSoftBody::Config& k = sb->m_cfg;
-  const double m = ball.mass_kg, g = cfg.gravity_mps2;
-  const double volume0 = 4.0 / 3.0 * kPi * r * r * r;
-  k.kPR = btScalar(c.pressure * m * g * volume0 / (kPi * r * r));
-  k.kVC = btScalar(c.volume_conservation * m * g / (kPi * r * r * volume0));
-  k.kDP = btScalar(c.kDP);
-  k.kDG = btScalar(c.kDG);
-  k.kLF = btScalar(c.kLF);
-  k.kSR_SPLT_CL = btScalar(c.kSR);
-  k.kSK_SPLT_CL = btScalar(c.kSK);
-  k.kSS_SPLT_CL = btScalar(c.kSS);
-  k.kKHR = btScalar(c.kKHR);
-  k.kDF = 1;
-  k.aeromodel = btSoftBody::eAeroModel::V_TwoSidedLiftDrag;
-  k.piterations = cfg.position_iterations;
-  k.viterations = 0;
-  k.diterations = 0;
-  k.collisions = btSoftBody::fCollision::SDF_RS;
-  sb->getCollisionShape()->setMargin(btScalar(margin));
-  sb->setPose(true, false);  // rest volume for kVC
-  sb->setActivationState(DISABLE_DEACTIVATION);
-  w->world->addSoftBody(sb);
-  if (!(sb->getVolume() > 0)) return "the ball mesh encloses no volume";
-  return {};
-}
-
-struct NodeStats {
-  bool finite = true;
-  btVector3 com{0, 0, 0};
-  btVector3 com_v{0, 0, 0};
-  double min_y = 0, max_y = 0, min_x = 0, max_x = 0;
-  double max_dist2 = 0;  // from the centre
-  double max_speed2 = 0;
-};
-
-NodeStats Stats(const btSoftBody& sb) {
-  NodeStats s;
-  const int n = sb.m_nodes.size();
-  double cx = 0, cy = 0, cz = 0, vx = 0, vy = 0, vz = 0;
-  s.min_y = s.min_x = 1e300;
-  s.max_y = s.max_x = -1e300;
-  for (int i = 0; i < n; ++i) {
-    const btVector3& x = sb.m_nodes[i].m_x;
-    const btVector3& v = sb.m_nodes[i].m_v;
-    cx += x.x();
-    cy += x.y();
-    cz += x.z();
-    vx += v.x();
-    vy += v.y();
-    vz += v.z();
-    s.min_y = std::min(s.min_y, double(x.y()));
-    s.max_y = std::max(s.max_y, double(x.y()));
-    s.min_x = std::min(s.min_x, double(x.x()));
-    s.max_x = std::max(s.max_x, double(x.x()));
-    s.max_speed2 = std::max(s.max_speed2, double(v.length2()));
-  }
-  if (!std::isfinite(cx + cy + cz + vx + vy + vz) || !std::isfinite(s.max_speed2)) {
-    s.finite = false;
-    return s;
-  }
-  s.com = btVector3(btScalar(cx / n), btScalar(cy / n), btScalar(cz / n));
-  s.com_v = btVector3(btScalar(vx / n), btScalar(vy / n), btScalar(vz / n));
-  for (int i = 0; i < n; ++i)
-    s.max_dist2 = std::max(s.max_dist2, double((sb.m_nodes[i].m_x - s.com).length2()));
-  return s;
-}
-
-// Before the release the ball floats weightless for settle_time_s with strong damping, so
-// that pressure and links reach their equilibrium (an inflated ball is pre-stressed; started
-// from the mesh's rest shape it would breathe through the whole drop). Then it is put back
-// with its centre at centre_y and every node at rest.
-void Settle(const SoftBallModelConfig& cfg, double centre_y, World* w) {
-  const long steps = std::lround(cfg.settle_time_s / cfg.time_step_s);
-  if (steps <= 0) return;
-  btSoftBody& sb = *w->ball;
-  const btVector3 gravity = w->info.m_gravity;
-  const btScalar damping = sb.m_cfg.kDP;
-  w->info.m_gravity.setZero();
-  sb.m_cfg.kDP = btScalar(cfg.settle_damping);
-  for (long i = 0; i < steps; ++i) w->world->stepSimulation(btScalar(cfg.time_step_s), 0);
-  w->info.m_gravity = gravity;
-  sb.m_cfg.kDP = damping;
-  btVector3 com(0, 0, 0);
-  for (int i = 0; i < sb.m_nodes.size(); ++i) com += sb.m_nodes[i].m_x;
-  com /= btScalar(sb.m_nodes.size());
-  const btVector3 shift = btVector3(0, btScalar(centre_y), 0) - com;
-  for (int i = 0; i < sb.m_nodes.size(); ++i) {
-    btSoftBody::Node& n = sb.m_nodes[i];
-    n.m_x += shift;
-    n.m_q = n.m_x;
-    n.m_v.setZero();
-    n.m_f.setZero();
-  }
+// The mesh parameters among the coefficients (the rest are Bullet's: model/soft_ball_world.cc).
+TetMeshParams MeshParams(const CoefficientValues& v) {
+  TetMeshParams p;
+  p.resolution = static_cast<int>(std::lround(v.at("mesh_resolution")));
+  p.radius_edge_ratio = v.at("radius_edge_ratio");
+  p.max_volume = v.at("max_volume");
+  return p;
 }
 
 }  // namespace
-
-std::string SoftBallModelConfig::Validate() const {
-  if (!(time_step_s > 0 && time_step_s <= 0.01)) return "time step must be in (0, 0.01] s";
-  if (position_iterations < 1 || position_iterations > 100) return "position iterations must be 1..100";
-  if (!(gravity_mps2 > 0)) return "gravity must be > 0";
-  if (!(margin_per_radius > 0 && margin_per_radius < 1)) return "margin must be in (0, 1) radius";
-  if (!(sdf_voxel_per_radius > 0)) return "SDF voxel must be > 0";
-  if (!(camera_rate_hz > 0)) return "camera rate must be > 0";
-  if (apex_window_frames < 1) return "apex window must be >= 1 frame";
-  if (!(max_wall_time_s > 0)) return "max wall time must be > 0";
-  if (!(settle_time_s >= 0) || !(settle_damping >= 0 && settle_damping < 1))
-    return "settle time must be >= 0 and settle damping in [0, 1)";
-  return {};
-}
-
-MeasuredBounces MeasureBounces(const std::vector<double>& t, const std::vector<double>& y,
-                               int window, double contact_height_m) {
-  MeasuredBounces out;
-  const size_t n = std::min(t.size(), y.size());
-  std::vector<size_t> impacts;
-  for (size_t k = 1; k + 1 < n; ++k)
-    if (y[k] < y[k - 1] && y[k] <= y[k + 1]) impacts.push_back(k);
-  for (size_t k : impacts) out.impact_times_s.push_back(t[k]);
-  auto fit_arc = [&](size_t begin, size_t end, bool closed) {  // samples (begin, end)
-    if (end <= begin + 1) return;
-    size_t top = begin + 1;
-    for (size_t k = begin + 1; k < end; ++k)
-      if (y[k] > y[top]) top = k;
-    if (!closed && end - 1 - top < static_cast<size_t>(window)) return;
-    std::vector<double> ts, ys;
-    const size_t lo = top > begin + static_cast<size_t>(window) ? top - static_cast<size_t>(window) : begin + 1;
-    const size_t hi = std::min(end - 1, top + static_cast<size_t>(window));
-    for (size_t k = lo; k <= hi; ++k)
-      if (y[k] > contact_height_m) {
-        ts.push_back(t[k]);
-        ys.push_back(y[k]);
-      }
-    const ArcApex apex = FitArcApex(ts, ys);
-    if (!apex.ok) return;
-    out.apex_times_s.push_back(apex.t);
-    out.apex_heights_m.push_back(apex.height);
-  };
-  for (size_t i = 0; i + 1 < impacts.size(); ++i) fit_arc(impacts[i], impacts[i + 1], true);
-  if (!impacts.empty()) fit_arc(impacts.back(), n, false);
-  return out;
-}
 
 SoftBallModel::SoftBallModel(BallPreset ball, SoftBallModelConfig config)
     : ball_(std::move(ball)), config_(std::move(config)) {
@@ -434,177 +117,31 @@ std::shared_ptr<const TetMesh> SoftBallModel::Mesh(const CoefficientValues& valu
   std::string error;
   const CoefficientValues all = Complete(values, &error);
   if (!error.empty()) throw std::invalid_argument(error);
-  return GetTetMesh(Coeffs::From(all).MeshParams(), config_.tetgen);
+  return GetTetMesh(MeshParams(all), config_.tetgen);
 }
 
 SimulationResult SoftBallModel::Simulate(const CoefficientValues& values,
                                          const SimulationOptions& options) const {
-  const auto wall_start = std::chrono::steady_clock::now();
-  SimulationResult result;
-  auto finish = [&](std::string failure) {
-    result.ok = failure.empty();
-    result.failure = std::move(failure);
-    result.wall_time_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    return result;
-  };
-  if (const std::string invalid = SimulationOptionsError(options); !invalid.empty())
-    return finish(invalid);
-
-  std::string error;
-  const CoefficientValues all = Complete(values, &error);
-  if (!error.empty()) return finish(error);
-  const Coeffs c = Coeffs::From(all);
+  SimulationResult failed;
+  std::string error = SimulationOptionsError(options);
+  SoftBallSpec spec;
+  if (error.empty()) spec.values = Complete(values, &error);
   std::shared_ptr<const TetMesh> mesh;
-  try {
-    mesh = GetTetMesh(c.MeshParams(), config_.tetgen);
-  } catch (const std::exception& e) {
-    return finish(e.what());
-  }
-
-  World w;
-  BuiltBall built;
-  if (std::string err = BuildWorld(ball_, config_, c, *mesh, options.drop_height_m,
-                                       options.release_turn_rad, &w, &built);
-      !err.empty())
-    return finish(err);
-  btSoftBody& sb = *w.ball;
-  Settle(config_, options.drop_height_m + ball_.radius_m(), &w);
-
-  const double r = ball_.radius_m();
-  const double g = config_.gravity_mps2;
-  const double dt = config_.time_step_s;
-  const long total_steps = static_cast<long>(std::ceil(options.duration_s / dt - 1e-9));
-  const double y0 = options.drop_height_m + r;  // centre at release
-  const double energy0 = g * y0;                // per unit mass, at rest at release
-  const double energy_slack = 0.02 * energy0 + g * 0.05 * r;
-  const double v_max = 3 * std::sqrt(2 * g * y0) + 1;
-  const double volume0 = sb.getVolume();
-  auto at = [](double t) { return " at t=" + Num(t, 4) + " s"; };
-
-  // Camera samples (the bounce measurement) and trajectory samples: the step nearest to
-  // each sample time.
-  std::vector<double> cam_t, cam_y;
-  long next_cam = 0, next_traj = 0;
-  auto step_of = [&](long j, double rate) { return std::lround(double(j) / rate / dt); };
-  // Impacts found so far in the camera samples (local minima), for the early stop.
-  long last_impact = -1;
-  double rest_since = -1;
-
-  // Rebound boost state: one kick per contact episode, when the ball leaves the floor.
-  bool episode = false;
-  double impact_speed = 0, episode_start = 0, prev_vy = 0;
-
-  for (long step = 0;; ++step) {
-    const double t = double(step) * dt;
-    const NodeStats s = Stats(sb);
-    if (!s.finite) return finish("diverged (NaN)" + at(t));
-    const double cy = s.com.y();
-    if (s.min_y < -r) return finish("diverged (a node " + Num(-s.min_y, 3) + " m below the floor)" + at(t));
-    if (cy < 0) return finish("diverged (ball through the floor)" + at(t));
-    if (s.max_dist2 > 9 * r * r)
-      return finish("diverged (explosion: a node " + Num(std::sqrt(s.max_dist2) / r, 3) + " radii from the centre)" + at(t));
-    if (s.max_speed2 > v_max * v_max)
-      return finish("diverged (a node at " + Num(std::sqrt(s.max_speed2), 3) + " m/s)" + at(t));
-    const double energy = 0.5 * double(s.com_v.length2()) + g * cy;
-    if (energy > energy0 + energy_slack)
-      return finish("diverged (energy growth: " + Num(energy / energy0, 4) + "x the release energy)" + at(t));
-
-    const double bottom = cy - r;
-    if (step == step_of(next_cam, config_.camera_rate_hz)) {
-      const double volume = sb.getVolume();
-      if (!(volume > 0.1 * volume0) || !(volume < 4 * volume0))
-        return finish("diverged (volume " + Num(volume / volume0, 3) + "x the rest volume)" + at(t));
-      cam_t.push_back(t);
-      cam_y.push_back(bottom);
-      ++next_cam;
-      // Early stop: an arc just closed whose top is below the bounces of interest, or the
-      // ball lies still on the floor.
-      const size_t n = cam_y.size();
-      if (n >= 3 && cam_y[n - 2] < cam_y[n - 3] && cam_y[n - 2] <= cam_y[n - 1]) {
-        if (last_impact >= 0) {
-          const double top = *std::max_element(cam_y.begin() + last_impact, cam_y.end());
-          if (top < options.min_bounce_height_m) break;
-        }
-        last_impact = static_cast<long>(n - 2);
-      }
-      const bool still = bottom < options.min_bounce_height_m && s.com_v.length() < 0.02;
-      if (!still) rest_since = -1;
-      else if (rest_since < 0) rest_since = t;
-      else if (t - rest_since > 0.25) break;
+  if (error.empty()) {
+    try {
+      mesh = GetTetMesh(MeshParams(spec.values), config_.tetgen);
+    } catch (const std::exception& e) {
+      error = e.what();
     }
-    if (options.record_trajectory && step == step_of(next_traj, options.trajectory_rate_hz)) {
-      TrajectorySample ts;
-      ts.t_s = t;
-      ts.center_height_m = cy;
-      ts.bottom_height_m = s.min_y;  // the mesh's lowest point (deformed, sagging, ...)
-      const double height = s.max_y - s.min_y;
-      ts.width_height_ratio = height > 0 ? (s.max_x - s.min_x) / height / built.rest_width_height : 1;
-      result.trajectory.push_back(ts);
-      ++next_traj;
-    }
-    if (step >= total_steps) break;
-    if ((step & 127) == 0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() > config_.max_wall_time_s)
-      return finish("stopped: wall-time limit of " + Num(config_.max_wall_time_s, 3) + " s reached" + at(t));
-
-    // rebound_boost (artificial, docs/MODEL.md): a contact episode starts when the floor
-    // first touches the ball (impact speed = the centre's downward speed the step before)
-    // and ends when no node touches the floor and the centre moves up; then every node gets
-    // boost * impact speed upward. Episodes longer than kMaxContactS are a ball at rest.
-    if (c.boost > 0 || c.boost_per_mps != 0) {
-      constexpr double kMaxContactS = 0.1;
-      constexpr double kReferenceSpeed = 4.43;  // m/s, sqrt(2 g 1 m)
-      const double vy = s.com_v.y();
-      const bool contact = sb.m_rcontacts.size() > 0;
-      if (!episode && contact) {
-        episode = true;
-        episode_start = t;
-        impact_speed = std::max(0.0, -prev_vy);
-      } else if (episode && !contact && vy > 0) {
-        episode = false;
-        // The boost at this impact speed (kReferenceSpeed: a 1 m drop), never negative.
-        const double boost = std::max(0.0, c.boost - c.boost_per_mps * (impact_speed - kReferenceSpeed));
-        if (t - episode_start < kMaxContactS && boost > 0)
-          sb.addVelocity(btVector3(0, btScalar(boost * impact_speed), 0));
-      }
-      prev_vy = vy;
-    }
-    w.world->stepSimulation(btScalar(dt), 0);
   }
-
-  const MeasuredBounces mb = MeasureBounces(cam_t, cam_y, config_.apex_window_frames, 0);
-  if (const std::string diverged = TakeMeasuredBounces(mb, options, &result); !diverged.empty())
-    return finish(diverged);
-  if (options.record_trajectory && result.trajectory.empty())
-    return finish("no trajectory samples");
-  return finish({});
-}
-
-std::string SimulationOptionsError(const SimulationOptions& options) {
-  if (!(options.drop_height_m > 0) || !(options.drop_height_m < 100))
-    return "drop height must be in (0, 100) m";
-  if (!(options.duration_s > 0) || !(options.duration_s <= 600))
-    return "duration must be in (0, 600] s";
-  if (options.record_trajectory && !(options.trajectory_rate_hz > 0))
-    return "trajectory rate must be > 0";
-  return {};
-}
-
-std::string TakeMeasuredBounces(const MeasuredBounces& measured, const SimulationOptions& options,
-                                SimulationResult* result) {
-  result->impact_times_s = measured.impact_times_s;
-  for (size_t i = 0; i < measured.apex_heights_m.size(); ++i) {
-    const double h = measured.apex_heights_m[i];
-    if (h < options.min_bounce_height_m) break;
-    const double previous = i == 0 ? options.drop_height_m : measured.apex_heights_m[i - 1];
-    if (h > previous + 1e-3 * previous + 1e-4)
-      return "diverged (energy growth: bounce " + std::to_string(i + 1) + " at " + Num(h, 4) +
-             " m is higher than the one before, " + Num(previous, 4) + " m)";
-    result->bounce_heights_m.push_back(h);
-    result->apex_times_s.push_back(measured.apex_times_s[i]);
+  if (!error.empty()) {
+    failed.failure = error;
+    return failed;
   }
-  return {};
+  spec.radius_m = ball_.radius_m();
+  spec.mass_kg = ball_.mass_kg;
+  spec.mesh = {&mesh->nodes, &mesh->tetras, &mesh->faces};
+  return SimulateSoftBallDrop(config_, spec, options);
 }
 
 CoefficientValues ParseCoefficientList(const std::string& text) {
