@@ -7,6 +7,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "detect/heard_peaks.h"
 #include "msgs/msg_json.h"
 
 namespace bouncefit::cli {
@@ -118,24 +119,28 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
   std::ofstream f(tmp, std::ios::trunc);
   if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
   f << "bounce,t_s,height_m,height_px,flight_height_m,emitted_t_s,heard,fused_height_m\n";
-  auto flight_at = [&](double t_s) -> const HeardFlight* {
-    for (const auto& fl : fused_.flights) {
-      const double a = fused_.impacts[fl.from].t_s;
-      if (t_s > a && t_s < a + fl.flight_s) return &fl;
-    }
-    return nullptr;
-  };
-  int last_bounce = -1;
+  // One heard arc holds one apex: a second seen apex on it is the picture splitting the arc,
+  // dropped, and the bounces after it move down by one.
+  std::vector<double> apex_t;
+  for (const auto& m : peaks) apex_t.push_back(m.bounce > 0 ? SecondsSince(m.apex_utime, t0) : NAN);
+  const std::vector<ApexOnArc> on_arc = PlaceApexesOnHeardArcs(apex_t, fused_);
+  int last_bounce = -1, dropped = 0;
   double last_t = -1e300;
-  for (const auto& m : peaks) {
+  for (size_t p = 0; p < peaks.size(); ++p) {
+    const bounce_peak_t& m = peaks[p];
+    if (on_arc[p].duplicate) {
+      ++dropped;
+      continue;
+    }
     const double t_s = SecondsSince(m.apex_utime, t0);
-    const HeardFlight* fl = m.bounce > 0 ? flight_at(t_s) : nullptr;
+    const HeardFlight* fl = on_arc[p].flight >= 0 ? &fused_.flights[on_arc[p].flight] : nullptr;
     const double flight_h = fl ? fl->height_m : m.flight_height_m;
-    f << m.bounce << ',' << Cell(t_s, "%.6f") << ',' << Cell(m.height_m, "%.5f") << ','
+    const int bounce = m.bounce - dropped;
+    f << bounce << ',' << Cell(t_s, "%.6f") << ',' << Cell(m.height_m, "%.5f") << ','
       << Cell(m.height_px, "%.3f") << ',' << Cell(flight_h, "%.5f") << ','
       << Cell(SecondsSince(m.emitted_utime, t0), "%.6f") << ',' << (fl ? "both" : "") << ','
       << Cell(fl ? fl->height_m : m.height_m, "%.5f") << '\n';
-    last_bounce = std::max(last_bounce, static_cast<int>(m.bounce));
+    last_bounce = std::max(last_bounce, bounce);
     last_t = std::max(last_t, t_s);
   }
   for (const auto& fl : fused_.flights) {  // bounces heard but too small to see

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <random>
 
+#include "detect/heard_peaks.h"
 #include "detect/impact_fusion.h"
 #include "model/ball_preset.h"
 #include "model/point_mass_drop.h"
@@ -129,6 +130,34 @@ TEST(ImpactFusion, NothingSeenListsOnlyAHeardBounceTrain) {
     std::sort(knocks.begin(), knocks.end(), [](auto& a, auto& b) { return a.t_s < b.t_s; });
     const FusionResult g = FuseImpacts(knocks, {}, 10, {});
     EXPECT_TRUE(g.impacts.empty()) << "trial " << trial << ": " << g.verdict;
+  }
+}
+
+// A 30 fps picture that split one arc in two (an extra apex at a frame on the arc's way
+// up): the heard impacts bound the arc, so only the apex nearest its heard apex is the bounce.
+TEST(HeardPeaks, ASplitArcKeepsTheApexNearestTheHeardOne) {
+  const PointMassDropResult r = Drop("pingpong", 1.0);
+  ASSERT_GE(r.impact_times_s.size(), 6u);
+  std::vector<double> seen(r.impact_times_s.begin(), r.impact_times_s.begin() + 6);
+  ImpactFusionConfig c;
+  c.drag_per_m = DragPerM(ResolveBallPreset("pingpong"));
+  const FusionResult f = FuseImpacts(Heard(seen, 0.03), seen, seen.back() + 0.5, c);
+  ASSERT_TRUE(f.sound_used) << f.verdict;
+  ASSERT_EQ(f.flights.size(), 5u);
+  // Apexes seen: the release (before any heard impact), the true apexes of bounces 1-5 a
+  // frame (33 ms) off, and a spurious one 70 ms before bounce 3's apex.
+  std::vector<double> apex = {r.apex_times_s[0]};
+  for (int b = 1; b <= 5; ++b) apex.push_back(r.apex_times_s[b] + (b % 2 ? 0.033 : -0.033));
+  apex.insert(apex.begin() + 3, r.apex_times_s[3] - 0.07);
+  const std::vector<ApexOnArc> on = PlaceApexesOnHeardArcs(apex, f);
+  ASSERT_EQ(on.size(), apex.size());
+  EXPECT_EQ(on[0].flight, -1);
+  for (size_t p = 1; p < on.size(); ++p) {
+    const int bounce = p <= 3 ? static_cast<int>(p) : static_cast<int>(p) - 1;
+    EXPECT_EQ(on[p].flight, bounce - 1) << "apex " << p;
+    EXPECT_EQ(on[p].duplicate, p == 3) << "apex " << p;
+    EXPECT_NEAR(f.flights[on[p].flight].height_m, r.apex_heights_m[bounce],
+                0.005 * r.apex_heights_m[bounce]);
   }
 }
 
