@@ -79,12 +79,16 @@ void RunWatch(const WatchFlags& f) {
     state.OnFit(m, NowUtime());
     if (plain) say(WatchFitLine(m));
   });
+  bus.Subscribe<impact_t>(f.channels.impact, [&](const impact_t& m) {
+    state.OnImpact(m, NowUtime());
+    if (plain) say(WatchImpactLine(state, m));
+  });
 
   WatchRenderOptions render;
   render.unicode = !f.ascii && UnicodeLocale();
   render.source = f.lcm_url;
   render.channel_names = {f.channels.ball_box, f.channels.calibration, f.channels.bounce_peak,
-                          f.channels.fit_update};
+                          f.channels.fit_update, f.channels.impact};
 
   std::unique_ptr<WatchTerminal> terminal;
   if (dashboard) terminal = std::make_unique<WatchTerminal>();

@@ -68,6 +68,41 @@ double ChartWindowS(const WatchState& state) {
   return std::clamp(span, 2.0, 10.0);
 }
 
+// One row under the height chart, its columns the chart's: '*' where an impact was heard
+// (alone or also seen), '^' where it was only seen.
+std::string ImpactRow(const WatchState& state, int width, double window_s) {
+  std::string row(std::max(width, 1), ' ');
+  const auto& trace = state.trace();
+  if (trace.empty()) return row;
+  const int64_t end = trace.back().utime;
+  const double span = window_s * 1e6;
+  for (const auto& m : state.impacts()) {
+    const double age = static_cast<double>(end - m.utime);
+    const int i = width - 1 - static_cast<int>(std::floor(age / span * width));
+    if (i < 0 || i >= width) continue;
+    if (m.source != "video" || row[i] == ' ') row[i] = m.source == "video" ? '^' : '*';
+  }
+  return row;
+}
+
+// "impacts  7: 5 heard (3 also seen), 2 seen only; last at t=4.321 s, heard"
+std::string ImpactSummary(const WatchState& s) {
+  int heard = 0, both = 0, seen = 0;
+  for (const auto& m : s.impacts()) {
+    heard += m.source != "video";
+    both += m.source == "both";
+    seen += m.source == "video";
+  }
+  std::string line = Format("impacts  %d: %d heard (%d also seen), %d seen only",
+                            static_cast<int>(s.impacts().size()), heard, both, seen);
+  if (!s.impacts().empty()) {
+    const impact_t& last = s.impacts().back();
+    line += "; last at t=" + Num(StreamSeconds(s, last.utime), "%.3f") + " s, " +
+            (last.source == "video" ? "seen" : "heard");
+  }
+  return line;
+}
+
 }  // namespace
 
 std::string Sparkline(const WatchState& state, int width, bool unicode) {
@@ -124,11 +159,22 @@ std::string WatchFitLine(const fit_update_t& m) {
   return line;
 }
 
+std::string WatchImpactLine(const WatchState& s, const impact_t& m) {
+  std::string line = Format("impact #%-2d  t=%s s  %s", m.index,
+                            Num(StreamSeconds(s, m.utime), "%7.3f").c_str(),
+                            m.source == "audio"  ? "heard"
+                            : m.source == "both" ? "heard and seen"
+                                                 : "seen");
+  if (m.source != "video")
+    line += Format("  strength %.4f (full scale 1)  confidence %.2f", m.strength, m.confidence);
+  return line;
+}
+
 std::string WatchStatusLine(const WatchState& s, int64_t now, const WatchRenderOptions& o) {
   const auto& ch = o.channel_names;
-  const char* kinds[] = {"box", "calibration", "peak", "fit"};
+  const char* kinds[] = {"box", "calibration", "peak", "fit", "impact"};
   std::string line;
-  for (size_t i = 0; i < 4 && i < ch.size(); ++i) {
+  for (size_t i = 0; i < 5 && i < ch.size(); ++i) {
     line += Format("%s %.1f/s (%lld)  ", ch[i].c_str(), s.Rate(kinds[i], now),
                    static_cast<long long>(s.Count(kinds[i])));
   }
@@ -199,6 +245,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
     }
     lines.push_back(row);
   }
+  lines.push_back(Pad("impacts  ", label_w) + ImpactRow(s, chart_w, window_s));
 
   // Calibration.
   if (s.calibration()) {
@@ -207,6 +254,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
   } else {
     lines.push_back(Pad("calibration  not yet known", cols));
   }
+  lines.push_back(Pad(ImpactSummary(s) + "   (under the chart: * heard, ^ seen only)", cols));
 
   // Peaks (left) and coefficients (right), side by side when wide enough.
   std::vector<std::string> left, right;

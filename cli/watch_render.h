@@ -19,7 +19,7 @@ struct WatchRenderOptions {
   int64_t decode_failures = 0;   // from the bus
   int64_t handler_failures = 0;
   std::vector<std::string> channel_names = {"BALL_BOX", "CALIBRATION", "BOUNCE_PEAK",
-                                            "FIT_UPDATE"};
+                                            "FIT_UPDATE", "IMPACT"};
 };
 
 std::vector<std::string> RenderWatch(const WatchState& state, int64_t now_utime,
@@ -33,6 +33,7 @@ std::string Sparkline(const WatchState& state, int width, bool unicode);
 std::string WatchCalibrationLine(const calibration_t& m);
 std::string WatchPeakLine(const WatchState& state, const bounce_peak_t& m);
 std::string WatchFitLine(const fit_update_t& m);
+std::string WatchImpactLine(const WatchState& state, const impact_t& m);
 
 // The status line for plain mode: rates, drops, waiting.
 std::string WatchStatusLine(const WatchState& state, int64_t now_utime,

@@ -39,6 +39,7 @@ void WatchState::Count(const std::string& kind, int64_t now_utime) {
 void WatchState::NewStream() {
   trace_.clear();
   peaks_.clear();
+  impacts_.clear();
   fit_.reset();
   latest_by_model_.clear();
   previous_by_model_.clear();
@@ -89,6 +90,13 @@ void WatchState::OnPeak(const bounce_peak_t& m, int64_t now_utime) {
     std::sort(peaks_.begin(), peaks_.end(),
               [](const auto& a, const auto& b) { return a.bounce < b.bounce; });
   }
+}
+
+void WatchState::OnImpact(const impact_t& m, int64_t now_utime) {
+  Count("impact", now_utime);
+  impacts_.push_back(m);
+  const size_t kMaxImpacts = 1000;  // a long session's list stays bounded
+  if (impacts_.size() > kMaxImpacts) impacts_.erase(impacts_.begin());
 }
 
 void WatchState::OnFit(const fit_update_t& m, int64_t now_utime) {

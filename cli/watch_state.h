@@ -12,6 +12,7 @@
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/calibration_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
+#include "bouncefit/impact_t.hpp"
 
 namespace bouncefit::cli {
 
@@ -37,6 +38,7 @@ class WatchState {
   void OnCalibration(const calibration_t& m, int64_t now_utime);
   void OnPeak(const bounce_peak_t& m, int64_t now_utime);
   void OnFit(const fit_update_t& m, int64_t now_utime);
+  void OnImpact(const impact_t& m, int64_t now_utime);
 
   struct TraceSample {
     int64_t utime;
@@ -52,6 +54,8 @@ class WatchState {
   // The latest fit of each model (a run may fit a quick model and the soft body in turn).
   const std::map<std::string, fit_update_t>& latest_by_model() const { return latest_by_model_; }
   int64_t fits_received() const { return fits_received_; }
+  // Impacts of this stream as they arrived (heard, seen, or both), the last 1000.
+  const std::vector<impact_t>& impacts() const { return impacts_; }
 
   // Messages per second on each channel over the rate window ending at now.
   double Rate(const std::string& kind, int64_t now_utime) const;
@@ -81,6 +85,7 @@ class WatchState {
   std::deque<TraceSample> trace_;
   std::optional<calibration_t> calibration_;
   std::vector<bounce_peak_t> peaks_;
+  std::vector<impact_t> impacts_;
   std::optional<fit_update_t> fit_;
   std::map<std::string, fit_update_t> latest_by_model_, previous_by_model_;
   int64_t fits_received_ = 0;

@@ -16,6 +16,7 @@
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/calibration_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
+#include "bouncefit/impact_t.hpp"
 #include "msgs/lcm_bus.h"
 #include "tests/report_fixture.h"
 #include "tests/test_support.h"
@@ -28,7 +29,7 @@ using testing::BouncefitExe;
 using testing::RunCommand;
 using testing::ScratchDir;
 
-// A producer of the four channels for a ball dropped from `drop_m` with restitution e,
+// A producer of the five channels for a ball dropped from `drop_m` with restitution e,
 // seen at 120 fps by a camera with 400 px/m and the floor line at 460 px.
 class Producer {
  public:
@@ -44,16 +45,17 @@ class Producer {
   void Run(double seconds, double speed) {
     const int64_t t0 = 1'700'000'000'000'000;
     // Apexes in closed form.
-    std::vector<double> apex_t{truth_.release_t_s}, apex_h{drop_m_};
+    std::vector<double> apex_t{truth_.release_t_s}, apex_h{drop_m_}, impact_t_s;
     double t = truth_.release_t_s + std::sqrt(2 * drop_m_ / truth_.g);
     double v = std::sqrt(2 * truth_.g * drop_m_);
     while (t < seconds) {
+      impact_t_s.push_back(t);
       v *= truth_.restitution;
       apex_t.push_back(t + v / truth_.g);
       apex_h.push_back(v * v / (2 * truth_.g));
       t += 2 * v / truth_.g;
     }
-    size_t next_peak = 0;
+    size_t next_peak = 0, next_impact = 0;
     bool calibrated = false;
     const auto wall0 = std::chrono::steady_clock::now();
     const int frames = static_cast<int>(seconds * 120);
@@ -87,6 +89,17 @@ class Producer {
         c.samples = 36;
         bus_.Publish("CALIBRATION", c);
         calibrated = true;
+      }
+      // Each impact 10 ms after it happened: heard and seen, but the second only heard.
+      while (next_impact < impact_t_s.size() && impact_t_s[next_impact] + 0.01 <= ts) {
+        impact_t m{};
+        m.utime = t0 + static_cast<int64_t>(impact_t_s[next_impact] * 1e6);
+        m.index = static_cast<int32_t>(next_impact);
+        m.source = next_impact == 1 ? "audio" : "both";
+        m.strength = 0.25;
+        m.confidence = 0.9;
+        bus_.Publish("IMPACT", m);
+        ++next_impact;
       }
       while (next_peak < apex_t.size() && apex_t[next_peak] + 0.05 <= ts) {
         bounce_peak_t p{};
@@ -330,6 +343,11 @@ TEST(WatchPlain, WithoutATerminalPrintsEventLines) {
   EXPECT_NE(out.find("calibration  400.00 +- 1.25 px/m"), std::string::npos) << out;
   EXPECT_NE(out.find("height 0.6400 m"), std::string::npos) << out;
   EXPECT_NE(out.find("restitution=0.8123"), std::string::npos) << out;
+  // Impacts as they arrive (the first at 0.05 s + 0.452 s of fall).
+  EXPECT_NE(out.find("impact #0   t=  0.50"), std::string::npos) << out;
+  EXPECT_NE(out.find("heard and seen  strength 0.2500 (full scale 1)  confidence 0.90"),
+            std::string::npos) << out;
+  EXPECT_NE(out.find("impact #1 "), std::string::npos) << out;
   EXPECT_EQ(out.find("\x1b["), std::string::npos) << "escape codes in plain output";
   // The producer stops 1.7 s in: the log says so.
   const auto receiving = out.find("watch: receiving");
@@ -358,6 +376,13 @@ TEST(WatchPlain, OnceGivesOneSnapshot) {
   EXPECT_NE(out.find("height trace: "), std::string::npos) << out;
   EXPECT_NE(out.find('#'), std::string::npos) << "no ASCII trace:\n" << out;
   EXPECT_NE(out.find("MY_PEAKS "), std::string::npos) << out;
+  // The impacts listed and marked under the chart.
+  std::smatch impacts;
+  ASSERT_TRUE(std::regex_search(out, impacts, std::regex("impacts  ([0-9]+): ([0-9]+) heard"))) << out;
+  EXPECT_GE(std::stoi(impacts[1].str()), 2) << out;
+  EXPECT_EQ(impacts[1].str(), impacts[2].str()) << out;
+  std::smatch row;
+  ASSERT_TRUE(std::regex_search(out, row, std::regex("\nimpacts  ( *\\*[ *]*)\n"))) << out;
   EXPECT_EQ(out.find("\u2588"), std::string::npos) << "--ascii drew blocks:\n" << out;
 }
 
