@@ -34,6 +34,12 @@ ImpactDetector::ImpactDetector(ImpactDetectorConfig config, int sample_rate)
     throw std::invalid_argument("impact detector: sample rate must be 4-384 kHz, got " +
                                 std::to_string(sample_rate) + " Hz");
   block_len_ = std::max(1, static_cast<int>(std::lround(config_.block_s * rate_)));
+  const auto keep = static_cast<int64_t>(
+      (config_.max_click_s + config_.rise_window_s + 0.01) * rate_ + 4 * block_len_);
+  int64_t ring = 1;
+  while (ring < keep) ring *= 2;
+  history_.assign(static_cast<size_t>(ring), 0.0f);
+  history_mask_ = ring - 1;
   const double fc = std::min(config_.highpass_hz, 0.45 * rate_);
   if (fc > 0) {  // RBJ cookbook high-pass, Q = 1/sqrt(2)
     const double w = 2 * std::numbers::pi * fc / rate_;
@@ -50,12 +56,20 @@ ImpactDetector::ImpactDetector(ImpactDetectorConfig config, int sample_rate)
   }
 }
 
+int ImpactDetector::FloorBin(double energy) {
+  const double db = Db(energy);
+  return std::clamp(static_cast<int>(std::lround((db - kFloorLowDb) * kFloorBinsPerDb)), 0,
+                    kFloorBins - 1);
+}
+
 double ImpactDetector::Floor() {
   if (block_energies_.empty()) return config_.min_floor * config_.min_floor;
-  scratch_.assign(block_energies_.begin(), block_energies_.end());
-  const size_t k = static_cast<size_t>(config_.floor_percentile * (scratch_.size() - 1));
-  std::nth_element(scratch_.begin(), scratch_.begin() + k, scratch_.end());
-  return std::max(scratch_[k], config_.min_floor * config_.min_floor);
+  const auto k = static_cast<int64_t>(config_.floor_percentile * (block_energies_.size() - 1));
+  int bin = 0;
+  for (int64_t seen = 0; bin < kFloorBins; ++bin)
+    if ((seen += floor_hist_[bin]) > k) break;
+  const double db = kFloorLowDb + static_cast<double>(bin) / kFloorBinsPerDb;
+  return std::max(std::pow(10.0, db / 10), config_.min_floor * config_.min_floor);
 }
 
 std::vector<AudioImpact> ImpactDetector::Push(double t0_s, const float* samples, size_t count) {
@@ -68,17 +82,11 @@ std::vector<AudioImpact> ImpactDetector::Push(double t0_s, const float* samples,
     const double expected = t_origin_s_ + static_cast<double>(next_sample_) / rate_;
     if (std::abs(t0_s - expected) > 2.0 / rate_) t_origin_s_ = t0_s - static_cast<double>(next_sample_) / rate_;
   }
-  const size_t keep = static_cast<size_t>(
-      (config_.max_click_s + config_.rise_window_s + 0.01) * rate_ + 4 * block_len_);
   for (size_t i = 0; i < count; ++i) {
     const double x = samples[i];
     const double y = b0_ * x + b1_ * x1_ + b2_ * x2_ - a1_ * y1_ - a2_ * y2_;
     x2_ = x1_, x1_ = x, y2_ = y1_, y1_ = y;
-    filtered_.push_back(static_cast<float>(y));
-    if (filtered_.size() > keep) {
-      filtered_.pop_front();
-      ++history_start_;
-    }
+    history_[next_sample_ & history_mask_] = static_cast<float>(y);
     ++next_sample_;
     block_energy_acc_ += y * y;
     if (++block_fill_ == block_len_) ProcessBlock(&out);
@@ -141,22 +149,27 @@ void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
     }
   }
   block_energies_.push_back(e);
+  ++floor_hist_[FloorBin(e)];
   const size_t window = static_cast<size_t>(config_.floor_window_s * rate_ / block_len_);
-  while (block_energies_.size() > window) block_energies_.pop_front();
+  while (block_energies_.size() > window) {
+    --floor_hist_[FloorBin(block_energies_.front())];
+    block_energies_.pop_front();
+  }
 }
 
 bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
   const double rise_db = Db(c.early_energy / c.before_energy);
   if (rise_db < config_.min_rise_db) return false;
   // The click's first peak: the largest |y| from a block before the trigger to 2 ms after.
+  const int64_t history_start = std::max<int64_t>(0, next_sample_ - static_cast<int64_t>(history_.size()));
   const int64_t trigger = c.block * block_len_;
-  const int64_t from = std::max(history_start_, trigger - block_len_);
+  const int64_t from = std::max(history_start, trigger - block_len_);
   const int64_t to = std::min<int64_t>(next_sample_ - 1,
                                        trigger + block_len_ + static_cast<int64_t>(0.002 * rate_));
   int64_t peak = from;
   double peak_abs = 0;
   for (int64_t s = from; s <= to; ++s) {
-    const double a = std::abs(filtered_[s - history_start_]);
+    const double a = std::abs(history_[s & history_mask_]);
     if (a > peak_abs) peak_abs = a, peak = s;
   }
   if (peak_abs <= 0) return false;
@@ -165,8 +178,8 @@ bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
   const double threshold = std::max(config_.onset_fraction * peak_abs, 4 * std::sqrt(c.floor_energy));
   const int64_t quiet_run = std::max<int64_t>(2, static_cast<int64_t>(0.0005 * rate_));
   int64_t onset = peak;
-  for (int64_t s = peak, below = 0; s >= history_start_ && below < quiet_run; --s) {
-    if (std::abs(filtered_[s - history_start_]) >= threshold) onset = s, below = 0;
+  for (int64_t s = peak, below = 0; s >= history_start && below < quiet_run; --s) {
+    if (std::abs(history_[s & history_mask_]) >= threshold) onset = s, below = 0;
     else ++below;
   }
   if (onset - last_onset_sample_ < config_.min_spacing_s * rate_) return false;

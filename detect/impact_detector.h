@@ -73,6 +73,7 @@ class ImpactDetector {
   void ProcessBlock(std::vector<AudioImpact>* out);
   bool Decide(const Candidate& c, std::vector<AudioImpact>* out);
   double Floor();
+  static int FloorBin(double energy);
 
   ImpactDetectorConfig config_;
   int rate_;
@@ -84,14 +85,20 @@ class ImpactDetector {
   double t_origin_s_ = 0;      // time of absolute sample 0
   bool started_ = false;
   int64_t next_sample_ = 0;    // absolute index of the next sample pushed
-  std::deque<float> filtered_; // recent filtered samples, front = absolute index history_start_
-  int64_t history_start_ = 0;
+  // Recent filtered samples, a ring: absolute sample s is at s & history_mask_, for the last
+  // history_.size() samples (no allocation per sample or per push).
+  std::vector<float> history_;
+  int64_t history_mask_ = 0;
 
   double block_energy_acc_ = 0;
   int block_fill_ = 0;
   int64_t block_index_ = 0;
   std::deque<double> block_energies_;  // recent blocks (floor window)
-  std::vector<double> scratch_;
+  // The floor window's block energies as a histogram of 0.1 dB bins from -120 to +20 dB
+  // full scale: its percentile costs a scan of the bins, not a selection of the blocks.
+  static constexpr double kFloorLowDb = -120, kFloorBinsPerDb = 10;
+  static constexpr int kFloorBins = 1400;
+  std::vector<int> floor_hist_ = std::vector<int>(kFloorBins, 0);
   double floor_rms_ = 0;
 
   bool in_click_ = false;
