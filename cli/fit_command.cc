@@ -311,7 +311,8 @@ void AddFitCommand(CLI::App& app) {
                   "bounces lower than this are not fitted, m")
       ->capture_default_str();
   cmd->add_option("--export", o->export_dir,
-                  "write the final fit to DIR/coefficients.json and DIR/soft_body_config.cc");
+                  "write the final fit to DIR/coefficients.json and DIR/fitted_ball/ (a CMake project: "
+                  "the fitted ball for Bullet, program fitted_ball H)");
   cmd->add_flag("--json", o->json, "print updates as JSON lines (fit_update_t fields)");
   cmd->add_flag("--final-only", o->final_only, "offline: only the quick and the final fit");
   AddBusFlags(cmd, &o->lcm_url, &o->node.channels);

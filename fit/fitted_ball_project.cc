@@ -119,7 +119,12 @@ std::filesystem::path WriteFittedBallProject(const std::filesystem::path& dir, c
   if (const std::string why = FittedBallProjectUnavailable(u.model); !why.empty())
     throw std::runtime_error(why);
   const SoftBallModel model(ball);
-  const auto mesh = model.Mesh(u.values);
+  // Every value, defaults included: the shipped world reads each one by name.
+  FitUpdate complete = u;
+  std::string error;
+  complete.values = model.Complete(u.values, &error);
+  if (!error.empty()) throw std::runtime_error("cannot export the fitted ball: " + error);
+  const auto mesh = model.Mesh(complete.values);
   const auto root = dir / "fitted_ball";
   for (const std::string& name : SoftBallWorldFileNames()) {
     const auto text = EmbeddedSoftBallWorldFile(name);
@@ -131,7 +136,7 @@ std::filesystem::path WriteFittedBallProject(const std::filesystem::path& dir, c
     if (!text) throw std::runtime_error(std::string("the fitted_ball file ") + name + " is not built in");
     WriteText(root / name, *text);
   }
-  WriteText(root / "fitted_ball_data.cc", DataSource(u, ball, *mesh));
+  WriteText(root / "fitted_ball_data.cc", DataSource(complete, ball, *mesh));
   WriteText(root / "README.md", Readme(u, ball));
   return root;
 }

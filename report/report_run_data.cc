@@ -284,15 +284,16 @@ ReportRunData LoadRunDirectory(const fs::path& dir) {
   if (auto p = optional("coefficients.json")) {
     run.coefficients_export = ParseJson(*p, ReadWholeFile(*p));
   }
-  // The C++ snippet of the fit exports (fit/fit_export.h names it soft_body_config.cc).
-  for (const char* name : {"soft_body_config.cc", "fit_export.cc"}) {
+  // The fit's export for Bullet users: the fitted_ball project's README (fit/fit_export.h),
+  // or the C++ snippet older runs wrote.
+  for (const char* name : {"fitted_ball/README.md", "soft_body_config.cc", "fit_export.cc"}) {
     if (fs::exists(dir / name)) {
       run.fit_export_cc = ReadWholeFile(dir / name);
       run.fit_export_cc_name = name;
       break;
     }
   }
-  if (run.fit_export_cc_name.empty()) run.absent_files.push_back("soft_body_config.cc");
+  if (run.fit_export_cc_name.empty()) run.absent_files.push_back("fitted_ball/README.md");
   return run;
 }
 

@@ -84,8 +84,9 @@ struct ReportRunData {
   std::vector<ReportSimSample> simulated;     // simulated.csv, empty when absent
   std::optional<nlohmann::json> summary;      // summary.json
   std::optional<nlohmann::json> coefficients_export;  // coefficients.json
-  std::string fit_export_cc;                  // the C++ snippet, "" when absent
-  std::string fit_export_cc_name;             // its file: soft_body_config.cc or fit_export.cc
+  std::string fit_export_cc;                  // the export's text for Bullet users, "" when absent
+  std::string fit_export_cc_name;             // its file: fitted_ball/README.md (older runs:
+                                              // soft_body_config.cc or fit_export.cc)
   std::vector<std::string> absent_files;      // optional files that were not there
 
   // The last fit marked final, else the last fit, else null.
