@@ -108,6 +108,28 @@ TEST(ColorPick, PreviewFindsTheBallAndItsThresholds) {
   EXPECT_LT(Sum(q.cb.all), Sum(p.cb.all) / 4);
 }
 
+// A camera's YUYV frame (the live camera's first frame) gives the same pick as its BGR.
+TEST(ColorPick, YuyvFrameAsACameraGivesIt) {
+  const SynthClipResult clip = Render("pick_yuyv", false);
+  const Frame bgr = FirstFrame(clip.clip_path);
+  Frame yuyv = bgr;
+  yuyv.image = testing::BgrToYuyv(bgr.image);
+  yuyv.format = PixelFormat::kYuyv;
+  const SynthTruthFrame& t0 = clip.truth.frames[0];
+  const PickPreview a = Preview(bgr, {t0.cx, t0.cy}), b = Preview(yuyv, {t0.cx, t0.cy});
+  EXPECT_NEAR(a.picked.color.nu(), b.picked.color.nu(), 0.03);
+  EXPECT_NEAR(a.picked.color.nv(), b.picked.color.nv(), 0.03);
+  ASSERT_GE(b.ball_blob, 0) << DescribePick(b);
+  EXPECT_NEAR(b.blobs[static_cast<size_t>(b.ball_blob)].centroid.x, t0.cx, 1.0);
+  EXPECT_NEAR(b.blobs[static_cast<size_t>(b.ball_blob)].centroid.y, t0.cy, 1.0);
+  const PickLayout l = LayoutPickView(FramePixelSize(yuyv), PickViewParams{});
+  const cv::Mat view = ComposePickView(yuyv, l, &b, {}, {});
+  ASSERT_EQ(view.size(), l.size);
+  // The frame part is the picture, not the raw YUYV bytes: close to the BGR frame's.
+  const cv::Vec3b v = view.at<cv::Vec3b>(300, 20), f = bgr.image.at<cv::Vec3b>(300, 20);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[c], f[c], 12) << "channel " << c;
+}
+
 // The view: the frame 1:1 (or shrunk to fit), the ball's box in bright green, clicks mapped
 // back to frame pixels.
 TEST(ColorPick, ViewDrawsTheFrameAndMapsClicksBack) {

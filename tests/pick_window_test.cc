@@ -223,7 +223,7 @@ TEST(PickWindow, ClickDragEnterThenTracksTheBall) {
   EXPECT_LE(rms, 0.3);
 }
 
-// `capture` takes the same window; a click and space confirm it.
+// `capture` takes the same window; a click, + twice (a wider colour tolerance) and space.
 TEST(PickWindow, CaptureTakesItToo) {
   REQUIRE_XVFB();
   const fs::path dir = testing::ScratchDir("pick_capture");
@@ -240,13 +240,14 @@ TEST(PickWindow, CaptureTakesItToo) {
   const PickLayout l = LayoutPickView({clip.truth.width, clip.truth.height}, PickViewParams{});
   std::string xo;
   ASSERT_EQ(Xdotool(x.name(), "mousemove --window " + id + " " + At(l, t0.cx, t0.cy) +
-                                  " click 1 sleep 0.2 key space",
+                                  " click 1 sleep 0.2 key plus sleep 0.1 key plus sleep 0.1 key space",
                     &xo),
             0)
       << xo;
   ASSERT_EQ(WaitFor(cap, std::chrono::seconds(60)), 0) << ReadFile(log);
   const std::string text = ReadFile(log);
   EXPECT_NE(text.find("capture: pick-window: ball at"), std::string::npos) << text;
+  EXPECT_NE(text.find("tolerance 0.70"), std::string::npos) << "+ twice: 0.45 x 1.25^2\n" << text;
   EXPECT_NE(text.find("60 frames, 0 dropped, 60 found"), std::string::npos) << text;
 }
 
