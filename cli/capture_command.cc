@@ -110,6 +110,24 @@ void Run(CaptureOptions& o) {
   Pacer pacer(o.speed);  // validates --speed
   if (o.pick_window) CheckPickWindowDisplay();  // at once, before the camera or any file is opened
 
+  auto open_camera = [&o] {
+    V4l2CameraConfig c;
+    c.device = o.device;
+    ParseSize(o.size, &c.width, &c.height);
+    c.fps = o.fps;
+    c.pixel_format = o.pixel_format;
+    c.buffers = o.buffers;
+    return std::make_unique<V4l2Camera>(c);
+  };
+  if (o.pick_window) {
+    const std::string picked = PickOnFirstFrame(
+        [&]() -> std::unique_ptr<FrameSource> {
+          if (o.replay.empty()) return open_camera();
+          return std::make_unique<VideoFileSource>(VideoFileSourceConfig{o.replay, false});
+        },
+        &o.tracker);
+    if (!o.quiet) std::printf("capture: %s\n", picked.c_str());
+  }
   std::unique_ptr<FrameSource> source;
   bool is_file = false;
   VideoFileSource* file = nullptr;
@@ -119,19 +137,9 @@ void Run(CaptureOptions& o) {
     source = std::move(f);
     is_file = true;
   } else {
-    V4l2CameraConfig c;
-    c.device = o.device;
-    ParseSize(o.size, &c.width, &c.height);
-    c.fps = o.fps;
-    c.pixel_format = o.pixel_format;
-    c.buffers = o.buffers;
-    source = std::make_unique<V4l2Camera>(c);
+    source = open_camera();
   }
   const SourceInfo info = source->Info();
-  if (o.pick_window) {
-    const std::string picked = PickOnFirstFrame(o.replay, is_file ? nullptr : source.get(), &o.tracker);
-    if (!o.quiet) std::printf("capture: %s\n", picked.c_str());
-  }
   Tracker tracker(o.tracker);
   LcmBus bus(o.lcm_url);
   std::unique_ptr<LcmLogRecorder> log;

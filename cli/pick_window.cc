@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -176,20 +177,26 @@ std::string PickInWindow(const Frame& frame, const std::string& title, TrackerCo
          Fixed(tolerance, 2) + ": " + DescribePick(*preview);
 }
 
-std::string PickOnFirstFrame(const std::string& clip, FrameSource* camera, TrackerConfig* config) {
+std::string PickOnFirstFrame(const std::function<std::unique_ptr<FrameSource>()>& open,
+                             TrackerConfig* config) {
   CheckPickWindowDisplay();
   std::optional<Frame> first;
-  if (camera) {
-    first = camera->Next();
-  } else {
-    VideoFileSource file(VideoFileSourceConfig{clip, false});
-    first = file.Next();
+  std::string what;
+  {
+    // Closed again before the window opens: a camera does not stream (and drop) meanwhile.
+    const std::unique_ptr<FrameSource> source = open();
+    const bool live = source->Info().frame_count < 0;
+    what = source->Info().description;
+    first = source->Next();
+    // A camera's first frames are often dark while its exposure settles: take one 0.5 s on.
+    if (live && first) {
+      const int64_t start = first->utime;
+      while (first && first->utime - start < 500000) first = source->Next();
+    }
     if (first) first->image = first->image.clone();
   }
   if (!first || first->image.empty())
-    throw std::runtime_error("--pick-window: " + (camera ? std::string("the camera") : clip) +
-                             " gave no first frame to pick on");
-  if (camera) first->image = first->image.clone();
+    throw std::runtime_error("--pick-window: " + what + " gave no frame to pick on");
   return PickInWindow(*first, "bouncefit: pick the ball", config);
 }
 

@@ -2,6 +2,8 @@
 // `--pick-window`: the paper's interactive picking in an OpenCV HighGUI window. What it shows
 // and computes is track/color_pick.h and track/pick_view.h; this is only the window and its
 // event loop.
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "capture/frame.h"
@@ -20,8 +22,10 @@ void CheckPickWindowDisplay();
 // Throws std::runtime_error ("cancelled") on Esc or when the window is closed.
 std::string PickInWindow(const Frame& frame, const std::string& title, TrackerConfig* config);
 
-// PickInWindow on the first frame: of `clip` (opened on its own, so the caller's source still
-// starts at frame 0) when `camera` is null, else the camera's next frame.
-std::string PickOnFirstFrame(const std::string& clip, FrameSource* camera, TrackerConfig* config);
+// PickInWindow on the first frame of the source `open` returns (a camera's frame 0.5 s after it
+// started, once its exposure settled). The source is closed again before the window opens, so
+// the caller opens its own afterwards: a clip starts at frame 0, a camera drops nothing.
+std::string PickOnFirstFrame(const std::function<std::unique_ptr<FrameSource>()>& open,
+                             TrackerConfig* config);
 
 }  // namespace bouncefit::cli

@@ -172,10 +172,10 @@ void Run(RunOptions o) {
   if (o.ball.empty()) o.ball = "pingpong";
   const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);
 
+  if (o.pick_window) console.Info(PickOnFirstFrame([&] { return OpenSource(o, clip); }, &o.tracker));
   std::unique_ptr<FrameSource> source = OpenSource(o, clip);
   const SourceInfo info = source->Info();
   const bool is_file = o.device.empty();
-  if (o.pick_window) console.Info(PickOnFirstFrame(clip, is_file ? nullptr : source.get(), &o.tracker));
   ValidateAgainstFrame(o.tracker, info);  // before any output exists
   Tracker tracker(o.tracker);
   LcmBus bus(o.lcm_url);
