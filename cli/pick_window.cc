@@ -89,6 +89,9 @@ std::string PickInWindow(const Frame& frame, const std::string& title, TrackerCo
   CheckPickWindowDisplay();
   PickState s;
   s.layout = LayoutPickView(FramePixelSize(frame), PickViewParams{});
+  // A --roi given with the flag is where the window starts.
+  if (config->roi_w > 0 && config->roi_h > 0)
+    s.roi = cv::Rect(config->roi_x, config->roi_y, config->roi_w, config->roi_h) & cv::Rect({}, s.layout.frame_size);
   std::unique_ptr<PickPreview> preview;
   std::string status = "click the ball";
   double tolerance = config->color.tolerance_rel;
@@ -169,10 +172,8 @@ std::string PickInWindow(const Frame& frame, const std::string& title, TrackerCo
     config->color_name = "picked in the window at " + at;
   }
   config->color.tolerance_rel = tolerance;
-  if (s.roi.area() > 0) {
-    config->roi_x = s.roi.x, config->roi_y = s.roi.y;
-    config->roi_w = s.roi.width, config->roi_h = s.roi.height;
-  }
+  config->roi_x = s.roi.x, config->roi_y = s.roi.y;  // all 0: the whole frame
+  config->roi_w = s.roi.width, config->roi_h = s.roi.height;
   return "pick-window: ball at " + at + " px, region " + RoiText(s.roi) + ", tolerance " +
          Fixed(tolerance, 2) + ": " + DescribePick(*preview);
 }
