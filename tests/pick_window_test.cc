@@ -43,21 +43,34 @@ pid_t Spawn(const std::string& command, const std::string& display, const fs::pa
     fs::create_directories(runtime);
     ::chmod(runtime.c_str(), 0700);
     ::setenv("XDG_RUNTIME_DIR", runtime.c_str(), 1);  // Qt warns without one
-    const std::string line = command + " > '" + log.string() + "' 2>&1";
+    const std::string line = "exec " + command + " > '" + log.string() + "' 2>&1";
     ::execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
   return pid;
 }
 
-// Exit status of `pid`, or -1 (and the process killed) after `timeout`.
-int WaitFor(pid_t pid, std::chrono::seconds timeout) {
+std::string ReadFile(const fs::path& p);
+
+// Exit status of `pid`, or -1 (and the process killed) after `timeout`. Before the kill, what
+// the process was doing goes next to `log`: its threads' stacks (when gdb is installed) and a
+// picture of the display.
+int WaitFor(pid_t pid, std::chrono::seconds timeout, const std::string& display, const fs::path& log) {
   const auto end = std::chrono::steady_clock::now() + timeout;
   int status = 0;
   while (std::chrono::steady_clock::now() < end) {
     if (::waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
+  std::string out;
+  const std::string stem = log.string();
+  RunCommand("command -v gdb >/dev/null && timeout 60 gdb -p " + std::to_string(pid) +
+                 " -batch -ex 'thread apply all bt' > '" + stem + ".stacks.txt' 2>&1",
+             &out);
+  RunCommand("timeout 20 ffmpeg -loglevel error -y -f x11grab -video_size 1280x1024 -i " + display +
+                 " -frames:v 1 '" + stem + ".screen.png'",
+             &out);
+  std::printf("timed out: %s\nstacks and screen in %s.*\n", ReadFile(log).c_str(), stem.c_str());
   ::kill(pid, SIGKILL);
   ::waitpid(pid, &status, 0);
   return -1;
@@ -102,19 +115,27 @@ class VirtualDisplay {
   std::string name_;
 };
 
-// xdotool on `display`, bounded in time.
-int Xdotool(const std::string& display, const std::string& args, std::string* out) {
-  return RunCommand("DISPLAY=" + display + " timeout 30 xdotool " + args, out);
+// xdotool on `display`, bounded in time; `args` go to the window `id`, given the keyboard focus
+// first (with no window manager nobody else gives it).
+int Xdotool(const std::string& display, const std::string& id, const std::string& args,
+            std::string* out) {
+  return RunCommand("DISPLAY=" + display + " timeout 30 xdotool windowfocus --sync " + id + " " + args, out);
 }
 
-// Waits for bouncefit's window and returns its X id ("" if it never came).
-std::string PickWindowId(const std::string& display) {
+bool WaitForViewSize(const std::string& display, const std::string& id, cv::Size size);
+
+// Waits for bouncefit's window, sized for the view of a `frame` sized frame, and returns its X id
+// ("" if it never came).
+std::string PickWindowId(const std::string& display, cv::Size frame) {
   std::string out;
-  if (Xdotool(display, "search --sync --onlyvisible --name 'pick the ball'", &out) != 0) return "";
+  if (RunCommand("DISPLAY=" + display + " timeout 30 xdotool search --sync --onlyvisible --name 'pick the ball'",
+                 &out) != 0)
+    return "";
   std::istringstream in(out);
   std::string id;
   in >> id;
-  return id;
+  const PickLayout l = LayoutPickView(frame, PickViewParams{});
+  return WaitForViewSize(display, id, l.size) ? id : "";
 }
 
 // What a window manager does when its close button is pressed: ask the client, politely.
@@ -130,6 +151,20 @@ void CloseLikeAWindowManager(const std::string& display, const std::string& id) 
   e.xclient.data.l[1] = CurrentTime;
   XSendEvent(d, e.xclient.window, False, NoEventMask, &e);
   XCloseDisplay(d);
+}
+
+// Waits until the window has the view's size: Qt maps it first and sizes it to the image
+// after, and clicks sent in between land elsewhere (seen once in six runs on a loaded machine).
+bool WaitForViewSize(const std::string& display, const std::string& id, cv::Size size) {
+  const std::string want = "Geometry: " + std::to_string(size.width) + "x" + std::to_string(size.height);
+  std::string out;
+  for (int i = 0; i < 200; ++i) {
+    RunCommand("DISPLAY=" + display + " timeout 10 xdotool getwindowgeometry " + id, &out);
+    if (out.find(want) != std::string::npos) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  std::printf("window %s never reached the view's size (%s); last: %s\n", id.c_str(), want.c_str(), out.c_str());
+  return false;
 }
 
 std::string At(const PickLayout& l, double x, double y) {
@@ -170,7 +205,7 @@ TEST(PickWindow, ClickDragEnterThenTracksTheBall) {
 
   const fs::path out = dir / "out", log = dir / "run.txt";
   const pid_t run = Spawn(RunWithWindow(clip.clip_path, out), x.name(), log);
-  const std::string id = PickWindowId(x.name());
+  const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
   ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
   // The region: the ball's column, 100 px either side of it, floor included; the lookalike on
   // the floor at 80% of the width stays outside.
@@ -178,7 +213,7 @@ TEST(PickWindow, ClickDragEnterThenTracksTheBall) {
   const PickLayout l = LayoutPickView({clip.truth.width, clip.truth.height}, PickViewParams{});
   std::string xo;
   const std::string w = " --window " + id + " ";
-  ASSERT_EQ(Xdotool(x.name(),
+  ASSERT_EQ(Xdotool(x.name(), id,
                     "mousemove" + w + At(l, t0.cx, t0.cy) + " click 1 sleep 0.2" +
                         " mousemove" + w + At(l, x0, y0) + " mousedown 1 sleep 0.1" +
                         " mousemove" + w + At(l, t0.cx, 200) + " sleep 0.1" +
@@ -186,7 +221,7 @@ TEST(PickWindow, ClickDragEnterThenTracksTheBall) {
                     &xo),
             0)
       << xo;
-  const int rc = WaitFor(run, std::chrono::seconds(90));
+  const int rc = WaitFor(run, std::chrono::seconds(90), x.name(), log);
   const std::string text = ReadFile(log);
   ASSERT_EQ(rc, 0) << text;
   EXPECT_NE(text.find("pick-window: ball at " + std::to_string(std::lround(t0.cx)) + "," +
@@ -235,16 +270,16 @@ TEST(PickWindow, CaptureTakesItToo) {
   const pid_t cap = Spawn(BouncefitExe() + " capture --replay " + clip.clip_path.string() +
                               " --speed 0 --max-frames 60 --lcm-url memq:// --pick-window",
                           x.name(), log);
-  const std::string id = PickWindowId(x.name());
+  const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
   ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
   const PickLayout l = LayoutPickView({clip.truth.width, clip.truth.height}, PickViewParams{});
   std::string xo;
-  ASSERT_EQ(Xdotool(x.name(), "mousemove --window " + id + " " + At(l, t0.cx, t0.cy) +
+  ASSERT_EQ(Xdotool(x.name(), id, "mousemove --window " + id + " " + At(l, t0.cx, t0.cy) +
                                   " click 1 sleep 0.2 key plus sleep 0.1 key plus sleep 0.1 key space",
                     &xo),
             0)
       << xo;
-  ASSERT_EQ(WaitFor(cap, std::chrono::seconds(60)), 0) << ReadFile(log);
+  ASSERT_EQ(WaitFor(cap, std::chrono::seconds(60), x.name(), log), 0) << ReadFile(log);
   const std::string text = ReadFile(log);
   EXPECT_NE(text.find("capture: pick-window: ball at"), std::string::npos) << text;
   EXPECT_NE(text.find("tolerance 0.70"), std::string::npos) << "+ twice: 0.45 x 1.25^2\n" << text;
@@ -260,13 +295,13 @@ TEST(PickWindow, EscCancelsAndWritesNothing) {
   ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
   const fs::path out = dir / "out", log = dir / "run.txt";
   const pid_t run = Spawn(RunWithWindow(clip.clip_path, out), x.name(), log);
-  const std::string id = PickWindowId(x.name());
+  const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
   ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
   std::string xo;
   // Enter before any click does not confirm; Esc then cancels.
-  ASSERT_EQ(Xdotool(x.name(), "mousemove --window " + id + " 20 20 key Return sleep 0.3 key Escape", &xo), 0)
+  ASSERT_EQ(Xdotool(x.name(), id, "mousemove --window " + id + " 20 20 key Return sleep 0.3 key Escape", &xo), 0)
       << xo;
-  EXPECT_EQ(WaitFor(run, std::chrono::seconds(30)), 1);
+  EXPECT_EQ(WaitFor(run, std::chrono::seconds(30), x.name(), log), 1);
   const std::string text = ReadFile(log);
   EXPECT_EQ(text, "bouncefit run: error: --pick-window: cancelled (Esc); nothing written\n");
   EXPECT_FALSE(fs::exists(out));
@@ -283,10 +318,10 @@ TEST(PickWindow, ClosingTheWindowCancels) {
   const pid_t cap = Spawn(BouncefitExe() + " capture --replay " + clip.clip_path.string() +
                               " --speed 0 --lcm-url memq:// --pick-window",
                           x.name(), log);
-  const std::string id = PickWindowId(x.name());
+  const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
   ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
   CloseLikeAWindowManager(x.name(), id);
-  EXPECT_EQ(WaitFor(cap, std::chrono::seconds(30)), 1);
+  EXPECT_EQ(WaitFor(cap, std::chrono::seconds(30), x.name(), log), 1);
   EXPECT_EQ(ReadFile(log), "bouncefit capture: error: --pick-window: cancelled (the window was closed); nothing written\n");
 }
 
