@@ -103,6 +103,14 @@ bool AlsaMicrophone::Next(AudioChunk* chunk) {
   chunk->samples.resize(static_cast<size_t>(n));
   for (snd_pcm_sframes_t i = 0; i < n; ++i) chunk->samples[i] = impl_->buffer[i] / 32768.0f;
   frames_read_ += n;
+  if (config_.pace) {  // the last sample read was heard at anchor + frames / rate
+    const double due = anchor_s_ + static_cast<double>(frames_read_) / rate_;
+    const double wait = due - MonotonicNow();
+    if (wait > 0) {
+      timespec ts{static_cast<time_t>(wait), static_cast<long>((wait - std::floor(wait)) * 1e9)};
+      nanosleep(&ts, nullptr);
+    }
+  }
   return true;
 }
 

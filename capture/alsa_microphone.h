@@ -21,6 +21,9 @@ struct AlsaMicrophoneConfig {
   // Optional ALSA configuration text defining `device` (e.g. a test's file plugin that
   // plays a recording as the microphone); empty: the system's configuration.
   std::string config_text;
+  // Deliver no faster than real time. A sound card paces itself; a scripted device (the
+  // file plugin over the null device) hands its whole recording over at once.
+  bool pace = false;
 };
 
 class AlsaMicrophone {

@@ -45,6 +45,7 @@ struct RunOptions {
   bool json = false;
   bool no_fit = false;
   bool no_audio = false;
+  std::string audio_device;  // ALSA microphone beside --device
   std::string lcm_url = kDefaultLcmUrl;
   Channels channels;
   std::string model = "bullet-softbody";
@@ -156,6 +157,8 @@ void WriteSimulatedTrajectory(const RunOutput& out, const FitNode& fit, const Fi
 }
 
 void Run(RunOptions o) {
+  if (!o.audio_device.empty() && o.device.empty())
+    throw std::invalid_argument("--audio-device needs --device (a clip's own sound track is used)");
   Pacer pacer(o.speed);  // validates --speed
   RunConsole console(o.json ? ConsoleMode::kJson : o.quiet ? ConsoleMode::kQuiet
                                                            : ConsoleMode::kHuman,
@@ -188,7 +191,11 @@ void Run(RunOptions o) {
   capture.set_log(&out.log());
   if (is_file && o.speed > 0) capture.set_pacer([&pacer](int64_t t) { return pacer.WaitFor(t); });
 
-  RunSound sound(is_file && !o.no_audio ? clip : "", ball);
+  std::unique_ptr<RunSound> sound_owner =
+      !o.audio_device.empty()
+          ? std::make_unique<RunSound>(AlsaMicrophoneConfig{.device = o.audio_device}, ball)
+          : std::make_unique<RunSound>(is_file && !o.no_audio ? clip : "", ball);
+  RunSound& sound = *sound_owner;
   auto publish_impact = [&](const impact_t& m) {
     bus.Publish(o.channels.impact, m);
     out.Log(o.channels.impact, m);
@@ -320,11 +327,14 @@ void Run(RunOptions o) {
     else
       console.Info("run: warning: " + read);
   }
+  if (stream_started)
+    for (const auto& m : sound.EndLive(out.stream_start())) publish_impact(m);
   std::vector<double> seen_impacts;
   for (const auto& d : detect.Summaries())
     for (const auto& i : d.impacts) seen_impacts.push_back(SecondsSince(i.utime, out.stream_start()));
   console.Info("sound: " + sound.Finish(seen_impacts, SecondsSince(now_utime, out.stream_start())).verdict);
   sound.WriteImpactsCsv(out.dir());
+  sound.WriteWaveformCsv(out.dir());
   sound.RewritePeaksCsv(out.dir(), peaks, out.stream_start());
   if (fit) {
     fit->Finish();
@@ -431,7 +441,13 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_flag("--quiet,-q", o->quiet, "print nothing but errors");
   cmd->add_flag("--json", o->json, "print one JSON object per event (calibration, peak, fit, summary)");
   cmd->add_flag("--no-fit", o->no_fit, "track and detect only");
-  cmd->add_flag("--no-audio", o->no_audio, "ignore the clip's sound track (impacts from the picture only)");
+  auto* no_audio =
+      cmd->add_flag("--no-audio", o->no_audio, "ignore the clip's sound track (impacts from the picture only)");
+  cmd->add_option("--audio-device", o->audio_device,
+                  "with --device: an ALSA microphone heard beside the camera, e.g. hw:1,0 or "
+                  "plughw:1,0 (`arecord -l` lists them); impacts heard are published as they happen")
+      ->excludes(no_audio)
+      ->excludes(clip);
   cmd->add_option("--model", o->model, "model fitted: " + BallModelNames())->capture_default_str();
   cmd->add_option("--method", o->method, "search: nlopt (default) or paper")
       ->check(CLI::IsMember({"nlopt", "paper"}))

@@ -1,5 +1,6 @@
 #include "cli/run_sound.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -45,32 +46,102 @@ RunSound::RunSound(const std::string& clip, const BallPreset& ball) : ball_(ball
   source_ = std::move(source);
 }
 
+RunSound::RunSound(const AlsaMicrophoneConfig& mic, const BallPreset& ball) : ball_(ball) {
+  mic_ = std::make_unique<MicrophoneReader>(mic);
+  description_ = mic_->Describe();
+  detector_ = std::make_unique<ImpactDetector>(ImpactDetectorConfig{}, mic_->sample_rate());
+}
+
+RunSound::~RunSound() = default;
+
+void RunSound::Listen(const AudioChunk& chunk, double shift_s, int64_t t0_utime,
+                      std::vector<impact_t>* out) {
+  const size_t before = heard_.size();
+  const double t0 = chunk.t0_s - shift_s;
+  if (std::isnan(first_sample_t_s_)) first_sample_t_s_ = t0;
+  Envelope(chunk, t0);
+  for (const auto& i : detector_->Push(t0, chunk.samples.data(), chunk.samples.size()))
+    heard_.push_back(i);
+  decoded_to_s_ = t0 + static_cast<double>(chunk.samples.size()) / chunk.sample_rate;
+  Publish(before, t0_utime, out);
+}
+
+void RunSound::Envelope(const AudioChunk& chunk, double t0_s) {
+  const size_t n = chunk.samples.size();
+  const double rate = chunk.sample_rate;
+  for (size_t i = 0; i < n;) {
+    const auto bin = static_cast<int64_t>(std::floor((t0_s + i / rate) / kWaveBinS));
+    const auto end = std::clamp<size_t>(
+        static_cast<size_t>(std::ceil(((bin + 1) * kWaveBinS - t0_s) * rate)), i + 1, n);
+    float peak = 0;
+    for (size_t k = i; k < end; ++k) peak = std::max(peak, std::abs(chunk.samples[k]));
+    if (wave_peak_.empty()) wave_first_bin_ = bin;
+    if (bin >= wave_first_bin_) {
+      const auto at = static_cast<size_t>(bin - wave_first_bin_);
+      if (at >= wave_peak_.size()) wave_peak_.resize(at + 1, 0.0f);
+      wave_peak_[at] = std::max(wave_peak_[at], peak);
+    }
+    i = end;
+  }
+}
+
+void RunSound::WriteWaveformCsv(const std::filesystem::path& dir) const {
+  if (wave_peak_.empty()) return;
+  std::ofstream f(dir / "waveform.csv", std::ios::trunc);
+  if (!f) throw std::runtime_error("cannot write '" + (dir / "waveform.csv").string() + "'");
+  f << "t_s,peak\n";
+  // In the video's clock, like every other time: the sound's offset from the picture removed.
+  const double shift = fused_.sound_used ? fused_.offset_s : 0;
+  for (size_t k = 0; k < wave_peak_.size(); ++k)
+    f << Cell((wave_first_bin_ + static_cast<int64_t>(k)) * kWaveBinS - shift, "%.4f") << ','
+      << Cell(wave_peak_[k], "%.4f") << '\n';
+}
+
+void RunSound::Publish(size_t from, int64_t t0_utime, std::vector<impact_t>* out) {
+  for (size_t k = from; k < heard_.size(); ++k) {
+    impact_t m;
+    m.utime = Utime(heard_[k].t_s, t0_utime);
+    m.index = next_index_++;
+    m.source = "audio";
+    m.strength = heard_[k].strength;
+    m.confidence = heard_[k].confidence;
+    out->push_back(m);
+  }
+}
+
 std::vector<impact_t> RunSound::AdvanceTo(double t_s, int64_t t0_utime) {
   std::vector<impact_t> out;
-  if (!enabled()) return out;
+  if (!enabled() || ended_) return out;
   const double cpu0 = CpuSeconds();
-  AudioChunk chunk;
-  while (!ended_ && decoded_to_s_ < t_s) {
-    if (!source_->Next(&chunk)) {
-      ended_ = true;
-      for (const auto& i : detector_->Finish()) heard_.push_back(i);
-      break;
-    }
-    const size_t before = heard_.size();
-    for (const auto& i : detector_->Push(chunk.t0_s, chunk.samples.data(), chunk.samples.size()))
-      heard_.push_back(i);
-    decoded_to_s_ = chunk.t0_s + static_cast<double>(chunk.samples.size()) / chunk.sample_rate;
-    for (size_t k = before; k < heard_.size(); ++k) {
-      impact_t m;
-      m.utime = Utime(heard_[k].t_s, t0_utime);
-      m.index = next_index_++;
-      m.source = "audio";
-      m.strength = heard_[k].strength;
-      m.confidence = heard_[k].confidence;
-      out.push_back(m);
+  if (mic_) {
+    // Live: whatever the microphone heard so far; its CLOCK_MONOTONIC is the frames' clock.
+    for (const AudioChunk& chunk : mic_->Take()) Listen(chunk, t0_utime * 1e-6, t0_utime, &out);
+  } else {
+    AudioChunk chunk;
+    while (decoded_to_s_ < t_s) {
+      if (!source_->Next(&chunk)) {
+        ended_ = true;
+        const size_t before = heard_.size();
+        for (const auto& i : detector_->Finish()) heard_.push_back(i);
+        Publish(before, t0_utime, &out);
+        break;
+      }
+      Listen(chunk, 0, t0_utime, &out);
     }
   }
   cpu_s_ += CpuSeconds() - cpu0;
+  return out;
+}
+
+std::vector<impact_t> RunSound::EndLive(int64_t t0_utime) {
+  std::vector<impact_t> out;
+  if (!mic_ || ended_) return out;
+  mic_->Stop();
+  out = AdvanceTo(0, t0_utime);
+  ended_ = true;
+  const size_t before = heard_.size();
+  for (const auto& i : detector_->Finish()) heard_.push_back(i);
+  Publish(before, t0_utime, &out);
   return out;
 }
 
@@ -85,7 +156,7 @@ impact_t RunSound::Seen(double t_s, int64_t t0_utime) {
 }
 
 const FusionResult& RunSound::Finish(const std::vector<double>& seen_t_s, double video_end_s) {
-  if (enabled()) AdvanceTo(1e300, 0);
+  if (enabled() && !mic_) AdvanceTo(1e300, 0);
   ImpactFusionConfig fc;
   const double area = std::numbers::pi * ball_.diameter_m * ball_.diameter_m / 4;
   fc.drag_per_m = 0.5 * 1.2 * ball_.drag_coefficient * area / ball_.mass_kg;
@@ -164,6 +235,8 @@ nlohmann::json RunSound::Summary() const {
   j["rejected_sounds"] = fused_.rejected_sounds;
   j["impacts"] = fused_.impacts.size();
   j["cpu_s"] = cpu_s_;
+  j["first_sample_t_s"] = std::isfinite(first_sample_t_s_) ? nlohmann::json(first_sample_t_s_) : nlohmann::json();
+  if (mic_) j["overruns"] = mic_->overruns();
   nlohmann::json heard = nlohmann::json::array();  // every click heard, impact or not
   for (const auto& a : heard_)
     heard.push_back({{"t_s", a.t_s}, {"strength", a.strength}, {"snr_db", a.snr_db},

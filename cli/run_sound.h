@@ -1,10 +1,11 @@
 #pragma once
-// The sound side of `bouncefit run`: decodes the clip's sound track paced with the video,
-// publishes each heard impact (IMPACT, impact_t) as the video reaches it, forwards seen
-// impacts, and at the end fuses both (detect/impact_fusion.h) into impacts.csv and the
-// flight-time heights of peaks.csv.
+// The sound side of `bouncefit run`: decodes the clip's sound track paced with the video (or
+// listens to a live microphone beside the camera), publishes each heard impact (IMPACT,
+// impact_t) as the video reaches it, forwards seen impacts, and at the end fuses both
+// (detect/impact_fusion.h) into impacts.csv and the flight-time heights of peaks.csv.
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -14,6 +15,7 @@
 
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/impact_t.hpp"
+#include "capture/microphone_reader.h"
 #include "detect/impact_detector.h"
 #include "detect/impact_fusion.h"
 #include "model/ball_preset.h"
@@ -26,13 +28,20 @@ class RunSound {
   // Opens the clip's sound (no clip, or a clip without sound: enabled() false).
   // Throws std::runtime_error only for an unreadable file.
   RunSound(const std::string& clip, const BallPreset& ball);
+  // A live microphone (frames stamped on CLOCK_MONOTONIC, as V4L2 cameras stamp them).
+  // Throws std::runtime_error with a one-line reason when it cannot be opened.
+  RunSound(const AlsaMicrophoneConfig& mic, const BallPreset& ball);
+  ~RunSound();
 
-  bool enabled() const { return source_ != nullptr; }
+  bool enabled() const { return source_ != nullptr || mic_ != nullptr; }
   std::string Describe() const { return description_; }
 
-  // Decodes and listens up to video time t_s (s since the first frame); returns the heard
-  // impacts that became certain, as messages (utime on the frames' clock, from t0_utime).
+  // Decodes and listens up to video time t_s (s since the first frame; a microphone: all it
+  // heard so far); returns the heard impacts that became certain, as messages (utime on the
+  // frames' clock, t0_utime the first frame's).
   std::vector<impact_t> AdvanceTo(double t_s, int64_t t0_utime);
+  // A microphone: stops listening; the impacts still pending.
+  std::vector<impact_t> EndLive(int64_t t0_utime);
   // A seen impact as a message.
   impact_t Seen(double t_s, int64_t t0_utime);
   // End: decodes the rest, fuses with the seen impacts (video clock, s).
@@ -40,13 +49,22 @@ class RunSound {
 
   // Writes impacts.csv; rewrites peaks.csv with the heard flight heights (docs/FORMATS.md).
   void WriteImpactsCsv(const std::filesystem::path& dir) const;
+  // Writes waveform.csv: the sound's peak |amplitude| per 5 ms (nothing without sound).
+  void WriteWaveformCsv(const std::filesystem::path& dir) const;
   void RewritePeaksCsv(const std::filesystem::path& dir, const std::vector<bounce_peak_t>& peaks,
                        int64_t t0_utime) const;
   nlohmann::json Summary() const;
   double cpu_s() const { return cpu_s_; }
 
  private:
+  void Listen(const AudioChunk& chunk, double shift_s, int64_t t0_utime, std::vector<impact_t>* out);
+  void Publish(size_t from, int64_t t0_utime, std::vector<impact_t>* out);
+  void Envelope(const AudioChunk& chunk, double t0_s);
+
+  static constexpr double kWaveBinS = 0.005;  // waveform.csv's window
+
   std::unique_ptr<AudioFileSource> source_;
+  std::unique_ptr<MicrophoneReader> mic_;
   std::unique_ptr<ImpactDetector> detector_;
   std::string description_;
   BallPreset ball_;
@@ -55,6 +73,9 @@ class RunSound {
   bool finished_ = false, ended_ = false;
   int next_index_ = 0;
   double decoded_to_s_ = -1e9;
+  double first_sample_t_s_ = NAN;  // video clock
+  std::vector<float> wave_peak_;    // per kWaveBinS window from wave_first_bin_
+  int64_t wave_first_bin_ = 0;
   double cpu_s_ = 0;  // decoding + detecting, CPU seconds of the calling thread
 };
 
