@@ -133,9 +133,20 @@ ReportFigure HeightFigure(const ReportRunData& run, FigureWriter& w) {
     ++apexes;
   }
   w.Data("apexes.dat", apex.str());
+  // With sound: a strip under the height plot, on the same time axis, with the waveform
+  // and the impacts (heard: red, seen only: green).
+  const bool strip = !run.waveform.empty() || !run.impacts.empty();
   std::ostringstream gp;
+  if (strip) {
+    double t0 = 1e300, t1 = -1e300;
+    for (const auto& r : run.track) t0 = std::min(t0, r.t_s), t1 = std::max(t1, r.t_s);
+    gp << "set multiplot\n"
+       << "set lmargin at screen 0.09\nset rmargin at screen 0.97\n"
+       << "set tmargin at screen 0.93\nset bmargin at screen 0.42\n";
+    if (t1 > t0) gp << "set xrange [" << Num(t0) << ":" << Num(t1) << "]\n";
+  }
   gp << "set title 'Tracked height over time with detected apexes'\n"
-     << "set xlabel 'time since first frame (s)'\n"
+     << (strip ? "set format x ''\n" : "set xlabel 'time since first frame (s)'\n")
      << (metres ? "set ylabel 'ball bottom above floor (m)'\n"
                 : "set ylabel 'ball bottom above lowest tracked point (px)'\n")
      << "set yrange [0:*]\n"
@@ -146,12 +157,44 @@ ReportFigure HeightFigure(const ReportRunData& run, FigureWriter& w) {
        << "  'apexes.dat' using 1:2:3 with labels offset 0,1.1 font ',9' notitle";
   }
   gp << "\n";
+  if (strip) {
+    double top = 0;
+    std::ostringstream wave, heard, seen;
+    wave << "# t_s peak\n";
+    for (const auto& s : run.waveform) {
+      wave << Num(s.t_s) << " " << Num(s.peak) << "\n";
+      top = std::max(top, s.peak);
+    }
+    if (!(top > 0)) top = 1;
+    for (const auto& i : run.impacts)
+      (i.source == "video" ? seen : heard) << Num(i.t_s) << " 0 0 " << Num(1.05 * top) << "\n";
+    w.Data("waveform.dat", wave.str());
+    w.Data("impacts_heard.dat", "# t_s 0 0 dy\n" + heard.str());
+    w.Data("impacts_seen.dat", "# t_s 0 0 dy\n" + seen.str());
+    gp << "set tmargin at screen 0.38\nset bmargin at screen 0.18\n"
+       << "unset title\nset format x '%g'\nset xlabel 'time since first frame (s)'\n"
+       << "set ylabel 'sound'\nset yrange [0:" << Num(1.1 * top) << "]\n"
+       << "set ytics " << Num(top / 2) << "\nset format y '%.2f'\n"
+       << "set key at screen 0.97, screen 0.0 right bottom horizontal nobox\n"
+       << "plot 'waveform.dat' using 1:2 with filledcurves y1=0 lc rgb '#999999' "
+          "title 'sound (peak per 5 ms)'";
+    if (!heard.str().empty())
+      gp << ", \\\n  'impacts_heard.dat' using 1:2:3:4 with vectors nohead lw 1.5 lc rgb '#d62728' "
+            "title 'impact heard'";
+    if (!seen.str().empty())
+      gp << ", \\\n  'impacts_seen.dat' using 1:2:3:4 with vectors nohead dt 2 lw 1.5 lc rgb '#2ca02c' "
+            "title 'impact seen only'";
+    gp << "\nunset multiplot\n";
+  }
   return w.Draw("height", "Tracked height and detected apexes",
-                metres ? "Ball bottom above the floor (m) from track.csv and calibration.json "
+                std::string(metres ? "Ball bottom above the floor (m) from track.csv and calibration.json "
                          "against time since the first frame (s); red: apexes of peaks.csv "
                          "(bounce index: height in m). The paper's Fig. 6."
                        : "No calibration: ball bottom in pixels above the lowest tracked point "
-                         "against time (s).",
+                         "against time (s).") +
+                    (strip ? " Below: the sound track's peak amplitude per 5 ms (waveform.csv) "
+                             "with the impacts of impacts.csv, heard (red) or seen only (green, dashed)."
+                           : ""),
                 gp.str());
 }
 

@@ -89,6 +89,10 @@ class CsvTable {
     }
     return v;
   }
+  std::string Text(size_t row, const std::string& column) const {
+    auto it = columns_.find(column);
+    return it == columns_.end() ? "" : rows_[row][it->second];
+  }
   double Required(size_t row, const std::string& column) const {
     const double v = Number(row, column);
     if (!std::isfinite(v)) {
@@ -175,6 +179,20 @@ std::vector<ReportSimSample> LoadSimulated(const fs::path& file) {
   for (size_t i = 0; i < csv.size(); ++i) {
     out.push_back({csv.Required(i, "t_s"), csv.Required(i, "height_m")});
   }
+  return out;
+}
+
+std::vector<ReportImpact> LoadImpacts(const fs::path& file) {
+  CsvTable csv(file, {"t_s", "source"});
+  std::vector<ReportImpact> out;
+  for (size_t i = 0; i < csv.size(); ++i) out.push_back({csv.Required(i, "t_s"), csv.Text(i, "source")});
+  return out;
+}
+
+std::vector<ReportWaveSample> LoadWaveform(const fs::path& file) {
+  CsvTable csv(file, {"t_s", "peak"});
+  std::vector<ReportWaveSample> out;
+  for (size_t i = 0; i < csv.size(); ++i) out.push_back({csv.Required(i, "t_s"), csv.Required(i, "peak")});
   return out;
 }
 
@@ -280,6 +298,9 @@ ReportRunData LoadRunDirectory(const fs::path& dir) {
   if (auto p = optional("calibration.json")) run.calibration = LoadCalibration(*p);
   if (auto p = optional("fit.jsonl")) run.fits = LoadFits(*p);
   if (auto p = optional("simulated.csv")) run.simulated = LoadSimulated(*p);
+  // The sound's files (runs before issue 15, or --no-audio, have none: nothing to say).
+  if (fs::exists(dir / "impacts.csv")) run.impacts = LoadImpacts(dir / "impacts.csv");
+  if (fs::exists(dir / "waveform.csv")) run.waveform = LoadWaveform(dir / "waveform.csv");
   if (auto p = optional("summary.json")) run.summary = ParseJson(*p, ReadWholeFile(*p));
   if (auto p = optional("coefficients.json")) {
     run.coefficients_export = ParseJson(*p, ReadWholeFile(*p));

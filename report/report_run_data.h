@@ -70,6 +70,18 @@ struct ReportFit {
   int iterations = 0;
 };
 
+// impacts.csv: an impact heard, seen or both (issue 15).
+struct ReportImpact {
+  double t_s = 0;
+  std::string source;  // "audio", "video" or "both"
+};
+
+// waveform.csv: the sound's peak |amplitude| (full scale 1) over a short window.
+struct ReportWaveSample {
+  double t_s = 0;
+  double peak = 0;
+};
+
 struct ReportSimSample {
   double t_s = 0;
   double height_m = 0;
@@ -82,6 +94,8 @@ struct ReportRunData {
   std::optional<ReportCalibration> calibration;
   std::vector<ReportFit> fits;                // in file order
   std::vector<ReportSimSample> simulated;     // simulated.csv, empty when absent
+  std::vector<ReportImpact> impacts;          // impacts.csv, empty when absent
+  std::vector<ReportWaveSample> waveform;     // waveform.csv, empty when absent (no sound)
   std::optional<nlohmann::json> summary;      // summary.json
   std::optional<nlohmann::json> coefficients_export;  // coefficients.json
   std::string fit_export_cc;                  // the export's text for Bullet users, "" when absent

@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -145,6 +146,45 @@ TEST(ReportOfARealRun, HeightCurveMeetsTheDetectedApexes) {
     ++compared;
   }
   EXPECT_GE(compared, 4);
+}
+
+// A run with sound 30 ms late: the height figure gets the waveform strip, in the video's
+// clock (each heard impact on its click, not 30 ms before it), with the impacts marked.
+TEST(ReportOfARealRun, SoundStripHasTheClicksUnderTheImpactsHeard) {
+  const auto dir = ScratchDir("report_sound");
+  std::string out;
+  const std::string clip = (dir / "clip.avi").string();
+  ASSERT_EQ(RunCommand(BouncefitExe() + " synth -q --sound --sound-offset 0.03 --fps 60 --duration 3 "
+                           "--size 320x240 --out '" + clip + "'", &out), 0) << out;
+  ASSERT_EQ(RunCommand(BouncefitExe() + " run '" + clip + "' --no-fit --speed 0 -q --lcm-url memq:// --out '" +
+                           (dir / "run").string() + "'", &out), 0) << out;
+  ASSERT_EQ(RunCommand(BouncefitExe() + " report -q '" + (dir / "run").string() + "'", &out), 0) << out;
+  const ReportRunData run = LoadRunDirectory(dir / "run");
+  ASSERT_GT(run.waveform.size(), 500u);  // 3 s at 5 ms
+  int heard = 0;
+  std::vector<double> peaks;
+  for (const auto& w : run.waveform) peaks.push_back(w.peak);
+  std::nth_element(peaks.begin(), peaks.begin() + peaks.size() / 2, peaks.end());
+  const double median = peaks[peaks.size() / 2];
+  for (const auto& i : run.impacts) {
+    if (i.source == "video") continue;
+    ++heard;
+    double loudest = 0;  // the waveform within 10 ms of the impact
+    for (const auto& w : run.waveform)
+      if (std::abs(w.t_s - i.t_s) <= 0.01) loudest = std::max(loudest, w.peak);
+    EXPECT_GT(loudest, 3 * median) << "no click under the impact at " << i.t_s << " s";
+  }
+  EXPECT_GE(heard, 3);
+  std::ifstream gp_file(dir / "run" / "report_plots" / "height.gp");
+  const std::string gp((std::istreambuf_iterator<char>(gp_file)), {});
+  EXPECT_NE(gp.find("set multiplot"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("impact heard"), std::string::npos) << gp;
+  const cv::Mat img = cv::imread((dir / "run" / "report_height.png").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(img.empty());
+  cv::Mat red;  // the impact lines (#d62728) and apex dots
+  cv::inRange(img, cv::Scalar(10, 10, 190), cv::Scalar(70, 70, 240), red);
+  EXPECT_GT(cv::countNonZero(red(cv::Rect(0, img.rows * 6 / 10, img.cols, img.rows * 2 / 10))), 50)
+      << "no impact line in the strip";
 }
 
 }  // namespace
