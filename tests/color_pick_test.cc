@@ -5,7 +5,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "tests/test_support.h"
@@ -197,6 +199,20 @@ TEST(ColorPick, RealFirstFrames) {
   EXPECT_TRUE(w.picked.grey) << DescribePick(w);
   EXPECT_EQ(w.picked.polarity, +1) << DescribePick(w);
   EXPECT_EQ(w.step, 2);  // a 1034x864 region is previewed at half resolution
+
+  // What a drag costs on a 1080p frame (the window redraws at most once per 20 ms wait).
+  const Frame hd = FirstFrame(dir / "green_ball_poster_30fps.avi");
+  ASSERT_EQ(hd.image.cols, 1920);
+  const PickLayout l = LayoutPickView(hd.image.size(), PickViewParams{});
+  const auto start = std::chrono::steady_clock::now();
+  const int n = 5;
+  for (int i = 0; i < n; ++i) {
+    const PickPreview p = Preview(hd, {960, 540});
+    ASSERT_EQ(ComposePickView(hd, l, &p, {}, {}).size(), l.size);
+  }
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / n;
+  std::printf("1920x1080 whole-frame preview and view: %.1f ms each (view %dx%d px, scale %.2f)\n", ms,
+              l.size.width, l.size.height, l.scale);
 }
 
 }  // namespace
