@@ -172,8 +172,9 @@ std::string At(const PickLayout& l, double x, double y) {
   return std::to_string(v.x) + " " + std::to_string(v.y);
 }
 
-SynthClipResult RenderClip(const fs::path& dir, double duration_s) {
+SynthClipResult RenderClip(const fs::path& dir, double duration_s, cv::Size size = {640, 480}) {
   SynthClipConfig c;
+  c.width = size.width, c.height = size.height;
   c.ball = *FindBallPreset("pingpong");
   c.noise_sigma = 3;
   c.hold_s = 0.2;
@@ -284,6 +285,39 @@ TEST(PickWindow, CaptureTakesItToo) {
   EXPECT_NE(text.find("capture: pick-window: ball at"), std::string::npos) << text;
   EXPECT_NE(text.find("tolerance 0.70"), std::string::npos) << "+ twice: 0.45 x 1.25^2\n" << text;
   EXPECT_NE(text.find("60 frames, 0 dropped, 60 found"), std::string::npos) << text;
+}
+
+// A 1920x1080 frame is shown at half size: a click on the ball's picture is the ball's pixel.
+TEST(PickWindow, LargeFrameShrinksAndClicksMapBack) {
+  REQUIRE_XVFB();
+  const fs::path dir = testing::ScratchDir("pick_hd");
+  const SynthClipResult clip = RenderClip(dir, 0.4, {1920, 1080});
+  const SynthTruthFrame& t0 = clip.truth.frames[0];
+  VirtualDisplay x;
+  ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
+  const fs::path log = dir / "capture.txt";
+  const pid_t cap = Spawn(BouncefitExe() + " capture --replay " + clip.clip_path.string() +
+                              " --speed 0 --max-frames 30 --lcm-url memq:// --pick-window",
+                          x.name(), log);
+  const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
+  ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
+  const PickLayout l = LayoutPickView({clip.truth.width, clip.truth.height}, PickViewParams{});
+  ASSERT_LT(l.scale, 0.6);
+  std::string xo;
+  ASSERT_EQ(Xdotool(x.name(), id, "mousemove --window " + id + " " + At(l, t0.cx, t0.cy) +
+                                      " click 1 sleep 0.2 key Return",
+                    &xo),
+            0)
+      << xo;
+  ASSERT_EQ(WaitFor(cap, std::chrono::seconds(60), x.name(), log), 0) << ReadFile(log);
+  const std::string text = ReadFile(log);
+  double px = 0, py = 0;
+  const size_t at = text.find("pick-window: ball at ");
+  ASSERT_NE(at, std::string::npos) << text;
+  ASSERT_EQ(std::sscanf(text.c_str() + at, "pick-window: ball at %lf,%lf", &px, &py), 2) << text;
+  EXPECT_NEAR(px, t0.cx, 1.5 / l.scale);
+  EXPECT_NEAR(py, t0.cy, 1.5 / l.scale);
+  EXPECT_NE(text.find("30 frames, 0 dropped, 30 found"), std::string::npos) << text;
 }
 
 // Esc cancels: a one-line error, a non-zero exit, no output directory.
