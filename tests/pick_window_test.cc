@@ -190,6 +190,11 @@ std::string RunWithWindow(const fs::path& clip, const fs::path& out) {
          " --speed 0 --no-fit --lcm-url memq:// --pick-window";
 }
 
+// `bouncefit capture` replaying `clip` with the window, as fast as it can; `more`: other flags.
+std::string CaptureWithWindow(const fs::path& clip, const std::string& more) {
+  return BouncefitExe() + " capture --replay " + clip.string() + " --speed 0 --lcm-url memq:// --pick-window " + more;
+}
+
 #define REQUIRE_XVFB()                                                                          \
   if (!Installed("Xvfb") || !Installed("xdotool"))                                             \
     GTEST_SKIP() << "Xvfb or xdotool absent: bash scripts/setup installs them (Debian xvfb, xdotool)";
@@ -268,9 +273,7 @@ TEST(PickWindow, CaptureTakesItToo) {
   VirtualDisplay x;
   ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
   const fs::path log = dir / "capture.txt";
-  const pid_t cap = Spawn(BouncefitExe() + " capture --replay " + clip.clip_path.string() +
-                              " --speed 0 --max-frames 60 --lcm-url memq:// --pick-window",
-                          x.name(), log);
+  const pid_t cap = Spawn(CaptureWithWindow(clip.clip_path, "--max-frames 60"), x.name(), log);
   const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
   ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
   const PickLayout l = LayoutPickView({clip.truth.width, clip.truth.height}, PickViewParams{});
@@ -296,9 +299,7 @@ TEST(PickWindow, LargeFrameShrinksAndClicksMapBack) {
   VirtualDisplay x;
   ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
   const fs::path log = dir / "capture.txt";
-  const pid_t cap = Spawn(BouncefitExe() + " capture --replay " + clip.clip_path.string() +
-                              " --speed 0 --max-frames 30 --lcm-url memq:// --pick-window",
-                          x.name(), log);
+  const pid_t cap = Spawn(CaptureWithWindow(clip.clip_path, "--max-frames 30"), x.name(), log);
   const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
   ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
   const PickLayout l = LayoutPickView({clip.truth.width, clip.truth.height}, PickViewParams{});
@@ -349,9 +350,7 @@ TEST(PickWindow, ClosingTheWindowCancels) {
   VirtualDisplay x;
   ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
   const fs::path log = dir / "capture.txt";
-  const pid_t cap = Spawn(BouncefitExe() + " capture --replay " + clip.clip_path.string() +
-                              " --speed 0 --lcm-url memq:// --pick-window",
-                          x.name(), log);
+  const pid_t cap = Spawn(CaptureWithWindow(clip.clip_path, ""), x.name(), log);
   const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
   ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
   CloseLikeAWindowManager(x.name(), id);
