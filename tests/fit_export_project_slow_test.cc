@@ -80,6 +80,13 @@ TEST(FitExportProject, BuildsAgainstBulletAndPrintsSimulatesHeights) {
       EXPECT_TRUE(files.count((*m)[1].str())) << f << " includes " << (*m)[1] << ", not in the project";
   }
 
+  // A user's own world with the ball from fitted_ball.h, built beside the program.
+  std::filesystem::copy_file(std::filesystem::path(BOUNCEFIT_SOURCE_DIR) / "tests" / "fitted_ball_user_world.cc",
+                             project / "user_world.cc");
+  std::ofstream(project / "CMakeLists.txt", std::ios::app)
+      << "add_executable(user_world user_world.cc)\n"
+         "target_link_libraries(user_world PRIVATE fitted_ball_lib)\n";
+
   std::string out;
   const std::string build = (dir / "build").string();
   ASSERT_EQ(testing::RunCommand("cmake -S '" + project.string() + "' -B '" + build + "'", &out), 0) << out;
@@ -107,6 +114,16 @@ TEST(FitExportProject, BuildsAgainstBulletAndPrintsSimulatesHeights) {
     std::printf("fitted_ball %.1f: %zu bounces, largest difference from simulate %.3g m\n", drop,
                 simulated.size(), worst);
   }
+
+  // In a user's world (AddFittedBall, their floor and loop) the ball bounces as fitted: the
+  // same code, but the user's float centre and world info, so to round-off, not to the bit.
+  ASSERT_EQ(testing::RunCommand(exe + " 1.0", &out), 0) << out;
+  const std::vector<double> program = Lines(out);
+  ASSERT_EQ(testing::RunCommand("'" + build + "/user_world' 1.0", &out), 0) << out;
+  const std::vector<double> user = Lines(out);
+  ASSERT_GE(user.size(), 5u) << out;
+  for (size_t i = 0; i < 5; ++i) EXPECT_NEAR(user[i], program[i], 1e-4) << "bounce " << i + 1;
+  std::printf("user_world 1.0: first bounce %.9f m, fitted_ball %.9f m\n", user[0], program[0]);
 
   // Bad input: one line on stderr, non-zero exit, no output on stdout.
   for (const char* bad : {"abc", "-1", "0", "1e9", "nan", "''", "1.0 2.0"}) {
