@@ -344,8 +344,8 @@ void Run(RunOptions o) {
     fit->Stop();
   }
 
-  // What a user takes away: the final coefficients as JSON and as a C++ snippet, and the
-  // simulated trajectory for the report.
+  // What a user takes away: the final coefficients as JSON and as the fitted_ball project,
+  // and the simulated trajectory for the report.
   if (final_fit && fit) {
     WriteFitExports(out.dir(), *final_fit, ball);
     WriteSimulatedTrajectory(out, *fit, *final_fit, release_utime);
