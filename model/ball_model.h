@@ -35,6 +35,10 @@ struct SimulationOptions {
   double drop_height_m = 1.0;   // ball bottom above the floor at release, metres
   double duration_s = 6.0;      // simulated time, at most
   double min_bounce_height_m = 0.01;  // stop once apexes fall below this
+  // Stop once bounce max_bounces is measured (its arc closed by the next impact), 0: no
+  // limit. A fit needs no more bounces than were recorded; heights 1..max_bounces are the
+  // same as a longer run's. Models that are cheap anyway may ignore it.
+  int max_bounces = 0;
   // The ball turned about the vertical at release, radians (a model with an orientation,
   // the soft ball's mesh, uses it; a point mass has none).
   double release_turn_rad = 0;

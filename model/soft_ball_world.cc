@@ -396,6 +396,7 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
   auto step_of = [&](long j, double rate) { return std::lround(double(j) / rate / dt); };
   // Impacts found so far in the camera samples (local minima), for the early stop.
   long last_impact = -1;
+  int impacts = 0;
   double rest_since = -1;
 
   for (long step = 0;; ++step) {
@@ -430,6 +431,8 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
           if (top < options.min_bounce_height_m) break;
         }
         last_impact = static_cast<long>(n - 2);
+        // Impact k + 1 closes bounce k's arc: the bounces asked for are all measured.
+        if (options.max_bounces > 0 && ++impacts > options.max_bounces) break;
       }
       const bool still = bottom < options.min_bounce_height_m && s.com_v.length() < 0.02;
       if (!still) rest_since = -1;
