@@ -204,6 +204,11 @@ void RunOffline(FitOptions o) {
     std::fprintf(stderr, "final fit  %d / %d simulations\n", session.simulations() - before,
                  budget);
   const FitUpdate final_fit = running.get();
+  std::fprintf(stderr,
+               "final fit: %d simulations in %.1f s wall (%d candidate answers checked from "
+               "the safe drop heights, %d rejected as unsafe)\n",
+               final_fit.evaluations, final_fit.wall_time_s, final_fit.safety_checks,
+               final_fit.rejected_unsafe);
   emit(final_fit);
   if (!o.export_dir.empty()) {
     for (const auto& path : WriteFitExports(o.export_dir, final_fit, ball))

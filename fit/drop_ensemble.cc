@@ -32,13 +32,14 @@ void ParallelFor(int n, int threads, const Job& job) {
 }  // namespace
 
 std::string UnsafeDrop(const BallModel& model, const CoefficientValues& values,
-                       const std::vector<double>& drops_m, int threads) {
+                       const std::vector<double>& drops_m, int threads, int max_bounces) {
   std::vector<SimulationResult> results(drops_m.size());
   ParallelFor(static_cast<int>(drops_m.size()), threads, [&](int i) {
     SimulationOptions o;
     o.drop_height_m = drops_m[i];
     o.min_bounce_height_m = 0.01;
     o.duration_s = 6 + 4 * drops_m[i];
+    o.max_bounces = max_bounces;
     results[i] = SimulateSafely(model, values, o);
   });
   for (size_t i = 0; i < drops_m.size(); ++i)

@@ -38,8 +38,10 @@ DropEnsemble SimulateDropEnsemble(const BallModel& model, const CoefficientValue
 
 // Safety (issue 14 item 5): "" when the ball, dropped from each of these heights, runs until
 // its bounces fall below 1 cm (or 6 s + 4 s/m) without diverging; else "diverges dropped from
-// H m (reason)" for the first that does. The drops run in parallel.
+// H m (reason)" for the first that does. The drops run in parallel. max_bounces > 0: a short
+// check, each drop ends after that many bounces (the hardest impacts come first).
 std::string UnsafeDrop(const BallModel& model, const CoefficientValues& values,
-                       const std::vector<double>& drops_m, int threads = 0);
+                       const std::vector<double>& drops_m, int threads = 0,
+                       int max_bounces = 0);
 
 }  // namespace bouncefit

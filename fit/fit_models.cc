@@ -11,6 +11,9 @@ void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
   if (!soft) return;
   config->time_step_s = soft->config().time_step_s;
   config->iterations = soft->config().position_iterations;
+  // Soft-ball sets can diverge (through the floor, exploding): candidate answers are
+  // checked from the safe drop heights inside the final fit's search.
+  config->safe_search = true;
   // Measured with bench/fit_bench.cc's screening: what moves the heights most, in order.
   if (config->live_priority.empty())
     config->live_priority = {"rebound_boost", "linear_stiffness", "contact_hardness", "drag",

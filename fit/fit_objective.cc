@@ -195,9 +195,35 @@ Evaluation FitObjective::Run(const std::vector<double>& x_in) {
   } else {
     e.failure = sim.failure.empty() ? "simulation failed" : sim.failure;
   }
+  if (e.ok && problem_.safety && BeatsBest(e.objective)) CheckSafety(x, &e);
   if (!e.ok) e.objective = penalty_;
   Record(x, e);
   return e;
+}
+
+bool FitObjective::BeatsBest(double objective) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return !have_best_ || objective < best_.objective;
+}
+
+void FitObjective::CheckSafety(const std::vector<double>& x, Evaluation* e) {
+  // Only candidates for the answer are checked; the best is only ever a checked point. The
+  // check's runs take budget slots like any simulation (progress never passes the budget).
+  const int n = std::max(0, problem_.safety_simulations);
+  if (reserved_.fetch_add(n) + n > options_.max_evaluations) {
+    reserved_ -= n;
+    e->ok = false;
+    e->failure = "no budget left to check its safety";
+    return;
+  }
+  const std::string unsafe = problem_.safety(ToValues(x));
+  evaluations_ += n;
+  if (options_.simulations) options_.simulations->fetch_add(n);
+  ++safety_checks_;
+  if (unsafe.empty()) return;
+  ++rejected_unsafe_;
+  e->ok = false;
+  e->failure = "unsafe: " + unsafe;
 }
 
 SimulationResult FitObjective::Simulate(const CoefficientValues& values, bool parallel) const {
@@ -210,6 +236,7 @@ SimulationResult FitObjective::Simulate(const CoefficientValues& values, bool pa
     o.drop_height_m = i == 0 ? problem_.simulation.drop_height_m : problem_.recorded_m[i - 1];
     // Long enough for the first apex (and the samples after it that measure it).
     o.duration_s = 1.5 * FreeFallApexTime(o.drop_height_m, {problem_.recorded_m[i]}, 1) + 0.2;
+    o.max_bounces = 1;
     runs[i] = SimulateSafely(*problem_.model, values, o);
   };
   if (parallel) {
@@ -297,13 +324,17 @@ SearchResult FitObjective::MakeResult(const std::string& method, double wall_tim
     r.values = ToValues(best_x_);
     r.simulated_m = best_.simulated_m;
     r.objective = best_.objective;
+    if (!best_.ok) r.failure = best_.failure.empty() ? "simulation failed" : best_.failure;
   } else {
+    r.failure = "no simulation ran";
     r.values = ToValues(std::vector<double>(problem_.free.size(), 0.0));
     r.objective = penalty_;
   }
   r.simulated_m.resize(problem_.recorded_m.size(), 0.0);
   r.rms_m = std::sqrt(r.objective / static_cast<double>(problem_.recorded_m.size()));
   r.evaluations = evaluations_.load();
+  r.safety_checks = safety_checks_.load();
+  r.rejected_unsafe = rejected_unsafe_.load();
   r.wall_time_s = wall_time_s;
   r.cancelled = options_.cancel && options_.cancel->cancelled();
   r.best_history = history_;

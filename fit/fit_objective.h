@@ -9,6 +9,8 @@
 // Evaluations are checked for cancellation between simulations, never inside one.
 #include <atomic>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -46,6 +48,12 @@ struct FitProblem {
   // parameters, so that a search visits a few cached meshes rather than a new mesh per
   // evaluation. Discrete coefficients are on a grid of 1 already.
   std::map<std::string, double> grid;
+  // Safety (issue 14 item 5): a point that would become the best is first checked with this
+  // (e.g. short drops from 0.3 and 2 m); a non-empty answer (why it is unsafe) rejects it as
+  // a failed evaluation, so the search goes on elsewhere and never answers with it. Each
+  // check costs safety_simulations runs, counted against the budget.
+  std::function<std::string(const CoefficientValues&)> safety;
+  int safety_simulations = 0;
 };
 
 struct SearchOptions {
@@ -69,8 +77,11 @@ struct SearchResult {
   CoefficientValues values;           // best point: free and fixed coefficients
   std::vector<double> simulated_m;
   double objective = 0;
+  std::string failure;                // "" or why the best point is a failed run (none ran)
   double rms_m = 0;
-  int evaluations = 0;                // simulations run
+  int evaluations = 0;                // simulations run (safety checks included)
+  int safety_checks = 0;              // candidate best points checked for safety
+  int rejected_unsafe = 0;            // of them, rejected as unsafe
   double wall_time_s = 0;
   bool cancelled = false;
   // Best-so-far objective after each simulation, in the order they finished.
@@ -106,6 +117,8 @@ class FitObjective {
   bool stopped() const;  // cancelled, budget used, or target reached
   bool cancelled() const;
   int evaluations() const { return evaluations_.load(); }
+  int safety_checks() const { return safety_checks_.load(); }
+  int rejected_unsafe() const { return rejected_unsafe_.load(); }
   double penalty() const { return penalty_; }
 
   std::vector<double> best_x() const;
@@ -120,6 +133,9 @@ class FitObjective {
   // The simulated heights at these values: one drop, or one segment per bounce.
   SimulationResult Simulate(const CoefficientValues& values, bool parallel) const;
   bool Lookup(const std::vector<double>& x, Evaluation* out) const;
+  bool BeatsBest(double objective) const;
+  // problem_.safety on a candidate best point; an unsafe one becomes a failed evaluation.
+  void CheckSafety(const std::vector<double>& x, Evaluation* e);
   void Record(const std::vector<double>& x, const Evaluation& e);
 
   FitProblem problem_;
@@ -128,6 +144,8 @@ class FitObjective {
   double penalty_ = 1;
   std::atomic<int> evaluations_{0};
   std::atomic<int> reserved_{0};  // budget slots taken by simulations started
+  std::atomic<int> safety_checks_{0};
+  std::atomic<int> rejected_unsafe_{0};
   mutable std::mutex mutex_;
   std::vector<std::pair<std::vector<double>, Evaluation>> cache_;
   std::vector<double> best_x_;

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <future>
 #include <set>
+#include <thread>
 #include <stdexcept>
 
 #include "fit/drop_ensemble.h"
@@ -19,6 +21,10 @@ namespace {
 
 double Seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void AddWarning(FitUpdate* u, const std::string& warning) {
+  u->warning += (u->warning.empty() ? "" : "; ") + warning;
 }
 
 bool Contains(const std::vector<std::string>& v, const std::string& s) {
@@ -155,6 +161,8 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
       live ? config_.live_duration_margin * t_k + 0.08 : config_.duration_margin * t_k + 0.2;
   const double lowest = *std::min_element(p.recorded_m.begin(), p.recorded_m.end());
   p.simulation.min_bounce_height_m = 0.5 * std::min(config_.min_bounce_height_m, lowest);
+  // No simulation runs past the last recorded bounce (a third of a drop's steps or more).
+  p.simulation.max_bounces = k;
   return p;
 }
 
@@ -285,19 +293,38 @@ std::vector<CoefficientSpec> FitSession::FirstSpecs(const std::vector<std::strin
   return out;
 }
 
+FitProblem FitSession::WithSafety(FitProblem p) const {
+  if (!config_.safe_search || config_.safe_drops_m.empty()) return p;
+  const BallModel* model = p.model;
+  // Whole drops, until the ball settles: the stored airball goes through the floor near
+  // rest, 2 s after a 0.3 m drop, and a set that survives a 2 m drop's first two bounces
+  // may still go through later. The fitted drop is checked to rest as well (the search's own
+  // runs stop at the last recorded bounce). One thread: the starts keep the cores busy.
+  std::vector<double> heights = config_.safe_drops_m;
+  heights.push_back(p.simulation.drop_height_m);
+  p.safety = [model, heights](const CoefficientValues& v) {
+    return UnsafeDrop(*model, v, heights, 1);
+  };
+  p.safety_simulations = static_cast<int>(heights.size());
+  return p;
+}
+
 SearchResult FitSession::FinalSearch(int lead_n, int budget, const SearchOptions& options) const {
   const std::vector<CoefficientSpec> lead = FirstSpecs(initial_live_order_, lead_n);
   SearchOptions lo = options;
   lo.max_evaluations = budget / 10;
   LiveStepOptions ls;
   ls.rounds = 4;
-  const SearchResult lr = LiveStep(MakeProblem(lead, final_start_), final_start_, lo, ls);
+  const SearchResult lr =
+      LiveStep(WithSafety(MakeProblem(lead, final_start_)), final_start_, lo, ls);
   const CoefficientValues start = lr.evaluations > 0 ? lr.values : final_start_;
   SearchOptions o = options;
   o.max_evaluations = std::max(1, budget - lr.evaluations);
-  const FitProblem p = MakeProblem(FreeSpecs(), start);
+  const FitProblem p = WithSafety(MakeProblem(FreeSpecs(), start));
   SearchResult r = config_.method == "paper" ? PaperSearch(p, start, o) : NloptSearch(p, start, o);
   r.evaluations += lr.evaluations;
+  r.safety_checks += lr.safety_checks;
+  r.rejected_unsafe += lr.rejected_unsafe;
   return r;
 }
 
@@ -322,16 +349,44 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   o.simulations = &simulations_;
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
-  SearchResult r;
-  int evaluations = 0;
+  // The starts' leads: 2, 3, 4... coefficients, never more than the bounces.
+  std::vector<int> leads;
   for (int start_index = 0; start_index < starts; ++start_index) {
     const int lead_n = std::max(1, std::min(2 + start_index, k));
-    SearchResult one = FinalSearch(lead_n, budget, o);
-    evaluations += one.evaluations;
-    if (start_index == 0 || (one.evaluations > 0 && one.objective < r.objective)) r = std::move(one);
-    if (lead_n >= k || (cancel && cancel->cancelled())) break;  // no other lead, or cut short
+    leads.push_back(lead_n);
+    if (lead_n >= k) break;  // no other lead
+  }
+  // The starts are independent: on several cores they run at once, each on one thread (a
+  // serial BOBYQA uses one core; three starts on two cores finish in 1.5 starts' time, not
+  // 3). Each start is deterministic on its own, so the answer does not depend on the cores.
+  std::vector<SearchResult> results(leads.size());
+  const int threads = config_.threads > 0 ? config_.threads
+                                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (threads > 1 && leads.size() > 1) {
+    SearchOptions one = o;
+    one.threads = std::max(1, threads / static_cast<int>(leads.size()));
+    std::vector<std::future<SearchResult>> running;
+    for (int lead_n : leads)
+      running.push_back(std::async(std::launch::async, [&, lead_n] { return FinalSearch(lead_n, budget, one); }));
+    for (size_t i = 0; i < running.size(); ++i) results[i] = running[i].get();
+  } else {
+    for (size_t i = 0; i < leads.size(); ++i) {
+      results[i] = FinalSearch(leads[i], budget, o);
+      if (cancel && cancel->cancelled()) break;  // cut short
+    }
+  }
+  SearchResult r;
+  int evaluations = 0, checks = 0, rejected = 0;
+  for (size_t i = 0; i < results.size(); ++i) {
+    evaluations += results[i].evaluations;
+    checks += results[i].safety_checks;
+    rejected += results[i].rejected_unsafe;
+    if (i == 0 || (results[i].evaluations > 0 && results[i].objective < r.objective))
+      r = std::move(results[i]);
   }
   r.evaluations = evaluations;
+  r.safety_checks = checks;
+  r.rejected_unsafe = rejected;
   r.wall_time_s = Seconds(t0);
   r.cancelled = r.cancelled || (cancel && cancel->cancelled());
   const FitProblem p = MakeProblem(FreeSpecs(), r.values);
@@ -363,6 +418,10 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
     for (const auto& [e, name] : effect) live_order_.push_back(name);
   }
   FitUpdate u = Finish(p, r, true, jac, extra, Seconds(t0), model_);
+  u.safety_checks = r.safety_checks;
+  u.rejected_unsafe = r.rejected_unsafe;
+  if (!r.failure.empty() && !r.cancelled)  // every point the search tried failed or was unsafe
+    u.warning = "no usable coefficient set found: " + r.failure;
   if (!(cancel && cancel->cancelled())) CheckFreeRun(p, &u);
   u.wall_time_s = Seconds(t0);
   return u;
@@ -379,7 +438,7 @@ void FitSession::CheckFreeRun(const FitProblem& p, FitUpdate* u) {
   simulations_ += e.simulations;
   u->evaluations += e.simulations;
   if (!e.ok) {  // simulated_m stays the search's own run at the answer (what simulate gives)
-    u->warning = "a perturbed free-running drop diverges: " + e.failure;
+    AddWarning(u, "a perturbed free-running drop diverges: " + e.failure);
     return;
   }
   if (!config_.safe_drops_m.empty()) {
@@ -387,7 +446,7 @@ void FitSession::CheckFreeRun(const FitProblem& p, FitUpdate* u) {
     const int n = static_cast<int>(config_.safe_drops_m.size());
     simulations_ += n;
     u->evaluations += n;
-    if (!unsafe.empty()) u->warning = "the fitted ball " + unsafe;
+    if (!unsafe.empty()) AddWarning(u, "the fitted ball " + unsafe);
   }
   auto first_k = [&](const std::vector<double>& v) {
     std::vector<double> out(p.recorded_m.size(), 0.0);

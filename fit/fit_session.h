@@ -59,6 +59,8 @@ struct FitUpdate {
   std::vector<double> free_run_sd_m;
   double free_run_residual_m = std::nan("");
   int evaluations = 0;        // simulations run
+  int safety_checks = 0;      // final fit: candidate answers dropped from the safe heights
+  int rejected_unsafe = 0;    // of them, rejected because they diverged
   double wall_time_s = 0;
   double time_step_s = 0;     // simulation step the coefficients hold for (0: n/a)
   int iterations = 0;         // solver iterations they hold for (0: n/a)
@@ -75,9 +77,14 @@ struct FitSessionConfig {
   // (docs/ACCURACY.md, issue 14).
   std::string objective = "drop";
   int ensemble_members = 8;         // the final fit's free-running check (0: none)
-  // The final answer is dropped from these heights too; one that diverges gets a warning
-  // (issue 14 item 5: the user may drop it anywhere in 0.3-2 m).
+  // Safety (issue 14 item 5: the user may drop it anywhere in 0.3-2 m): inside the final
+  // fit's search, a point that would become the best is first dropped from these heights
+  // and from the fitted one, each until it settles, and rejected if one diverges (empty: no
+  // check). The answer is dropped from them again after the fit (a warning if it diverges).
   std::vector<double> safe_drops_m = {0.3, 2.0};
+  // The check inside the search: for models that can diverge (ConfigureSessionForModel turns
+  // it on for the soft ball); a smooth model would only spend budget on it.
+  bool safe_search = false;
   int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
   // Final fit budget, everything included: 900 for the searches (chaotic heights:
   // docs/MODEL.md), the Jacobian (2 x 16 + 2) and the free-running checks (8 + 1 + 2).
@@ -152,6 +159,8 @@ class FitSession {
   // One start of the final fit: Gauss-Newton rounds on the lead_n most influential
   // coefficients from final_start_, then the thorough search, within `budget` simulations.
   SearchResult FinalSearch(int lead_n, int budget, const SearchOptions& options) const;
+  // The final fit's problems reject candidate answers that diverge from config_.safe_drops_m.
+  FitProblem WithSafety(FitProblem p) const;
   // The final fit's free-running check: simulated_m and residual_m from one drop as
   // `simulate` runs it, free_run_* from the ensemble.
   void CheckFreeRun(const FitProblem& problem, FitUpdate* update);

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <thread>
 
+#include "fit/drop_ensemble.h"
 #include "fit/fit_models.h"
 #include "fit/fit_session.h"
 #include "fit/fit_worker.h"
@@ -53,6 +54,36 @@ TEST_P(FinalFit, RmsWithinOnePercentOfTheDropOverAllBouncesAboveOneCentimetre) {
     for (const auto& n : u.no_effect) found = found || n == name;
     EXPECT_TRUE(found) << name << " not reported as having no effect";
   }
+}
+
+// Issue 14 item 5: the stored airball table goes through the floor dropped from 0.3 m. A
+// final fit started from it rejects it (and every other candidate that diverges) inside the
+// search; the answer runs to rest from 0.3 m and from 2 m.
+TEST(FinalFitSafety, UnsafeCandidatesAreRejectedInsideTheSearch) {
+  const BallPreset ball = ResolveBallPreset("airball");
+  const double drop = 1.0;
+  const auto truth = testing::PointMassTruth(ball, drop);
+  auto model = MakeBallModel("bullet-softbody", ball);
+  FitSessionConfig cfg;
+  ConfigureSessionForModel(*model, ball, &cfg);
+  ASSERT_NE(UnsafeDrop(*model, cfg.start, {0.3}, 2), "") << "the start is no longer unsafe";
+  cfg.final_starts = 1;
+  cfg.max_evaluations_final = 120;
+  cfg.ensemble_members = 2;
+  FitSession session(*model, nullptr, cfg);
+  session.AddPeak({0, 0, drop, 0.001, 0});
+  for (size_t i = 1; i < truth.apex_heights_m.size(); ++i)
+    session.AddPeak({0, static_cast<int>(i), truth.apex_heights_m[i], 0.001, 0});
+  const FitUpdate u = session.FinalUpdate();
+  std::printf("airball from its unsafe table: %d candidates checked, %d rejected, RMS %.2f mm, "
+              "%d simulations, %.1f s\n",
+              u.safety_checks, u.rejected_unsafe, u.residual_m * 1000, u.evaluations,
+              u.wall_time_s);
+  EXPECT_GE(u.rejected_unsafe, 1);
+  EXPECT_GT(u.safety_checks, u.rejected_unsafe);
+  EXPECT_LE(u.evaluations, cfg.max_evaluations_final);
+  EXPECT_EQ(UnsafeDrop(*model, u.values, {0.3, 2.0, drop}, 2), "");
+  EXPECT_EQ(u.warning.find("the fitted ball diverges"), std::string::npos) << u.warning;
 }
 
 INSTANTIATE_TEST_SUITE_P(Presets, FinalFit,
