@@ -126,6 +126,9 @@ std::filesystem::path WriteFittedBallProject(const std::filesystem::path& dir, c
   if (!error.empty()) throw std::runtime_error("cannot export the fitted ball: " + error);
   const auto mesh = model.Mesh(complete.values);
   const auto root = dir / "fitted_ball";
+  // model/ is ours and globbed by the project: a file an older export shipped must not stay.
+  std::error_code ignored;
+  std::filesystem::remove_all(root / "model", ignored);
   for (const std::string& name : SoftBallWorldFileNames()) {
     const auto text = EmbeddedSoftBallWorldFile(name);
     if (!text) throw std::runtime_error("the soft ball's world file " + name + " is not built in");

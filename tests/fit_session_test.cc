@@ -412,6 +412,12 @@ TEST(FitExport, JsonAndAFittedBallProjectWithEveryValue) {
   EXPECT_NE(data.str().find("{\"angular_stiffness\", 1}"), std::string::npos);
   for (const char* f : {"CMakeLists.txt", "main.cc", "fitted_ball.h", "model/soft_ball_world.cc"})
     EXPECT_TRUE(std::filesystem::exists(dir / "fitted_ball" / f)) << f;
+  // Exported again over an older export: a model file it no longer ships is gone (the
+  // project globs model/*.cc).
+  std::ofstream(dir / "fitted_ball" / "model" / "stale.cc") << "#error stale\n";
+  WriteFitExports(dir, u, ball);
+  EXPECT_FALSE(std::filesystem::exists(dir / "fitted_ball" / "model" / "stale.cc"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "fitted_ball" / "model" / "soft_ball_world.cc"));
 }
 
 TEST(FitCli, OfflineHeightsPrintUpdatesAndWriteExports) {
