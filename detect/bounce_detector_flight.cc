@@ -1,0 +1,253 @@
+// Following a drop in flight: predicting and refitting each arc, and confirming impacts.
+#include "detect/bounce_detector.h"
+#include "detect/detector_stats.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace bouncefit {
+
+using detector_stats::LineDrift;
+using detector_stats::Median;
+
+bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
+                             double* v_down) const {
+  if (calibrated_ && arc.fit_ok) {
+    const FlightGlobals& g = calibration_.flight.globals;
+    double x, y;
+    FlightPosition(g, arc.fit, arc.held, t, &x, &y);
+    *u = AlongDown(x, y, g.roll_rad);
+    *w = AlongFloor(x, y, g.roll_rad);
+    const double tau = t - arc.fit.t_apex;
+    *v_down = arc.held && tau < 0 ? 0.0 : FlightVelocityDown(g.gravity_px, g.drag_per_px, tau);
+    return true;
+  }
+  // No model yet (the first fall): a local quadratic through the last moving samples,
+  // or, early in a fall from a hold, u = u_hold + A/2 (t - t_release)^2 fitted as a line
+  // in sqrt(u - u_hold) (a quadratic through the first few noisy samples extrapolates badly).
+  std::vector<const Sample*> moving;
+  std::vector<double> hold_u;
+  const double thr = 0.5 * std::max(config_.release_px, Gate());
+  const double u0 = Down(arc.samples.front());
+  for (const auto& s : arc.samples) {
+    if (!arc.held || Down(s) - u0 > thr)
+      moving.push_back(&s);
+    else
+      hold_u.push_back(Down(s));
+  }
+  if (moving.size() < 3) return false;
+  if (arc.held && moving.size() < 10 && hold_u.size() >= 3) {
+    const double uh = Median(hold_u);
+    double st = 0, sq = 0, stt = 0, stq = 0, sw = 0, n = 0;
+    for (const Sample* m : moving) {
+      const double q = std::sqrt(std::max(0.0, Down(*m) - uh));
+      st += m->t;
+      sq += q;
+      stt += m->t * m->t;
+      stq += m->t * q;
+      sw += Floor(*m);
+      n += 1;
+    }
+    const double den = n * stt - st * st;
+    if (den <= 0) return false;
+    const double slope = (n * stq - st * sq) / den;
+    const double icpt = (sq - slope * st) / n;
+    if (!(slope > 0)) return false;
+    const double tr = -icpt / slope;
+    const double dt = std::max(0.0, t - tr);
+    *u = uh + slope * slope * dt * dt;
+    *w = sw / n;
+    *v_down = 2 * slope * slope * dt;
+    return true;
+  }
+  if (moving.size() > 12) moving.erase(moving.begin(), moving.end() - 12);
+  const auto m = static_cast<Eigen::Index>(moving.size());
+  Eigen::MatrixXd a(m, 3);
+  Eigen::MatrixXd b(m, 2);
+  const double tm = moving.back()->t;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const double dt = moving[static_cast<size_t>(i)]->t - tm;
+    a(i, 0) = 1;
+    a(i, 1) = dt;
+    a(i, 2) = dt * dt;
+    b(i, 0) = Down(*moving[static_cast<size_t>(i)]);
+    b(i, 1) = Floor(*moving[static_cast<size_t>(i)]);
+  }
+  const Eigen::MatrixXd c = a.colPivHouseholderQr().solve(b);
+  const double dt = t - tm;
+  *u = c(0, 0) + c(1, 0) * dt + c(2, 0) * dt * dt;
+  *w = c(0, 1) + c(1, 1) * dt + c(2, 1) * dt * dt;
+  *v_down = c(1, 0) + 2 * c(2, 0) * dt;
+  return true;
+}
+
+void BounceDetector::RefitArc(Arc& arc) {
+  if (!calibrated_) return;
+  const FlightGlobals& g = calibration_.flight.globals;
+  auto fit = [&](size_t first, FlightArcParams* out, double* u_sigma) {
+    FlightArcData d;
+    d.held_before_apex = arc.held;
+    for (size_t i = first; i < arc.samples.size(); ++i)
+      d.samples.push_back({arc.samples[i].t, arc.samples[i].x, arc.samples[i].y});
+    std::vector<FlightArcParams> init;
+    if (arc.fit_ok) init.push_back(arc.fit);
+    const FlightFit f = calibrator_.FitArcs({d}, g, init);
+    if (!f.ok) return false;
+    *out = f.arcs[0];
+    if (u_sigma) *u_sigma = f.u_apex_sigma[0];
+    return true;
+  };
+  // The first sample after an impact may straddle it (the exposure sees the ball fall and
+  // rise): while the arc is young, drop it if the others put it off the arc.
+  if (!arc.release && arc.samples.size() >= 3 && arc.samples.size() <= 8) {
+    FlightArcParams rest;
+    if (fit(1, &rest, nullptr)) {
+      double x, y;
+      FlightPosition(g, rest, false, arc.samples.front().t, &x, &y);
+      const double off = std::hypot(x - arc.samples.front().x, y - arc.samples.front().y);
+      if (off > Gate()) arc.samples.erase(arc.samples.begin());
+    }
+  }
+  arc.fit_ok = fit(0, &arc.fit, &arc.u_sigma);
+}
+
+void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
+  Arc& cur = arcs_.back();
+  double up, wp, vp;
+  if (!Predict(cur, s.t, &up, &wp, &vp)) {
+    // The first frames of the first fall: nothing to predict with yet; take what moves on
+    // down the same vertical line (a stray detection elsewhere is dropped).
+    const Sample& last = cur.samples.back();
+    const double g = Gate();
+    if (std::abs(Floor(s) - Floor(last)) <= 2 * g && Down(s) >= Down(last) - g &&
+        Down(s) - Down(last) <= 20 * g)
+      cur.samples.push_back(s);
+    return;
+  }
+  const double u = Down(s), w = Floor(s);
+  const double gap_frames = std::max(1.0, (s.t - cur.samples.back().t) / frame_dt_);
+  double gate = Gate() + 0.02 * std::abs(vp) * frame_dt_ * gap_frames;
+  if (cur.samples.size() < 4 || !calibrated_) gate += 2 * Gate();
+  const double ru = u - up, rw = w - wp;
+  if (std::abs(ru) <= gate && std::abs(rw) <= 2 * gate) {
+    cur.samples.push_back(s);
+    pending_up_.clear();
+    pending_off_.clear();
+    misses_ = 0;
+    RefitArc(cur);
+    if (!bounce0_emitted_ && arcs_.size() == 2 && arcs_[0].held &&
+        static_cast<int>(arcs_[1].samples.size()) >= config_.bounce0_rising_samples) {
+      Recalibrate(s.utime, ev);  // the rising branch pins drag against gravity
+      EmitPeak(0, s.utime, ev);
+    }
+    TryEmitApex(s.t, s.utime, true, ev);
+    return;
+  }
+  const bool falling = vp > 0;
+  ++misses_;
+  if (ru < -gate && falling && std::abs(rw) <= 2 * gate) {
+    pending_up_.push_back(s);
+    while (static_cast<int>(pending_up_.size()) >= config_.impact_confirm_samples) {
+      // A rebound rises: the newest sample must be above the first one off the arc; if it
+      // is not, the first one was a stray detection.
+      if (pending_up_.size() == 1 || Down(pending_up_.back()) < Down(pending_up_.front())) {
+        if (NearTheFloor(cur)) {
+          ConfirmImpact(s, ev);
+        } else {
+          // High above the floor: the arc's young fit turned down too early (few samples
+          // at a low frame rate); these samples belong to it.
+          for (const auto& q : pending_up_) cur.samples.push_back(q);
+          pending_up_.clear();
+          pending_off_.clear();
+          misses_ = 0;
+          RefitArc(cur);
+        }
+        return;
+      }
+      pending_up_.erase(pending_up_.begin());
+    }
+  } else {
+    pending_off_.push_back(s);
+  }
+  if (misses_ >= 6) {
+    // Six frames in a row off the arc: it has ended (at rest, caught, rolling away).
+    const bool near_floor = calibrated_ && calibration_.calibration.has_floor &&
+                            std::abs(u - calibration_.calibration.floor_centre_px()) <=
+                                3 * Gate();
+    std::vector<Sample> recent = pending_off_;
+    recent.insert(recent.end(), pending_up_.begin(), pending_up_.end());
+    std::sort(recent.begin(), recent.end(),
+              [](const Sample& x, const Sample& y) { return x.t < y.t; });
+    EndSequence(near_floor ? "rest" : "broken", ev);
+    if (!near_floor)
+      for (const auto& o : recent) OnWaiting(o, ev);
+  }
+}
+
+bool BounceDetector::NearTheFloor(const Arc& cur) const {
+  if (!calibrated_ || !calibration_.calibration.has_floor || !cur.fit_ok) return true;
+  const double floor = calibration_.calibration.floor_centre_px();
+  const double apex = floor - cur.fit.u_apex;
+  if (!(apex > MinApexPx())) return true;
+  // Around an impact the samples either side lie within one frame's travel of the floor,
+  // so the lower of the two is in the lower part of the arc; near the apex both are high.
+  const double low = floor - std::max(Down(cur.samples.back()), Down(pending_up_.front()));
+  return low < 0.6 * apex;
+}
+
+void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev) {
+  // The last sample of the falling arc may straddle the impact too: drop it if the samples
+  // before it put it off the arc (it would bend the fall, and the scale with it).
+  {
+    Arc& prev = arcs_.back();
+    if (prev.samples.size() >= 6) {
+      Arc probe = prev;
+      const Sample last = probe.samples.back();
+      probe.samples.pop_back();
+      if (calibrated_) RefitArc(probe);
+      double up, wp, vp;
+      if (Predict(probe, last.t, &up, &wp, &vp) &&
+          std::abs(Down(last) - up) > Gate() + 0.02 * std::abs(vp) * frame_dt_)
+        prev.samples.pop_back();
+    }
+  }
+  Arc next;
+  next.samples = pending_up_;
+  pending_up_.clear();
+  pending_off_.clear();
+  misses_ = 0;
+  arcs_.push_back(next);
+  Recalibrate(s.utime, ev);
+  const size_t idx = arcs_.size() - 1;
+  if (calibrated_ && idx - 1 < calibration_.impacts.size() &&
+      calibration_.impacts[idx - 1].ok && calibration_.calibration.valid()) {
+    const FlightImpact& imp = calibration_.impacts[idx - 1];
+    BounceImpact bi;
+    bi.sequence = sequence_;
+    bi.index = static_cast<int>(idx) + first_bounce_;
+    bi.utime = ToUtime(imp.t);
+    bi.speed_in_mps = imp.speed_in / calibration_.calibration.px_per_m;
+    bi.speed_out_mps = imp.speed_out / calibration_.calibration.px_per_m;
+    bi.restitution = imp.speed_in > 0 ? imp.speed_out / imp.speed_in : 0;
+    impacts_.push_back(bi);
+    DetectorEvent e;
+    e.kind = DetectorEvent::Kind::kImpact;
+    e.impact = bi;
+    ev.push_back(e);
+  }
+  // An arc whose apex went unreported (seen too briefly, or hidden, or the arc that began
+  // the sequence in flight): report it late.
+  if ((idx >= 2 || arcs_[0].entered) && !arcs_[idx - 1].apex_emitted && calibrated_ &&
+      arcs_[idx - 1].fit_ok) {
+    const double h = calibration_.calibration.floor_centre_px() - arcs_[idx - 1].fit.u_apex;
+    if (h >= MinApexPx()) EmitPeak(idx - 1, s.utime, ev);
+  }
+  if (!bounce0_emitted_ && idx == 1 && arcs_[0].held &&
+      static_cast<int>(arcs_[1].samples.size()) >= config_.bounce0_rising_samples)
+    EmitPeak(0, s.utime, ev);
+}
+
+}  // namespace bouncefit

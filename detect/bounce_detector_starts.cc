@@ -1,0 +1,222 @@
+// How a drop starts: a release from a seen hold, a fall whose release was missed, or an
+// arc entered mid-flight (thrown, already bouncing).
+#include "detect/bounce_detector.h"
+#include "detect/detector_stats.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace bouncefit {
+
+using detector_stats::LineDrift;
+using detector_stats::Median;
+
+bool BounceDetector::ReleasedFromHold(const Sample& s, std::vector<DetectorEvent>& ev) {
+  const size_t n = hold_.size();
+  if (n < 5) return false;
+  const Sample& a = hold_[n - 2];
+  const Sample& b = hold_[n - 1];
+  std::vector<double> wt, wu, ww;
+  for (size_t i = 0; i + 2 < n; ++i) {
+    if (hold_[i].t < b.t - 0.5) continue;
+    wt.push_back(hold_[i].t);
+    wu.push_back(Down(hold_[i]));
+    ww.push_back(Floor(hold_[i]));
+  }
+  if (wu.size() < 3) return false;
+  const double ref_u = Median(wu), ref_w = Median(ww);
+  const double thr = std::max(config_.release_px, Gate());
+  auto still = [&](const Sample& q) {
+    return std::abs(Down(q) - ref_u) <= thr && std::abs(Floor(q) - ref_w) <= thr;
+  };
+  // Held still: nearly every sample near the median (a stray detection is tolerated).
+  size_t near = 0;
+  double ss = 0;
+  for (size_t i = 0; i < wu.size(); ++i) {
+    if (std::abs(wu[i] - ref_u) > thr || std::abs(ww[i] - ref_w) > thr) continue;
+    ++near;
+    ss += (wu[i] - ref_u) * (wu[i] - ref_u);
+  }
+  if (static_cast<double>(near) < 0.9 * static_cast<double>(wu.size())) return false;
+  // ... and not drifting: the first frames of a fall whose release was not seen are close
+  // together too, but move the same way every frame. Taken for a hold they would make a
+  // release arc held at the wrong place, and their spread the noise (gates a few times
+  // too wide: a slow rebound then passes for more of the fall).
+  if (std::abs(LineDrift(wt, wu)) > config_.max_hold_drift * thr) return false;
+  if (!sigma_measured_)
+    sigma_ = std::max(config_.noise_floor_px, std::sqrt(ss / static_cast<double>(near)));
+  if (std::abs(Floor(a) - ref_w) > thr || std::abs(Floor(b) - ref_w) > thr) return false;
+  const double da = Down(a) - ref_u, db = Down(b) - ref_u;
+  if (!(db > thr && da > 0.5 * thr && db > da)) return false;
+
+  // Released: the release arc is the end of the hold plus the samples moving down.
+  Arc arc;
+  arc.held = true;
+  for (size_t i = 0; i + 2 < n; ++i)
+    if (hold_[i].t >= a.t - config_.hold_window_s && still(hold_[i]))
+      arc.samples.push_back(hold_[i]);
+  arc.samples.push_back(a);
+  arc.samples.push_back(b);
+  StartSequence(std::move(arc), s, ev);
+  return true;
+}
+
+bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<DetectorEvent>& ev) {
+  const auto m = static_cast<size_t>(config_.fall_start_samples);
+  if (hold_.size() < m) return false;
+  const std::vector<Sample> fall(hold_.end() - static_cast<long>(m), hold_.end());
+  const double thr = std::max(config_.release_px, Gate());
+  // Frame after frame, each a little further down the same vertical line than the last...
+  for (size_t i = 1; i < m; ++i) {
+    if (fall[i].t - fall[i - 1].t > 3 * frame_dt_) return false;
+    if (std::abs(Floor(fall[i]) - Floor(fall[0])) > thr) return false;
+    if (!(Down(fall[i]) > Down(fall[i - 1]))) return false;
+  }
+  // ... by more than a hold's jitter, faster and faster, smoothly (a parabola, not a hand).
+  if (Down(fall.back()) - Down(fall.front()) < 2 * thr) return false;
+  const auto rows = static_cast<Eigen::Index>(m);
+  Eigen::MatrixXd a(rows, 3);
+  Eigen::VectorXd b(rows);
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    const double dt = fall[static_cast<size_t>(i)].t - fall.back().t;
+    a(i, 0) = 1;
+    a(i, 1) = dt;
+    a(i, 2) = dt * dt;
+    b(i) = Down(fall[static_cast<size_t>(i)]);
+  }
+  const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
+  if (!(c(2) > 0)) return false;
+  const double rms = std::sqrt((a * c - b).squaredNorm() / static_cast<double>(m));
+  if (rms > Gate()) return false;
+  // Far from its vertex already: it came from out of view, not from a hand (see below;
+  // twice the margin: five samples place the vertex roughly).
+  const double t_vertex = fall.back().t - c(1) / (2 * c(2));
+  if (fall.front().t - t_vertex > 2 * UnseenReleaseMaxS()) return false;
+
+  // Released out of sight: a release arc from rest whose vertex is fitted, not seen.
+  Arc arc;
+  arc.held = false;
+  arc.samples = fall;
+  StartSequence(std::move(arc), s, ev);
+  return true;
+}
+
+bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEvent>& ev) {
+  auto m = static_cast<size_t>(config_.arc_start_samples);
+  if (hold_.size() < m) return false;
+  // At high frame rates a few samples show no bend: take at least 0.12 s.
+  while (m < hold_.size() && hold_.back().t - hold_[hold_.size() - m - 1].t <= 0.12) ++m;
+  std::vector<Sample> run(hold_.end() - static_cast<long>(m), hold_.end());
+  for (size_t i = 1; i < m; ++i)
+    if (run[i].t - run[i - 1].t > 3 * frame_dt_) return false;
+  const double thr = std::max(config_.release_px, Gate());
+  // A hand's hold before a throw is not on the arc: leading samples that barely move go.
+  auto step = [](const Sample& p, const Sample& q) { return std::hypot(q.x - p.x, q.y - p.y); };
+  while (run.size() > 4 && step(run[0], run[1]) < 0.3 * thr && step(run[1], run[2]) < 0.3 * thr)
+    run.erase(run.begin());
+  if (run.size() < static_cast<size_t>(config_.arc_start_samples)) return false;
+  m = run.size();
+  // Still at first, moving down at last: a release from a hold, which ReleasedFromHold
+  // takes once the move is clear.
+  if (std::hypot(run[1].x - run[0].x, run[1].y - run[0].y) < thr &&
+      Down(run[m - 1]) > Down(run[m - 2]))
+    return false;
+  double path = 0;
+  for (size_t i = 1; i < m; ++i)
+    path += std::hypot(run[i].x - run[i - 1].x, run[i].y - run[i - 1].y);
+  if (path < 3 * thr) return false;
+  // One parabola in both image axes, bending down (the roll is not known yet: gravity may
+  // lean a little sideways, a hand's path bends any way).
+  const auto rows = static_cast<Eigen::Index>(m);
+  Eigen::MatrixXd a(rows, 3);
+  Eigen::MatrixXd b(rows, 2);
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    const Sample& q = run[static_cast<size_t>(i)];
+    const double dt = q.t - run.back().t;
+    a(i, 0) = 1;
+    a(i, 1) = dt;
+    a(i, 2) = dt * dt;
+    b(i, 0) = Down(q);
+    b(i, 1) = Floor(q);
+  }
+  const Eigen::MatrixXd c = a.colPivHouseholderQr().solve(b);
+  const double span = run.back().t - run.front().t;
+  // The bend must show: the parabola's sag over the run beyond the gate.
+  if (!(c(2, 0) * span * span / 4 > Gate())) return false;
+  if (std::abs(c(2, 1)) > 0.35 * c(2, 0)) return false;
+  // A hand moves the ball along gentle curves too. With the ball's size known, free flight
+  // bends at g in the size's px/m (on the container's clock): within 4x (a ball given with
+  // the wrong preset), not 50x less.
+  if (calibrator_.config().ball_diameter_m > 0 && !radii_.empty()) {
+    const double size_px_per_m = 2 * Median(radii_) / calibrator_.config().ball_diameter_m;
+    const double g_px = calibrator_.config().g_mps2 * size_px_per_m;  // px/s^2, real time
+    // Our seconds are real ones, or (clock undecided) maybe `slowdown` times too long.
+    auto bends_at = [&](double slowdown) {
+      const double expected = g_px / (slowdown * slowdown);
+      return 2 * c(2, 0) > expected / 4 && 2 * c(2, 0) < expected * 4;
+    };
+    if (!bends_at(1) && !(!clock_decided_ && bends_at(config_.capture_slowdown_hint)))
+      return false;
+  }
+  const Eigen::MatrixXd r = a * c - b;
+  const double rms_u = std::sqrt(r.col(0).squaredNorm() / static_cast<double>(m));
+  const double rms_w = std::sqrt(r.col(1).squaredNorm() / static_cast<double>(m));
+  if (rms_u > Gate() || rms_w > Gate()) return false;
+
+  Arc arc;
+  arc.samples = run;
+  // A fall that starts at its vertex is a release out of sight (bounce 0 is its vertex).
+  const double t_vertex = run.back().t - c(1, 0) / (2 * c(2, 0));
+  if (t_vertex >= run.front().t - UnseenReleaseMaxS() &&
+      t_vertex <= run.front().t + 0.5 * frame_dt_) {
+    StartSequence(std::move(arc), s, ev);
+    return true;
+  }
+  arc.entered = true;
+  // Its apex is bounce 0 when the ball came from the hand (seen before, not falling into
+  // the arc), bounce 1 when it came from an impact or from out of view.
+  int first_bounce = 1;
+  const size_t before = hold_.size() - m;
+  if (before >= 1 && run.front().t - hold_[before - 1].t <= 3 * frame_dt_) {
+    const bool falling_in = before >= 2 && Down(hold_[before - 1]) > Down(hold_[before - 2]) + thr;
+    first_bounce = falling_in ? 1 : 0;
+  }
+  StartSequence(std::move(arc), s, ev);
+  first_bounce_ = first_bounce;
+  return true;
+}
+
+bool BounceDetector::EnteredApexSeen() const {
+  if (arcs_.empty() || !arcs_[0].entered || !arcs_[0].fit_ok) return false;
+  const Arc& a = arcs_[0];
+  return a.fit.t_apex >= a.samples.front().t && a.fit.t_apex <= a.samples.back().t;
+}
+
+void BounceDetector::StartSequence(Arc release, const Sample& s, std::vector<DetectorEvent>& ev) {
+  release.release = !release.entered;
+  first_bounce_ = 0;
+  hold_.clear();
+  arcs_.clear();
+  arcs_.push_back(std::move(release));
+  pending_up_.clear();
+  pending_off_.clear();
+  peaks_.clear();
+  impacts_.clear();
+  bounce0_emitted_ = false;
+  ++sequence_;
+  phase_ = Phase::kFlight;
+  if (calibrated_) {
+    RefitArc(arcs_[0]);
+    // Scale and floor known from an earlier drop: the release height is known now.
+    if (arcs_[0].release && calibration_.calibration.valid() &&
+        calibration_.calibration.has_floor) {
+      EmitPeak(0, s.utime, ev);
+      bounce0_emitted_ = true;
+    }
+  }
+}
+
+}  // namespace bouncefit
