@@ -6,6 +6,7 @@
 #include <ctime>
 #include <fstream>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 
 #include "detect/heard_peaks.h"
@@ -190,13 +191,24 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
   std::ofstream f(tmp, std::ios::trunc);
   if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
   f << "bounce,t_s,height_m,height_px,flight_height_m,emitted_t_s,heard,fused_height_m\n";
+  // Impacts heard before the picture's first seen one (the tracker locked on late) begin
+  // the drop: the seen bounces move up by their count, and the picture's "release" (its
+  // bounce 0) is the apex of the arc that ends at its first seen impact.
+  int heard_before = 0;
+  for (const auto& i : fused_.impacts) {
+    if (!std::isnan(i.video_t_s)) break;
+    ++heard_before;
+  }
   // One heard arc holds one apex: a second seen apex on it is the picture splitting the arc,
   // dropped, and the bounces after it move down by one.
   std::vector<double> apex_t;
-  for (const auto& m : peaks) apex_t.push_back(m.bounce > 0 ? SecondsSince(m.apex_utime, t0) : NAN);
+  for (const auto& m : peaks)
+    apex_t.push_back(m.bounce > 0 || heard_before > 0 ? SecondsSince(m.apex_utime, t0) : NAN);
   const std::vector<ApexOnArc> on_arc = PlaceApexesOnHeardArcs(apex_t, fused_);
+  std::vector<std::pair<double, std::string>> rows;  // apex time, line
+  std::vector<bool> arc_seen(fused_.flights.size(), false);
   int last_bounce = -1, dropped = 0;
-  double last_t = -1e300;
+  double first_t = 1e300, last_t = -1e300;
   for (size_t p = 0; p < peaks.size(); ++p) {
     const bounce_peak_t& m = peaks[p];
     if (on_arc[p].duplicate) {
@@ -205,20 +217,32 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
     }
     const double t_s = SecondsSince(m.apex_utime, t0);
     const HeardFlight* fl = on_arc[p].flight >= 0 ? &fused_.flights[on_arc[p].flight] : nullptr;
+    if (fl) arc_seen[on_arc[p].flight] = true;
     const double flight_h = fl ? fl->height_m : m.flight_height_m;
-    const int bounce = m.bounce - dropped;
-    f << bounce << ',' << Cell(t_s, "%.6f") << ',' << Cell(m.height_m, "%.5f") << ','
-      << Cell(m.height_px, "%.3f") << ',' << Cell(flight_h, "%.5f") << ','
-      << Cell(SecondsSince(m.emitted_utime, t0), "%.6f") << ',' << (fl ? "both" : "") << ','
-      << Cell(fl ? fl->height_m : m.height_m, "%.5f") << '\n';
+    const int bounce = m.bounce - dropped + heard_before;
+    std::ostringstream line;
+    line << bounce << ',' << Cell(t_s, "%.6f") << ',' << Cell(m.height_m, "%.5f") << ','
+         << Cell(m.height_px, "%.3f") << ',' << Cell(flight_h, "%.5f") << ','
+         << Cell(SecondsSince(m.emitted_utime, t0), "%.6f") << ',' << (fl ? "both" : "") << ','
+         << Cell(fl ? fl->height_m : m.height_m, "%.5f");
+    rows.emplace_back(t_s, line.str());
     last_bounce = std::max(last_bounce, bounce);
+    first_t = std::min(first_t, t_s);
     last_t = std::max(last_t, t_s);
   }
-  for (const auto& fl : fused_.flights) {  // bounces heard but too small to see
-    if (!fl.heard_only || fl.apex_t_s <= last_t) continue;
-    f << ++last_bounce << ',' << Cell(fl.apex_t_s, "%.6f") << ",,," << Cell(fl.height_m, "%.5f")
-      << ",,heard only," << Cell(fl.height_m, "%.5f") << '\n';
+  // Bounces heard but not seen: before the picture found the ball, and after the last
+  // bounce it saw (too small to see).
+  for (size_t k = 0; k < fused_.flights.size(); ++k) {
+    const HeardFlight& fl = fused_.flights[k];
+    if (!fl.heard_only || arc_seen[k] || (fl.apex_t_s > first_t && fl.apex_t_s <= last_t)) continue;
+    const int bounce = fl.apex_t_s < first_t ? fl.from + 1 : ++last_bounce;
+    rows.emplace_back(fl.apex_t_s, std::to_string(bounce) + ',' + Cell(fl.apex_t_s, "%.6f") +
+                                       ",,," + Cell(fl.height_m, "%.5f") + ",,heard only," +
+                                       Cell(fl.height_m, "%.5f"));
   }
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& r : rows) f << r.second << '\n';
   f.close();
   std::filesystem::rename(tmp, path);
 }

@@ -189,9 +189,12 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
 
   // Heard only: the bounce train going on after the last impact both heard and seen,
   // flights shrinking.
-  int last_both = -1;
+  int last_both = -1, first_both = -1;
   for (size_t i = 0; i < r.impacts.size(); ++i)
-    if (r.impacts[i].source == ImpactSource::kBoth) last_both = static_cast<int>(i);
+    if (r.impacts[i].source == ImpactSource::kBoth) {
+      last_both = static_cast<int>(i);
+      if (first_both < 0) first_both = static_cast<int>(i);
+    }
   if (r.sound_used && last_both >= 1) {
     double last = r.impacts[last_both].t_s;
     double flight = last - r.impacts[last_both - 1].t_s;
@@ -205,6 +208,39 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
       used[a] = true;
       last = t, flight = f;
     }
+  }
+  // ... and before the first one: the bounces heard before the picture found the ball (the
+  // tracker locks on late), going back in time with flights growing as a bounce train's
+  // do: each flight's ratio to the one after it (the restitution, roughly) close to the
+  // ratio of the two heard-and-seen flights after it. A seen impact the picture timed
+  // poorly (beyond the pairing tolerance) within a quarter flight of such a heard impact is
+  // that impact.
+  const auto both_at = [&](int i) {
+    return i < static_cast<int>(r.impacts.size()) && r.impacts[i].source == ImpactSource::kBoth;
+  };
+  if (r.sound_used && first_both >= 0 && both_at(first_both + 1) && both_at(first_both + 2)) {
+    double next = r.impacts[first_both].t_s;
+    double flight = r.impacts[first_both + 1].t_s - next;
+    double ratio = (r.impacts[first_both + 2].t_s - r.impacts[first_both + 1].t_s) / flight;
+    for (int a = static_cast<int>(heard.size()) - 1; a >= 0; --a) {
+      const double t = heard[a].t_s - r.offset_s;
+      if (used[a] || t >= next) continue;
+      const double f = next - t;
+      const double q = flight / f;
+      if (q > c.lone_train_max_ratio + c.lone_train_ratio_step) continue;  // an echo, a stray sound
+      if (q < c.lone_train_min_ratio || std::abs(q - ratio) > 2 * c.lone_train_ratio_step) break;
+      used[a] = true;
+      FusedImpact h = HeardOnly(heard[a], r.offset_s);
+      for (FusedImpact& v : r.impacts)
+        if (v.source == ImpactSource::kVideo && std::abs(v.video_t_s - h.t_s) <= 0.25 * f) {
+          h.source = ImpactSource::kBoth;
+          h.video_t_s = v.video_t_s;
+          v.t_s = kNaN;  // replaced by h
+        }
+      r.impacts.push_back(h);
+      next = t, flight = f, ratio = q;
+    }
+    std::erase_if(r.impacts, [](const FusedImpact& v) { return std::isnan(v.t_s); });
   }
   if (too_few_seen) {  // nothing to check against: a heard bounce train, or nothing
     r.offset_s = 0;

@@ -86,6 +86,36 @@ TEST(ImpactFusion, OffsetPairsHeardOnlyTrainAndStraySoundsRejected) {
   }
 }
 
+// The tracker locked on after three bounces (the football clip): those three impacts were
+// heard, and the first impact it saw, timed a frame late, is the fourth heard one.
+TEST(ImpactFusion, BouncesHeardBeforeThePictureFoundTheBallAreKept) {
+  const PointMassDropResult r = Drop("tennis", 1.5);
+  ASSERT_GE(r.impact_times_s.size(), 9u);
+  std::vector<double> seen;
+  for (int i = 3; i < 9; ++i) seen.push_back(r.impact_times_s[i] + (i == 3 ? 0.05 : 0.004));
+  // Heard: every impact 13 ms late, a door slam and a voice's click during the hold.
+  auto heard = Heard(r.impact_times_s, 0.013);
+  heard.push_back({r.apex_times_s[0] - 0.3, 0.3, 30, 1});
+  heard.push_back({r.apex_times_s[0] + 0.1, 0.2, 30, 1});
+  ImpactFusionConfig c;
+  c.drag_per_m = DragPerM(ResolveBallPreset("tennis"));
+  const FusionResult f = FuseImpacts(heard, seen, r.impact_times_s.back() + 1, c);
+  ASSERT_TRUE(f.sound_used) << f.verdict;
+  EXPECT_EQ(f.rejected_sounds, 2);
+  ASSERT_EQ(f.impacts.size(), r.impact_times_s.size());
+  for (size_t i = 0; i < f.impacts.size(); ++i) {
+    EXPECT_EQ(f.impacts[i].source, i < 3 ? ImpactSource::kAudio
+                                   : i < 9 ? ImpactSource::kBoth
+                                           : ImpactSource::kAudio) << "impact " << i;
+    EXPECT_NEAR(f.impacts[i].t_s, r.impact_times_s[i], 0.005) << "impact " << i;
+  }
+  EXPECT_NEAR(f.impacts[3].video_t_s, seen[0], 1e-12);  // the late-timed seen impact, merged
+  for (const auto& fl : f.flights) {
+    const double truth = r.apex_heights_m[fl.from + 1];
+    EXPECT_NEAR(fl.height_m, truth, 0.005 * truth + 0.0002) << "bounce " << fl.from + 1;
+  }
+}
+
 TEST(ImpactFusion, SoundThatDisagreesWithThePictureIsNotUsed) {
   const PointMassDropResult r = Drop("tennis", 1.2);
   std::vector<double> seen(r.impact_times_s.begin(), r.impact_times_s.begin() + 5);
