@@ -250,6 +250,15 @@ void Run(RunOptions o) {
       if (u.final && u.model == fit->model().name()) final_fit = u;
     }
   };
+  // A bounce whose arc was heard from end to end goes out again with its flight-time height.
+  auto publish_heard_peaks = [&] {
+    for (const auto& m : sound.HeardPeaks(peaks, out.stream_start(), now_utime)) {
+      bus.Publish(o.channels.bounce_peak, m);
+      out.Log(o.channels.bounce_peak, m);
+      console.OnPeak(m);
+      if (fit) fit->OnPeak(m);
+    }
+  };
   auto handle_events = [&](const std::vector<DetectorEvent>& events) {
     for (const auto& e : events) {
       if (e.kind == DetectorEvent::Kind::kCalibration) {
@@ -269,6 +278,7 @@ void Run(RunOptions o) {
         if (fit) fit->OnPeak(m);
       } else if (e.kind == DetectorEvent::Kind::kImpact) {
         publish_impact(sound.Seen(SecondsSince(e.impact.utime, out.stream_start()), out.stream_start()));
+        publish_heard_peaks();
       } else if (e.kind == DetectorEvent::Kind::kSequenceEnd) {
         console.Info("drop ended (" + e.reason + ")");
         if (fit) {
@@ -292,8 +302,9 @@ void Run(RunOptions o) {
     now_utime = frame.utime;
     out.OnBox(ToBallBox(obs));
     handle_events(detect.OnObservation(obs));
-    for (const auto& m : sound.AdvanceTo(SecondsSince(frame.utime, out.stream_start()), out.stream_start()))
-      publish_impact(m);
+    const auto heard = sound.AdvanceTo(SecondsSince(frame.utime, out.stream_start()), out.stream_start());
+    for (const auto& m : heard) publish_impact(m);
+    if (!heard.empty()) publish_heard_peaks();
   });
 
   struct sigaction sa {};
@@ -329,6 +340,7 @@ void Run(RunOptions o) {
   }
   if (stream_started)
     for (const auto& m : sound.EndLive(out.stream_start())) publish_impact(m);
+  publish_heard_peaks();
   std::vector<double> seen_impacts;
   for (const auto& d : detect.Summaries())
     for (const auto& i : d.impacts) seen_impacts.push_back(SecondsSince(i.utime, out.stream_start()));

@@ -147,6 +147,7 @@ std::vector<impact_t> RunSound::EndLive(int64_t t0_utime) {
 }
 
 impact_t RunSound::Seen(double t_s, int64_t t0_utime) {
+  seen_t_s_.push_back(t_s);
   impact_t m;
   m.utime = Utime(t_s, t0_utime);
   m.index = next_index_++;
@@ -156,11 +157,44 @@ impact_t RunSound::Seen(double t_s, int64_t t0_utime) {
   return m;
 }
 
-const FusionResult& RunSound::Finish(const std::vector<double>& seen_t_s, double video_end_s) {
-  if (enabled() && !mic_) AdvanceTo(1e300, 0);
+ImpactFusionConfig RunSound::FusionConfig() const {
   ImpactFusionConfig fc;
   const double area = std::numbers::pi * ball_.diameter_m * ball_.diameter_m / 4;
   fc.drag_per_m = 0.5 * 1.2 * ball_.drag_coefficient * area / ball_.mass_kg;
+  return fc;
+}
+
+std::vector<bounce_peak_t> RunSound::HeardPeaks(const std::vector<bounce_peak_t>& published,
+                                                int64_t t0, int64_t now_utime) {
+  std::vector<bounce_peak_t> out;
+  if (!enabled() || published.empty() || static_cast<int>(seen_t_s_.size()) < 3) return out;
+  std::vector<double> seen = seen_t_s_;
+  std::sort(seen.begin(), seen.end());
+  const FusionResult live = FuseImpacts(heard_, seen, SecondsSince(now_utime, t0), FusionConfig());
+  if (!live.sound_used) return out;
+  std::vector<double> apex_t;
+  for (const auto& m : published) apex_t.push_back(m.bounce > 0 ? SecondsSince(m.apex_utime, t0) : NAN);
+  const std::vector<ApexOnArc> on_arc = PlaceApexesOnHeardArcs(apex_t, live);
+  for (size_t p = 0; p < published.size(); ++p) {
+    if (on_arc[p].flight < 0 || on_arc[p].duplicate) continue;
+    if (!heard_peaks_.insert({published[p].sequence, published[p].bounce}).second) continue;
+    const HeardFlight& fl = live.flights[on_arc[p].flight];
+    bounce_peak_t m = published[p];
+    m.utime = m.emitted_utime = now_utime;
+    m.height_m = m.flight_height_m = fl.height_m;
+    // A flight timed to ~0.1 ms is a height to ~0.05%: a few tenths of a mm.
+    m.height_sigma_m = std::min(m.height_sigma_m, std::max(0.002 * fl.height_m, 0.0005));
+    m.height_px = NAN;  // not measured in pixels
+    m.impact_before_utime = Utime(live.impacts[fl.from].t_s, t0);
+    m.impact_after_utime = Utime(live.impacts[fl.from].t_s + fl.flight_s, t0);
+    out.push_back(m);
+  }
+  return out;
+}
+
+const FusionResult& RunSound::Finish(const std::vector<double>& seen_t_s, double video_end_s) {
+  if (enabled() && !mic_) AdvanceTo(1e300, 0);
+  const ImpactFusionConfig fc = FusionConfig();
   fused_ = FuseImpacts(heard_, seen_t_s, video_end_s, fc);
   if (!enabled()) fused_.verdict = description_ + ": impacts from the picture only";
   finished_ = true;

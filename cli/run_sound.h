@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,11 @@ class RunSound {
   std::vector<impact_t> EndLive(int64_t t0_utime);
   // A seen impact as a message.
   impact_t Seen(double t_s, int64_t t0_utime);
+  // The published peaks whose arc was heard from end to end (both impacts, the sound
+  // checked against the picture so far), each once: BOUNCE_PEAK again for the same bounce,
+  // with the flight-time height as height_m and flight_height_m (utime: now).
+  std::vector<bounce_peak_t> HeardPeaks(const std::vector<bounce_peak_t>& published,
+                                        int64_t t0_utime, int64_t now_utime);
   // End: decodes the rest, fuses with the seen impacts (video clock, s).
   const FusionResult& Finish(const std::vector<double>& seen_t_s, double video_end_s);
 
@@ -60,6 +66,7 @@ class RunSound {
   void Listen(const AudioChunk& chunk, double shift_s, int64_t t0_utime, std::vector<impact_t>* out);
   void Publish(size_t from, int64_t t0_utime, std::vector<impact_t>* out);
   void Envelope(const AudioChunk& chunk, double t0_s);
+  ImpactFusionConfig FusionConfig() const;
 
   static constexpr double kWaveBinS = 0.005;  // waveform.csv's window
 
@@ -69,6 +76,8 @@ class RunSound {
   std::string description_;
   BallPreset ball_;
   std::vector<AudioImpact> heard_;
+  std::vector<double> seen_t_s_;               // seen impacts so far (video clock)
+  std::set<std::pair<int, int>> heard_peaks_;  // (sequence, bounce) already re-sent
   FusionResult fused_;
   bool finished_ = false, ended_ = false;
   int next_index_ = 0;

@@ -2,6 +2,8 @@
 // (clean; chatter + hum + a 30 ms offset; 30 fps) and the shared real clips.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -153,6 +155,40 @@ TEST(RunSound, ThirtyFpsApexHeightsBetterWithSound) {
     const double rms_without = std::sqrt(sq[0] / n[0]), rms_with = std::sqrt(sq[1] / n[1]);
     EXPECT_LT(rms_with, 0.5 * rms_without) << "rms " << rms_with * 1e3 << " mm with sound, "
                                            << rms_without * 1e3 << " mm without";
+  }
+}
+
+// The live BOUNCE_PEAK carries the heard height: once an arc's closing impact is heard, its
+// bounce goes out again with the flight-time height, while the stream runs (`--json`
+// prints every peak event as published).
+TEST(RunSound, LivePeaksCarryTheHeardHeightsAtThirtyFps) {
+  const auto dir = ScratchDir("live_heard");
+  const SynthTruth t = Synth(dir, "--sound --hum --sound-offset 0.03 --fps 30 --noise 6 --exposure 0.02 --ball tennis");
+  std::string out;
+  ASSERT_EQ(RunCommand(BouncefitExe() + " run " + (dir / "clip.avi").string() +
+                           " --ball tennis --no-fit --speed 0 --json --lcm-url memq:// --out " +
+                           (dir / "run").string(), &out), 0) << out;
+  std::map<int, nlohmann::json> heard;  // bounce -> its heard peak message
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty() || line[0] != '{') continue;
+    const auto j = nlohmann::json::parse(line);
+    if (j.value("event", "") != "peak" || !j["flight_height_m"].is_number() || !j["height_m"].is_number())
+      continue;
+    if (j["height_m"].get<double>() == j["flight_height_m"].get<double>() && j["height_px"].is_null())
+      heard[j["bounce"].get<int>()] = j;
+  }
+  ASSERT_GE(heard.size(), 4u) << out;
+  for (const auto& [b, j] : heard) {
+    ASSERT_LT(b, static_cast<int>(t.apex_heights_m.size()));
+    const double truth = t.apex_heights_m[b];
+    EXPECT_NEAR(j["height_m"].get<double>(), truth, std::max(0.002, 0.01 * truth)) << "bounce " << b;
+    // Sent once the arc's end was heard, while the stream ran: at once from the third
+    // bounce on, the first two once three seen impacts have checked the sound.
+    const double emitted = j["emitted_t_s"].get<double>(), end = j["impact_after_t_s"].get<double>();
+    EXPECT_GE(emitted, end - 0.001) << "bounce " << b;
+    EXPECT_LT(emitted, 4.4) << "bounce " << b;
+    if (b >= 3) EXPECT_LT(emitted, end + 0.2) << "bounce " << b;
   }
 }
 
