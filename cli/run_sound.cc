@@ -270,8 +270,9 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
     const HeardFlight& fl = fused_.flights[k];
     if (!fl.heard_only || arc_seen[k] || (fl.apex_t_s > first_t && fl.apex_t_s <= last_t)) continue;
     const int bounce = fl.apex_t_s < first_t ? fl.from + 1 : ++last_bounce;
-    rows.emplace_back(fl.apex_t_s, std::to_string(bounce) + ',' + Cell(fl.apex_t_s, "%.6f") +
-                                       ",,," + Cell(fl.height_m, "%.5f") + ",,heard only," +
+    rows.emplace_back(fl.apex_t_s, std::to_string(bounce) + ',' + Cell(fl.apex_t_s, "%.6f") + ',' +
+                                       Cell(fl.height_m, "%.5f") + ",," + Cell(fl.height_m, "%.5f") +
+                                       ",,heard only," +
                                        Cell(fl.height_m, "%.5f"));
   }
   std::stable_sort(rows.begin(), rows.end(),

@@ -236,6 +236,13 @@ TEST(RunSound, BouncesHeardBeforeTheTrackerLockedAreKept) {
   const auto peaks = ReadCsv(run / "peaks.csv");
   ASSERT_GE(peaks.size(), 7u);
   EXPECT_EQ(peaks[0].at("heard"), "heard only");
+  // A heard-only row still carries a height in height_m (its flight-time height), so readers
+  // of height_m (fit --peaks, report, the real-clips check) never see an empty cell.
+  for (const auto& r : peaks)
+    if (r.at("heard") == "heard only") {
+      ASSERT_FALSE(r.at("height_m").empty());
+      EXPECT_DOUBLE_EQ(Num(r, "height_m"), Num(r, "flight_height_m"));
+    }
   for (size_t k = 0; k < peaks.size(); ++k) {
     EXPECT_EQ(std::stoi(peaks[k].at("bounce")), static_cast<int>(k) + 1);
     if (k > 0) EXPECT_LT(Num(peaks[k], "fused_height_m"), Num(peaks[k - 1], "fused_height_m"));
