@@ -53,6 +53,7 @@ struct SimulationResult {
   std::vector<double> apex_times_s;      // their times since release
   std::vector<double> impact_times_s;
   std::vector<TrajectorySample> trajectory;  // when requested
+  double simulated_time_s = 0;  // simulated time covered before the run stopped
   double wall_time_s = 0;
 };
 

@@ -401,6 +401,7 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
 
   for (long step = 0;; ++step) {
     const double t = double(step) * dt;
+    result.simulated_time_s = t;
     const NodeStats s = Stats(sb);
     if (!s.finite) return finish("diverged (NaN)" + at(t));
     const double cy = s.com.y();

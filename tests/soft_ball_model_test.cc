@@ -275,7 +275,8 @@ TEST(SoftBallModel, EarlyStopOnceBouncesAreTooLow) {
 }
 
 // A fit asks for the bounces it recorded only (issue 14, cost): the run ends at the impact
-// after bounce k, with bounces 1..k bit for bit those of the full run, in less time.
+// after bounce k, with bounces 1..k bit for bit those of the full run, in less simulated time
+// (simulated, not wall time: wall time of a 0.05 s run is noise on a loaded CI machine).
 TEST(SoftBallModel, StopsOnceTheBouncesAskedForAreMeasured) {
   const SoftBallModel model(*FindBallPreset("pingpong"));
   SimulationOptions o = Drop(1.0, 6);
@@ -289,7 +290,7 @@ TEST(SoftBallModel, StopsOnceTheBouncesAskedForAreMeasured) {
   ASSERT_TRUE(cut.ok) << cut.failure;
   ASSERT_EQ(cut.bounce_heights_m.size(), 3u);
   for (size_t i = 0; i < 3; ++i) EXPECT_EQ(cut.bounce_heights_m[i], full.bounce_heights_m[i]);
-  EXPECT_LT(cut.wall_time_s, 0.8 * full.wall_time_s);
+  EXPECT_LT(cut.simulated_time_s, 0.8 * full.simulated_time_s);
 }
 
 TEST(SoftBallModel, DeterministicToTheLastBitAcrossRunsAndThreads) {
