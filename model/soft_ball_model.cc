@@ -63,6 +63,11 @@ std::vector<CoefficientSpec> MakeSpecs() {
       {"rebound_boost_per_mps", "1/(m/s)", 0.0, -0.1, 0.2, false,
        "artificial: the rebound boost's loss per m/s of impact speed above 4.43 m/s (a 1 m "
        "drop), so restitution can fall with speed as a real ball's does"},
+      {"rebound_restitution", "", 0.0, 0.0, 1.0, false,
+       "artificial, replaces the boost when > 0: the ball leaves every impact at this "
+       "restitution (minus the slope below) times the impact speed (0: Bullet's rebound + boost)"},
+      {"rebound_restitution_per_mps", "1/(m/s)", 0.0, 0.0, 0.2, false,
+       "artificial: loss of rebound_restitution per m/s of impact speed, e(v) = e0 - k v"},
   };
 }
 

@@ -305,10 +305,20 @@ void SettleSoftBall(const SoftBallWorldConfig& cfg, double centre_y, btSoftRigid
   }
 }
 
+ReboundLaw ReboundBoost::Law(const SoftBallWorldConfig& cfg, const CoefficientValues& values) {
+  ReboundLaw law;
+  law.boost = values.at("rebound_boost");
+  law.boost_per_mps = values.at("rebound_boost_per_mps");
+  law.restitution = values.at("rebound_restitution");
+  law.restitution_per_mps = values.at("rebound_restitution_per_mps");
+  law.gravity_mps2 = cfg.gravity_mps2;
+  law.time_step_s = cfg.time_step_s;
+  law.at_touch = cfg.rebound_at_touch;
+  return law;
+}
+
 ReboundBoost::ReboundBoost(const SoftBallWorldConfig& cfg, const CoefficientValues& values)
-    : time_step_s_(cfg.time_step_s),
-      boost_(values.at("rebound_boost")),
-      boost_per_mps_(values.at("rebound_boost_per_mps")) {}
+    : time_step_s_(cfg.time_step_s), law_(Law(cfg, values)), contacts_(law_) {}
 
 void ReboundBoost::Attach(btDynamicsWorld* world, btSoftBody* ball) {
   ball_ = ball;
@@ -322,28 +332,13 @@ void ReboundBoost::Tick(btDynamicsWorld* world, btScalar) {
   ++self->steps_;
 }
 
-// A contact episode starts when the floor first touches the ball (impact speed = the
-// centre's downward speed the step before) and ends when no node touches the floor and the
-// centre moves up; then every node gets boost * impact speed upward. Episodes longer than
-// kMaxContactS are a ball at rest.
+// The contact episodes and the kick: model/rebound_kick.h.
 void ReboundBoost::BeforeStep(btSoftBody* ball, double t) {
-  if (!active()) return;
-  constexpr double kMaxContactS = 0.1;
-  constexpr double kReferenceSpeed = 4.43;  // m/s, sqrt(2 g 1 m)
-  const double vy = CentreVelocityY(*ball);
-  const bool contact = ball->m_rcontacts.size() > 0;
-  if (!episode_ && contact) {
-    episode_ = true;
-    episode_start_ = t;
-    impact_speed_ = std::max(0.0, -prev_vy_);
-  } else if (episode_ && !contact && vy > 0) {
-    episode_ = false;
-    // The boost at this impact speed (kReferenceSpeed: a 1 m drop), never negative.
-    const double boost = std::max(0.0, boost_ - boost_per_mps_ * (impact_speed_ - kReferenceSpeed));
-    if (t - episode_start_ < kMaxContactS && boost > 0)
-      ball->addVelocity(btVector3(0, btScalar(boost * impact_speed_), 0));
-  }
-  prev_vy_ = vy;
+  double cy = 0;
+  for (int i = 0; i < ball->m_nodes.size(); ++i) cy += ball->m_nodes[i].m_x.y();
+  cy /= std::max(1, ball->m_nodes.size());
+  const double kick = contacts_.Step(t, ball->m_rcontacts.size() > 0, cy, CentreVelocityY(*ball));
+  if (kick != 0) ball->addVelocity(btVector3(0, btScalar(kick), 0));
 }
 
 SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const SoftBallSpec& ball,
@@ -376,7 +371,8 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
   btSoftBody& sb = *w.ball;
   SettleSoftBall(cfg, options.drop_height_m + ball.radius_m, w.world.get(), &w.info, &sb);
   // The rebound boost runs inside stepSimulation from here on, as in a user's world.
-  if (boost.active()) boost.Attach(w.world.get(), &sb);
+  // Always: it also times the impacts (a kick of 0 changes nothing).
+  boost.Attach(w.world.get(), &sb);
 
   const double r = ball.radius_m;
   const double g = cfg.gravity_mps2;
@@ -461,6 +457,7 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
   const MeasuredBounces mb = MeasureBounces(cam_t, cam_y, cfg.apex_window_frames, 0);
   if (const std::string diverged = TakeMeasuredBounces(mb, options, &result); !diverged.empty())
     return finish(diverged);
+  result.impact_times_s = boost.ImpactTimes();  // to the step, not the camera frame
   if (options.record_trajectory && result.trajectory.empty())
     return finish("no trajectory samples");
   return finish({});

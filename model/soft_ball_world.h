@@ -17,6 +17,7 @@
 
 #include "model/ball_model.h"
 #include "model/bounce_measure.h"
+#include "model/rebound_kick.h"
 
 namespace bouncefit {
 
@@ -39,6 +40,9 @@ struct SoftBallWorldConfig {
   // How bounce heights are measured (as the detector does on video).
   double camera_rate_hz = 120;
   int apex_window_frames = 6;  // samples each side of the top sample in the apex fit
+  // The restitution law's rebound (model/rebound_kick.h): at the first contact step, else at
+  // the deepest point of the contact (longer contact, impacts late by ~15 ms each).
+  bool rebound_at_touch = true;
   // Hard limit of one run.
   double max_wall_time_s = 30;
 
@@ -81,27 +85,29 @@ btSoftBody* CreateSoftBall(const SoftBallWorldConfig& cfg, const SoftBallSpec& b
 void SettleSoftBall(const SoftBallWorldConfig& cfg, double centre_y, btSoftRigidDynamicsWorld* world,
                     btSoftBodyWorldInfo* info, btSoftBody* ball);
 
-// The artificial rebound boost (not Bullet: the paper's 'artificial extra force'), run as the
-// world's internal pre-tick callback: once per contact episode, when the ball leaves the
-// floor, every node gets an upward velocity of boost x impact speed. Attach() after the
+// The artificial rebound (not Bullet: the paper's 'artificial extra force', or the
+// restitution law; model/rebound_kick.h), run as the world's internal pre-tick callback:
+// once per contact episode every node gets an upward velocity change. Attach() after the
 // settling; the world must then be stepped at cfg.time_step_s, one internal step per call.
 class ReboundBoost {
  public:
   ReboundBoost(const SoftBallWorldConfig& cfg, const CoefficientValues& values);
-  bool active() const { return boost_ > 0 || boost_per_mps_ != 0; }
+  bool active() const { return law_.Active(); }
   // Sets the world's internal pre-tick callback (a world has one: it must be this).
   void Attach(btDynamicsWorld* world, btSoftBody* ball);
   // What the callback does, before each step: t_s is the time since Attach.
   void BeforeStep(btSoftBody* ball, double t_s);
+  // The impacts seen so far, where the falling and rising arcs meet (s since Attach).
+  std::vector<double> ImpactTimes() const { return contacts_.ImpactTimes(); }
 
  private:
   static void Tick(btDynamicsWorld* world, btScalar time_step);
+  static ReboundLaw Law(const SoftBallWorldConfig& cfg, const CoefficientValues& values);
   double time_step_s_;
-  double boost_, boost_per_mps_;
+  ReboundLaw law_;
+  ContactTracker contacts_;
   btSoftBody* ball_ = nullptr;
   long steps_ = 0;
-  bool episode_ = false;
-  double impact_speed_ = 0, episode_start_ = 0, prev_vy_ = 0;
 };
 
 // One drop as SoftBallModel::Simulate runs it: a world with the floor (its top face at
