@@ -305,6 +305,14 @@ void AddFitCommand(CLI::App& app) {
                   "or drop (one free-running drop, the paper's)")
       ->check(CLI::IsMember({"segments", "drop"}))
       ->capture_default_str();
+  cmd->add_option("--impact", o->node.session.impact,
+                  "the rebound: restitution (the law e(v) = e0 - k v, fitted in two stages) or "
+                  "boost (the paper's extra force on Bullet's own rebound); docs/MODEL.md")
+      ->check(CLI::IsMember({"restitution", "boost"}))
+      ->capture_default_str();
+  cmd->add_option("--flight-weight", o->node.session.flight_weight_mps,
+                  "weight of the flight times (impact to impact) in the objective, m/s (0: heights only)")
+      ->capture_default_str();
   cmd->add_option("--max-evals", o->max_evals, "simulations for the final fit (default " +
                                                    std::to_string(o->node.session.max_evaluations_final) + ")");
   cmd->add_option("--max-evals-bounce", o->max_evals_bounce,

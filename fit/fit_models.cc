@@ -1,5 +1,6 @@
 #include "fit/fit_models.h"
 
+#include "fit/restitution_fit.h"
 #include "model/coefficient_table.h"
 #include "model/soft_ball_model.h"
 
@@ -14,6 +15,22 @@ void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
   // Soft-ball sets can diverge (through the floor, exploding): candidate answers are
   // checked from the safe drop heights inside the final fit's search.
   config->safe_search = true;
+  if (config->impact == "restitution") {
+    // The rebound law's curve and the air are what the heights and flights tell; the
+    // boost is the other law. Start: the model's defaults (the stored tables' stiff
+    // contacts were chosen to make Bullet itself rebound) with the ball's preset curve.
+    config->never_fit.push_back("rebound_boost");
+    if (config->live_priority.empty())
+      config->live_priority = {"rebound_restitution", "rebound_restitution_per_mps", "drag"};
+    CoefficientValues start;
+    for (const auto& s : model.Coefficients()) start[s.name] = s.default_value;
+    start = WithRestitutionLaw(start, ball.restitution, ball.restitution_per_mps,
+                               ball.drag_coefficient);
+    for (const auto& [name, v] : start)
+      if (!config->start.count(name)) config->start[name] = v;
+    return;
+  }
+  config->never_fit.push_back("rebound_restitution");
   // Measured with bench/fit_bench.cc's screening: what moves the heights most, in order.
   if (config->live_priority.empty())
     config->live_priority = {"rebound_boost", "linear_stiffness", "contact_hardness", "drag",

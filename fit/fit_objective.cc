@@ -40,6 +40,12 @@ double RmsResidual(const std::vector<double>& recorded, const std::vector<double
   return std::sqrt(HeightObjective(recorded, simulated) / static_cast<double>(recorded.size()));
 }
 
+std::vector<double> FlightTimes(const std::vector<double>& impacts, size_t k) {
+  std::vector<double> out(k, 0.0);
+  for (size_t i = 0; i < k && i + 1 < impacts.size(); ++i) out[i] = impacts[i + 1] - impacts[i];
+  return out;
+}
+
 double FreeFallApexTime(double drop_height_m, const std::vector<double>& heights_m, int k) {
   double t = std::sqrt(2 * std::max(drop_height_m, 0.0) / kGravity);
   for (int i = 0; i < k && i < static_cast<int>(heights_m.size()); ++i) {
@@ -179,7 +185,8 @@ Evaluation FitObjective::Run(const std::vector<double>& x_in) {
     e.failure = cancelled() ? "cancelled" : "evaluation budget used";
     return e;
   }
-  const SimulationResult sim = Simulate(ToValues(x), !t_in_batch && threads_ > 1);
+  std::vector<double> flights;
+  const SimulationResult sim = Simulate(ToValues(x), !t_in_batch && threads_ > 1, &flights);
   ++evaluations_;
   if (options_.simulations) options_.simulations->fetch_add(1);
   e.ok = sim.ok;
@@ -187,7 +194,9 @@ Evaluation FitObjective::Run(const std::vector<double>& x_in) {
     e.simulated_m.assign(problem_.recorded_m.size(), 0.0);
     for (size_t i = 0; i < e.simulated_m.size() && i < sim.bounce_heights_m.size(); ++i)
       e.simulated_m[i] = sim.bounce_heights_m[i];
-    e.objective = HeightObjective(problem_.recorded_m, e.simulated_m);
+    e.simulated_flight_s = flights;
+    e.objective = 0;
+    for (double r : Residuals(e)) e.objective += r * r;
     if (!std::isfinite(e.objective)) {
       e.ok = false;
       e.failure = "non-finite heights";
@@ -226,17 +235,46 @@ void FitObjective::CheckSafety(const std::vector<double>& x, Evaluation* e) {
   e->failure = "unsafe: " + unsafe;
 }
 
-SimulationResult FitObjective::Simulate(const CoefficientValues& values, bool parallel) const {
-  if (!problem_.segments) return SimulateSafely(*problem_.model, values, problem_.simulation);
+bool FitObjective::timed() const {
+  if (!(problem_.flight_weight_mps > 0)) return false;
+  for (double f : problem_.recorded_flight_s)
+    if (std::isfinite(f)) return true;
+  return false;
+}
+
+std::vector<double> FitObjective::Residuals(const Evaluation& e) const {
+  std::vector<double> r;
+  for (size_t i = 0; i < problem_.recorded_m.size(); ++i)
+    r.push_back(problem_.recorded_m[i] - (i < e.simulated_m.size() ? e.simulated_m[i] : 0.0));
+  if (!timed()) return r;
+  for (size_t i = 0; i < problem_.recorded_flight_s.size() && i < problem_.recorded_m.size(); ++i)
+    if (std::isfinite(problem_.recorded_flight_s[i]))
+      r.push_back(problem_.flight_weight_mps *
+                  (problem_.recorded_flight_s[i] -
+                   (i < e.simulated_flight_s.size() ? e.simulated_flight_s[i] : 0.0)));
+  return r;
+}
+
+SimulationResult FitObjective::Simulate(const CoefficientValues& values, bool parallel,
+                                        std::vector<double>* flights) const {
   const size_t k = problem_.recorded_m.size();
+  if (!problem_.segments) {
+    SimulationResult r = SimulateSafely(*problem_.model, values, problem_.simulation);
+    *flights = FlightTimes(r.impact_times_s, k);
+    return r;
+  }
   std::vector<SimulationResult> runs(k);
+  const bool timing = timed();
   auto segment = [&](size_t i) {
     SimulationOptions o = problem_.simulation;
     o.record_trajectory = false;
     o.drop_height_m = i == 0 ? problem_.simulation.drop_height_m : problem_.recorded_m[i - 1];
-    // Long enough for the first apex (and the samples after it that measure it).
-    o.duration_s = 1.5 * FreeFallApexTime(o.drop_height_m, {problem_.recorded_m[i]}, 1) + 0.2;
-    o.max_bounces = 1;
+    // Long enough for the first apex (and the samples after it that measure it), or with
+    // timing for the impact that ends its arc.
+    const double h = problem_.recorded_m[i];
+    o.duration_s = timing ? std::sqrt(2 * o.drop_height_m / kGravity) + 2 * std::sqrt(2 * h / kGravity) + 0.1
+                          : 1.5 * FreeFallApexTime(o.drop_height_m, {h}, 1) + 0.2;
+    o.max_bounces = 1;  // stops at the impact that ends the arc
     runs[i] = SimulateSafely(*problem_.model, values, o);
   };
   if (parallel) {
@@ -254,6 +292,7 @@ SimulationResult FitObjective::Simulate(const CoefficientValues& values, bool pa
   }
   SimulationResult out;
   out.ok = true;
+  flights->assign(k, 0.0);
   for (size_t i = 0; i < k; ++i) {
     if (!runs[i].ok) {
       out.ok = false;
@@ -262,6 +301,7 @@ SimulationResult FitObjective::Simulate(const CoefficientValues& values, bool pa
     }
     out.bounce_heights_m.push_back(runs[i].bounce_heights_m.empty() ? 0.0
                                                                      : runs[i].bounce_heights_m[0]);
+    (*flights)[i] = FlightTimes(runs[i].impact_times_s, 1)[0];
     out.wall_time_s += runs[i].wall_time_s;
   }
   return out;

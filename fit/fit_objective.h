@@ -54,6 +54,11 @@ struct FitProblem {
   // check costs safety_simulations runs, counted against the budget.
   std::function<std::string(const CoefficientValues&)> safety;
   int safety_simulations = 0;
+  // Timing (issue 14 item 3): the recorded flight times, impact to impact, of arcs 1..k (NaN:
+  // not seen), against the simulated ones: the objective adds (w (f_i - g_i))^2, w in m/s (at
+  // 1 m/s a flight 2 ms off weighs as a height 2 mm off). 0 or none: heights only.
+  std::vector<double> recorded_flight_s;
+  double flight_weight_mps = 0;
 };
 
 struct SearchOptions {
@@ -69,6 +74,7 @@ struct Evaluation {
   bool skipped = false;      // not run: cancelled or out of budget
   double objective = 0;      // sum (r_i - s_i)^2, or the failure penalty
   std::vector<double> simulated_m;  // s_1..s_k (0 where the ball made fewer bounces)
+  std::vector<double> simulated_flight_s;  // flights of arcs 1..k (0 where not made)
   std::string failure;
 };
 
@@ -125,13 +131,20 @@ class FitObjective {
   Evaluation best() const;
   std::vector<double> best_history() const;
 
+  // Heights residuals r_i - s_i, then the weighted flight residuals w (f_i - g_i) of the
+  // flights recorded (when timing is weighted): what a least-squares search drives to 0.
+  std::vector<double> Residuals(const Evaluation& e) const;
+
   // Fills the common fields of a result from the best point.
   SearchResult MakeResult(const std::string& method, double wall_time_s) const;
 
  private:
   Evaluation Run(const std::vector<double>& x);
-  // The simulated heights at these values: one drop, or one segment per bounce.
-  SimulationResult Simulate(const CoefficientValues& values, bool parallel) const;
+  // The simulated heights at these values: one drop, or one segment per bounce; the flights
+  // of arcs 1..k into *flights.
+  SimulationResult Simulate(const CoefficientValues& values, bool parallel,
+                            std::vector<double>* flights) const;
+  bool timed() const;
   bool Lookup(const std::vector<double>& x, Evaluation* out) const;
   bool BeatsBest(double objective) const;
   // problem_.safety on a candidate best point; an unsafe one becomes a failed evaluation.
@@ -161,6 +174,9 @@ SimulationResult SimulateSafely(const BallModel& model, const CoefficientValues&
 // sum (r_i - s_i)^2 with s_i = 0 for bounces the simulation did not make.
 double HeightObjective(const std::vector<double>& recorded, const std::vector<double>& simulated);
 double RmsResidual(const std::vector<double>& recorded, const std::vector<double>& simulated);
+// Flight times of arcs 1..k from impact times (impact 0 ends the release fall); 0 where the
+// simulation made fewer impacts.
+std::vector<double> FlightTimes(const std::vector<double>& impact_times_s, size_t k);
 
 // Release-to-apex time of bounce k for a drag-free ball with these apex heights (h_0 the
 // drop height): how long a simulation must run to see bounce k.

@@ -14,6 +14,7 @@
 #include "fit/live_step.h"
 #include "fit/nlopt_search.h"
 #include "fit/paper_search.h"
+#include "fit/restitution_fit.h"
 
 namespace bouncefit {
 
@@ -54,6 +55,9 @@ FitSession::FitSession(const BallModel& model, const BallModel* quick_model,
   if (config_.objective != "segments" && config_.objective != "drop")
     throw std::invalid_argument("unknown objective '" + config_.objective +
                                 "' (known: segments, drop)");
+  if (config_.impact != "boost" && config_.impact != "restitution")
+    throw std::invalid_argument("unknown impact '" + config_.impact +
+                                "' (known: boost, restitution)");
   if (config_.method != "nlopt" && config_.method != "paper")
     throw std::invalid_argument("unknown fit method '" + config_.method +
                                 "' (known: nlopt, paper)");
@@ -88,6 +92,7 @@ void FitSession::Reset(int sequence) {
   drop_height_m_ = 0;
   heights_.clear();
   sigmas_.clear();
+  impacts_before_.clear();
 }
 
 bool FitSession::AddPeak(const PeakInput& p) {
@@ -102,9 +107,11 @@ bool FitSession::AddPeak(const PeakInput& p) {
   if (heights_.size() <= i) {
     heights_.resize(i + 1, std::numeric_limits<double>::quiet_NaN());
     sigmas_.resize(i + 1, 0.0);
+    impacts_before_.resize(i + 1, std::numeric_limits<double>::quiet_NaN());
   }
   heights_[i] = p.height_m;
   sigmas_[i] = p.sigma_m;
+  impacts_before_[i] = p.impact_before_s;
   return true;
 }
 
@@ -115,6 +122,14 @@ std::vector<double> FitSession::FittedHeights() const {
     r.push_back(h);
   }
   return r;
+}
+
+std::vector<double> FitSession::FittedFlights() const {
+  const size_t k = FittedHeights().size();
+  std::vector<double> f(k, std::numeric_limits<double>::quiet_NaN());
+  for (size_t i = 0; i < k && i + 1 < impacts_before_.size(); ++i)
+    f[i] = impacts_before_[i + 1] - impacts_before_[i];  // NaN when either is
+  return f;
 }
 
 double FitSession::MeasurementSigma() const {
@@ -151,6 +166,8 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
   p.free = free;
   p.fixed = at;
   p.recorded_m = FittedHeights();
+  p.recorded_flight_s = FittedFlights();
+  p.flight_weight_mps = config_.flight_weight_mps;
   p.segments = config_.objective == "segments";
   for (const auto& [name, step] : config_.grid) p.grid[name] = step;
   if (p.recorded_m.empty()) throw std::logic_error("no bounce to fit yet");
@@ -349,9 +366,13 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   o.simulations = &simulations_;
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
+  FitProblem restitution_problem;
+  const bool restitution = config_.impact == "restitution" && quick_model_;
+  SearchResult restitution_result;
+  if (restitution) restitution_result = FinalRestitutionSearch(budget * starts, o, &restitution_problem);
   // The starts' leads: 2, 3, 4... coefficients, never more than the bounces.
   std::vector<int> leads;
-  for (int start_index = 0; start_index < starts; ++start_index) {
+  for (int start_index = 0; start_index < starts && !restitution; ++start_index) {
     const int lead_n = std::max(1, std::min(2 + start_index, k));
     leads.push_back(lead_n);
     if (lead_n >= k) break;  // no other lead
@@ -384,12 +405,18 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
     if (i == 0 || (results[i].evaluations > 0 && results[i].objective < r.objective))
       r = std::move(results[i]);
   }
+  if (restitution) {
+    r = std::move(restitution_result);
+    evaluations = r.evaluations;
+    checks = r.safety_checks;
+    rejected = r.rejected_unsafe;
+  }
   r.evaluations = evaluations;
   r.safety_checks = checks;
   r.rejected_unsafe = rejected;
   r.wall_time_s = Seconds(t0);
   r.cancelled = r.cancelled || (cancel && cancel->cancelled());
-  const FitProblem p = MakeProblem(FreeSpecs(), r.values);
+  const FitProblem p = restitution ? restitution_problem : MakeProblem(FreeSpecs(), r.values);
   if (r.evaluations > 0) current_ = r.values;
   if (r.evaluations > 0 && !r.cancelled) final_start_ = r.values;
   // Uncertainty from the Jacobian at the answer (its own budget: 2 runs per coefficient).
@@ -425,6 +452,18 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   if (!(cancel && cancel->cancelled())) CheckFreeRun(p, &u);
   u.wall_time_s = Seconds(t0);
   return u;
+}
+
+SearchResult FitSession::FinalRestitutionSearch(int budget, const SearchOptions& options,
+                                               FitProblem* p) const {
+  RestitutionFitOptions ro;
+  ro.segments = config_.objective == "segments";
+  ro.max_evaluations = std::min(budget, ro.max_evaluations);
+  const RestitutionFit rf =
+      FitRestitutionCurve(MakeProblem(FreeSpecs(), final_start_), *quick_model_, options, ro);
+  *p = MakeProblem(FirstSpecs({"rebound_restitution", "rebound_restitution_per_mps", "drag"}, 3),
+                   rf.soft.values);
+  return rf.soft;
 }
 
 void FitSession::CheckFreeRun(const FitProblem& p, FitUpdate* u) {

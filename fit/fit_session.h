@@ -33,6 +33,9 @@ struct PeakInput {
   double height_m = 0;        // ball bottom above the floor, metres
   double sigma_m = 0;         // standard uncertainty of the height (0: unknown)
   int64_t utime = 0;          // capture time that triggered it (copied to the update)
+  // When the impact that starts this arc happened, seconds on any clock the drop shares
+  // (NaN: unknown); consecutive ones give the flight times the fit's timing uses.
+  double impact_before_s = std::nan("");
 };
 
 struct FitUpdate {
@@ -76,6 +79,12 @@ struct FitSessionConfig {
   // the default: its free-running residual and transfer are not measured to beat "drop"
   // (docs/ACCURACY.md, issue 14).
   std::string objective = "drop";
+  // The impact (docs/MODEL.md): "boost" (the paper's extra force on Bullet's own rebound; the
+  // final fit searches every coefficient) or "restitution" (the rebound law e(v) = e0 - k v;
+  // the final fit is fit/restitution_fit.h's two stages).
+  std::string impact = "boost";
+  // Timing: flight times (impact to impact) in the objective with this weight, m/s (0: off).
+  double flight_weight_mps = 1.0;
   int ensemble_members = 8;         // the final fit's free-running check (0: none)
   // Safety (issue 14 item 5: the user may drop it anywhere in 0.3-2 m): inside the final
   // fit's search, a point that would become the best is first dropped from these heights
@@ -137,6 +146,9 @@ class FitSession {
   double drop_height_m() const { return drop_height_m_; }
   int bounces() const { return static_cast<int>(heights_.size()); }  // highest bounce index seen
   std::vector<double> FittedHeights() const;  // r_1.. above the minimum height
+  // Flight times of the fitted arcs (impact before arc i+1 minus impact before arc i; NaN
+  // where either is unknown).
+  std::vector<double> FittedFlights() const;
   bool CanFit() const { return has_drop_height() && !FittedHeights().empty(); }
 
   FitUpdate QuickUpdate();
@@ -161,6 +173,8 @@ class FitSession {
   SearchResult FinalSearch(int lead_n, int budget, const SearchOptions& options) const;
   // The final fit's problems reject candidate answers that diverge from config_.safe_drops_m.
   FitProblem WithSafety(FitProblem p) const;
+  // The restitution impact's final fit: the law's curve in two stages; *p its problem.
+  SearchResult FinalRestitutionSearch(int budget, const SearchOptions& options, FitProblem* p) const;
   // The final fit's free-running check: simulated_m and residual_m from one drop as
   // `simulate` runs it, free_run_* from the ensemble.
   void CheckFreeRun(const FitProblem& problem, FitUpdate* update);
@@ -175,6 +189,7 @@ class FitSession {
   double drop_height_m_ = 0;
   std::vector<double> heights_;   // index i: bounce i+1 (NaN until seen)
   std::vector<double> sigmas_;
+  std::vector<double> impacts_before_;  // index i: the impact starting bounce i+1's arc
   int64_t last_utime_ = 0;
   CoefficientValues current_;     // warm start of the model
   CoefficientValues final_start_; // start of the next final fit: the table or the last final

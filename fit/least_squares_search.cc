@@ -13,7 +13,9 @@ namespace {
 // Forward-difference Jacobian of the simulated heights at x (backward at the upper bound).
 bool Jacobian(FitObjective& f, const std::vector<double>& x, const Evaluation& at, double step,
               Eigen::MatrixXd* J) {
-  const size_t n = x.size(), k = f.problem().recorded_m.size();
+  const size_t n = x.size();
+  const std::vector<double> r0 = f.Residuals(at);
+  const size_t k = r0.size();
   std::vector<std::vector<double>> pts;
   std::vector<double> du(n);
   for (size_t j = 0; j < n; ++j) {
@@ -26,7 +28,8 @@ bool Jacobian(FitObjective& f, const std::vector<double>& x, const Evaluation& a
   J->resize(k, n);
   for (size_t j = 0; j < n; ++j) {
     if (!e[j].ok) return false;
-    for (size_t i = 0; i < k; ++i) (*J)(i, j) = (e[j].simulated_m[i] - at.simulated_m[i]) / du[j];
+    const std::vector<double> r = f.Residuals(e[j]);  // d(simulated) = -d(residual)
+    for (size_t i = 0; i < k; ++i) (*J)(i, j) = (r0[i] - r[i]) / du[j];
   }
   return true;
 }
@@ -46,8 +49,9 @@ SearchResult LeastSquaresSearch(const FitProblem& problem, const CoefficientValu
   for (int it = 0; it < o.max_iterations && ex.ok && !f.stopped(); ++it) {
     if (!Jacobian(f, x, ex, o.fd_step, &J)) break;
     have_jacobian = true;
-    Eigen::VectorXd res(k);
-    for (size_t i = 0; i < k; ++i) res(i) = problem.recorded_m[i] - ex.simulated_m[i];
+    const std::vector<double> rv = f.Residuals(ex);
+    Eigen::VectorXd res(static_cast<Eigen::Index>(rv.size()));
+    for (size_t i = 0; i < rv.size(); ++i) res(static_cast<Eigen::Index>(i)) = rv[i];
     const Eigen::MatrixXd A = J.transpose() * J;
     const Eigen::VectorXd g = J.transpose() * res;
     bool improved = false;
@@ -83,7 +87,7 @@ SearchResult LeastSquaresSearch(const FitProblem& problem, const CoefficientValu
     FitObjective jf(problem, jo);
     Eigen::MatrixXd Jf;
     if (Jacobian(jf, x, ex, std::max(o.fd_step, 1e-4), &Jf)) {
-      r.jacobian.assign(k, std::vector<double>(n, 0.0));
+      r.jacobian.assign(k, std::vector<double>(n, 0.0));  // heights rows only
       for (size_t i = 0; i < k; ++i)
         for (size_t j = 0; j < n; ++j) r.jacobian[i][j] = Jf(i, j);
       r.jacobian_at = f.ToValues(x);

@@ -1,0 +1,46 @@
+#pragma once
+// The soft ball's restitution curve in two stages (issue 14; docs/MODEL.md, "the restitution
+// law"). A recorded drop measures restitution at a few impact speeds: apex r_{i-1} -> r_i
+// is one impact at about sqrt(2 g r_{i-1}), drag aside. That curve is what carries over to
+// another drop height, so it is fitted first and on its own:
+//  1. the point mass (restitution e0, its loss per m/s k, drag Cd) on the recorded heights:
+//     smooth and milliseconds;
+//  2. the soft ball with the restitution law (rebound_restitution, _per_mps, drag), started
+//     from stage 1, Levenberg-Marquardt with differences wide enough to step over what is
+//     left of the chaos, each coefficient bounded near stage 1's value; bounce i simulated
+//     from the recorded apex i-1 (multiple shooting) or one free drop.
+// What Bullet's other coefficients do (the contact's length, the ball's squash) is left to
+// the timing stage (fit/flight_time_fit.h) and the rest of the final fit.
+#include "fit/fit_objective.h"
+
+namespace bouncefit {
+
+struct RestitutionFitOptions {
+  bool segments = true;      // stage 2: multiple shooting (else one free drop)
+  int max_evaluations = 40;  // stage 2 simulations (a segment evaluation counts once)
+  double fd_step = 0.05;     // stage 2 finite differences, fraction of each narrowed range
+  // Stage 2 ranges around stage 1's values: e0 +- this, k +- this (>= 0), Cd x [1/f, f].
+  double restitution_range = 0.08;
+  double slope_range = 0.04;
+  double drag_factor = 1.6;
+};
+
+struct RestitutionFit {
+  SearchResult point_mass;  // stage 1 (point-mass coefficient names)
+  SearchResult soft;        // stage 2: every soft-ball coefficient in `values`
+};
+
+// `soft` is the soft ball's problem (recorded heights, drop, fixed coefficients: the start);
+// its `free` is ignored. `point_mass` is the point-mass model. Simulations count against
+// options.max_evaluations per stage and options.simulations.
+RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& point_mass,
+                                   const SearchOptions& options,
+                                   const RestitutionFitOptions& fit = {});
+
+// The soft ball's coefficients that express the point mass's (e0, k, Cd) on top of `values`,
+// with what would push the ball besides the law and the air off (damping, pressure, volume
+// conservation).
+CoefficientValues WithRestitutionLaw(CoefficientValues values, double restitution,
+                                     double restitution_per_mps, double drag);
+
+}  // namespace bouncefit
