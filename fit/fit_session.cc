@@ -167,7 +167,7 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
   p.fixed = at;
   p.recorded_m = FittedHeights();
   p.recorded_flight_s = FittedFlights();
-  p.flight_weight_mps = config_.flight_weight_mps;
+  p.flight_weight_mps = config_.impact == "restitution" ? config_.flight_weight_mps : 0;
   p.segments = config_.objective == "segments";
   for (const auto& [name, step] : config_.grid) p.grid[name] = step;
   if (p.recorded_m.empty()) throw std::logic_error("no bounce to fit yet");
@@ -367,7 +367,10 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
   FitProblem restitution_problem;
-  const bool restitution = config_.impact == "restitution" && quick_model_;
+  bool restitution = false;  // the law's fit, when the model has the law and a quick model
+  for (const auto& s : model_.Coefficients())
+    restitution = restitution || (s.name == "rebound_restitution" && quick_model_ &&
+                                  config_.impact == "restitution");
   SearchResult restitution_result;
   if (restitution) restitution_result = FinalRestitutionSearch(budget * starts, o, &restitution_problem);
   // The starts' leads: 2, 3, 4... coefficients, never more than the bounces.

@@ -79,11 +79,13 @@ struct FitSessionConfig {
   // the default: its free-running residual and transfer are not measured to beat "drop"
   // (docs/ACCURACY.md, issue 14).
   std::string objective = "drop";
-  // The impact (docs/MODEL.md): "boost" (the paper's extra force on Bullet's own rebound; the
-  // final fit searches every coefficient) or "restitution" (the rebound law e(v) = e0 - k v;
-  // the final fit is fit/restitution_fit.h's two stages).
+  // The impact (docs/MODEL.md): "restitution" (the rebound law e(v) = e0 - k v; the final fit
+  // is fit/restitution_fit.h's two stages, ~50 simulations; what transfers to other drop
+  // heights, docs/ACCURACY.md) or "boost" (default: the paper's extra force on Bullet's own
+  // rebound; the final fit searches every coefficient).
   std::string impact = "boost";
   // Timing: flight times (impact to impact) in the objective with this weight, m/s (0: off).
+  // With the restitution law only: the boost's soft contact puts every impact ~15 ms late.
   double flight_weight_mps = 1.0;
   int ensemble_members = 8;         // the final fit's free-running check (0: none)
   // Safety (issue 14 item 5: the user may drop it anywhere in 0.3-2 m): inside the final

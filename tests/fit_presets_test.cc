@@ -104,10 +104,12 @@ TEST(FitPresets, PresetsDirOverridesBallByBall) {
   const auto wiffle = SoftBallPresetTable("wiffle");
   ASSERT_TRUE(wiffle);
   EXPECT_EQ(wiffle->source, "embedded model/presets/soft_ball_wiffle.json");
-  // The session's warm start follows the override.
+  // The boost's warm start follows the override (the restitution law starts from the
+  // model's defaults and the ball's curve, not from a table fitted with the boost).
   const BallPreset ball = *FindBallPreset("pingpong");
   const SoftBallModel model(ball);
   FitSessionConfig config;
+  config.impact = "boost";
   ConfigureSessionForModel(model, ball, &config);
   EXPECT_EQ(config.start, (CoefficientValues{{"drag", 0.123}}));
 }
@@ -124,8 +126,15 @@ TEST(FitPresets, ABallWithNoTableHasNone) {
   BallPreset ball = *FindBallPreset("pingpong");
   ball.name = "nosuchball";
   FitSessionConfig config;
+  config.impact = "boost";
   ConfigureSessionForModel(SoftBallModel(ball), ball, &config);
   EXPECT_TRUE(config.start.empty());
+  // The restitution law starts from the ball's own curve whatever its name.
+  FitSessionConfig law;
+  law.impact = "restitution";
+  ConfigureSessionForModel(SoftBallModel(ball), ball, &law);
+  EXPECT_EQ(law.start.at("rebound_restitution"), ball.restitution);
+  EXPECT_EQ(law.start.at("drag"), ball.drag_coefficient);
 }
 
 TEST(FitPresets, BrokenOverrideIsAOneLineError) {
