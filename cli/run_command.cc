@@ -50,6 +50,7 @@ struct RunOptions {
   Channels channels;
   std::string model = "bullet-softbody";
   std::string method = "nlopt";
+  std::string impact = "boost";  // the final fit's rebound law (docs/MODEL.md)
   int max_evals = 0;  // 0: the session's default
   double px_per_m = 0;
   double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
@@ -222,6 +223,7 @@ void Run(RunOptions o) {
     fc.diameter_m = o.diameter_m;
     fc.model = o.model;
     fc.session.method = o.method;
+    fc.session.impact = o.impact;
     if (o.max_evals > 0) fc.session.max_evaluations_final = o.max_evals;
     final_budget = fc.session.max_evaluations_final;
     fc.channels = o.channels;
@@ -463,6 +465,11 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_option("--model", o->model, "model fitted: " + BallModelNames())->capture_default_str();
   cmd->add_option("--method", o->method, "search: nlopt (default) or paper")
       ->check(CLI::IsMember({"nlopt", "paper"}))
+      ->capture_default_str();
+  cmd->add_option("--impact", o->impact,
+                  "the rebound: boost (the paper's extra force on Bullet's own rebound) or "
+                  "restitution (the law e(v) = e0 - k v, fitted in two stages); docs/MODEL.md")
+      ->check(CLI::IsMember({"boost", "restitution"}))
       ->capture_default_str();
   cmd->add_option("--max-evals", o->max_evals, "simulations for the final fit (0: default)")
       ->check(CLI::NonNegativeNumber);
