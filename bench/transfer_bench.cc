@@ -51,6 +51,7 @@ struct Args {
   int threads = 0;
   bool at_turn = false;
   double flight_weight = 1.0;
+  std::string start = "defaults";  // the restitution design's other coefficients
 };
 
 std::vector<std::string> Split(const std::string& s) {
@@ -153,11 +154,12 @@ int main(int argc, char** argv) {
     else if (k == "--threads") a.threads = std::stoi(next());
     else if (k == "--at-turn") a.at_turn = true;
     else if (k == "--flight-weight") a.flight_weight = std::stod(next());
+    else if (k == "--start") a.start = next();
     else if (k == "--help" || k == "-h") {
       std::printf(
           "transfer_bench [--balls pingpong,wiffle,softball,airball] [--designs "
           "restitution,boost] [--evals 40] [--objective segments|drop] [--members 8] "
-          "[--threads 0] [--at-turn] [--flight-weight 1]\nFits a drop of synth's physics from 1.0 m and 1.6 m, predicts the "
+          "[--threads 0] [--at-turn] [--flight-weight 1] [--start defaults|table]\nFits a drop of synth's physics from 1.0 m and 1.6 m, predicts the "
           "other height; prints errors in %% of the truth per bounce >= 2 cm.\n");
       return 0;
     } else {
@@ -167,7 +169,7 @@ int main(int argc, char** argv) {
   }
   std::printf("| ball | fit -> predict | design | fit RMS mm (fitted objective / ensemble mean) "
               "| predicted, error per bounce >= 2 cm (%%) | worst %% | holds | simulations | "
-              "wall s | impacts 2-6, ms off (fitted / predicted) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+              "wall s | impacts 2-6, worst ms off (fitted / predicted) | diverges from |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
   int holds = 0, rows = 0;
   for (const auto& name : a.balls) {
     const BallPreset truth_ball = TruthBall(name);
@@ -218,7 +220,7 @@ int main(int argc, char** argv) {
       RestitutionFit rf;
       if (want_restitution) {
         FitProblem rp = p;
-        rp.fixed = defaults;
+        rp.fixed = a.start == "table" && !table.empty() ? table : defaults;
         rf = FitRestitutionCurve(rp, point_mass, so, ro);
       }
       const double restitution_wall =
@@ -269,12 +271,15 @@ int main(int argc, char** argv) {
                                                 SimulateSafely(*model, values, fitted_drop).impact_times_s);
         const double timing_pred = TimingErrorMs(TruthDrop(truth_ball, pred_h).impact_times_s,
                                                  SimulateSafely(*model, values, pred).impact_times_s);
+        // Issue 14 item 5: safe wherever a user may drop it.
+        const std::string unsafe = UnsafeDrop(*model, values, {0.3, 2.0}, a.threads);
         ++rows;
-        holds += v.ok;
-        std::printf("| %s | %.1f -> %.1f m | %s | %.1f / %.1f | %s | %.1f | %s | %d | %.1f | %.1f / %.1f |\n",
+        holds += v.ok && unsafe.empty();
+        std::printf("| %s | %.1f -> %.1f m | %s | %.1f / %.1f | %s | %.1f | %s | %d | %.1f | %.1f / %.1f | %s |\n",
                     name.c_str(), fit_h, pred_h, design.c_str(), fitted_rms * 1000,
                     at_fit.ok ? Rms(recorded, at_fit.mean_m) * 1000 : NAN, v.errors.c_str(),
-                    v.worst_pct, v.ok ? "yes" : "no", sims, wall, timing_fit, timing_pred);
+                    v.worst_pct, v.ok && unsafe.empty() ? "yes" : "no", sims, wall, timing_fit, timing_pred,
+                    unsafe.empty() ? "-" : unsafe.c_str());
         std::fflush(stdout);
       }
     }
