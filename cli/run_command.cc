@@ -50,7 +50,7 @@ struct RunOptions {
   Channels channels;
   std::string model = "bullet-softbody";
   std::string method = "nlopt";
-  std::string impact = "boost";  // the final fit's rebound law (docs/MODEL.md)
+  std::string impact = "restitution";  // the final fit's rebound law (docs/MODEL.md)
   int max_evals = 0;  // 0: the session's default
   double px_per_m = 0;
   double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
@@ -225,11 +225,11 @@ void Run(RunOptions o) {
     fc.session.method = o.method;
     fc.session.impact = o.impact;
     if (o.max_evals > 0) fc.session.max_evaluations_final = o.max_evals;
-    final_budget = fc.session.max_evaluations_final;
     fc.channels = o.channels;
     fit = std::make_unique<FitNode>(
         fc, [&inbox](const fit_update_t& m, const FitUpdate& u) { inbox.Push(m, u); });
     fit->Start();
+    final_budget = fit->final_budget();
   }
 
   console.Info("run: " + info.description + ", " + Fixed(info.nominal_fps, 2) + " fps; ball " +

@@ -15,6 +15,7 @@ struct SynthOptions {
   SynthClipConfig clip;
   std::string ball = "pingpong";
   double diameter_m = 0, mass_kg = 0;
+  double restitution = -1, restitution_per_mps = -1;  // < 0: the preset's
   std::string size = "640x480";
   std::string color, wall_color, floor_color;
   std::string wall_pattern = "plain";
@@ -57,6 +58,9 @@ void Run(SynthOptions o) {
   o.clip.ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);
   if (o.diameter_m < 0) throw std::invalid_argument("--diameter must be > 0 m");
   if (o.mass_kg < 0) throw std::invalid_argument("--mass must be > 0 kg");
+  if (o.restitution > 1) throw std::invalid_argument("--restitution must be in 0-1");
+  if (o.restitution >= 0) o.clip.ball.restitution = o.restitution;
+  if (o.restitution_per_mps >= 0) o.clip.ball.restitution_per_mps = o.restitution_per_mps;
   ParseSize(o.size, &o.clip.width, &o.clip.height);
   if (!o.color.empty()) o.clip.ball_bgr = ParseColor(o.color, "--color");
   if (!o.wall_color.empty()) o.clip.wall_bgr = ParseColor(o.wall_color, "--wall-color");
@@ -121,6 +125,13 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--g", c.g_mps2, "Gravitational acceleration, m/s^2")->capture_default_str();
   cmd->add_flag("--no-drag", o->no_drag, "Switch air drag off (vacuum)");
+  cmd->add_option("--restitution", o->restitution,
+                  "Restitution at impact speed 0, e0 in e(v) = e0 - k v (default: the preset's)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--restitution-per-mps", o->restitution_per_mps,
+                  "Restitution lost per m/s of impact speed, k in e(v) = e0 - k v, 1/(m/s) "
+                  "(default: the preset's)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--fps", c.fps, "Frame rate, frames per second")->capture_default_str();
   cmd->add_option("--size", o->size, "Frame size WxH, pixels")->capture_default_str();
   cmd->add_option("--duration", c.duration_s, "Clip length, seconds")->capture_default_str();

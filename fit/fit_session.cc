@@ -357,9 +357,7 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   const int k = static_cast<int>(FittedHeights().size());
   // The budget holds everything: the searches, the Jacobian (2 runs per coefficient + 2)
   // and the free-running check (one run per ensemble member), so progress never passes it.
-  const int after_search = 2 * static_cast<int>(FreeSpecs().size()) + 2 +
-                           std::max(0, config_.ensemble_members) + 1 +
-                           static_cast<int>(config_.safe_drops_m.size());
+  const int after_search = AfterSearchSimulations();
   const int budget = std::max(1, (config_.max_evaluations_final - after_search) / starts);
   SearchOptions o;
   o.threads = config_.threads;
@@ -367,10 +365,7 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   o.cancel = cancel;
   if (config_.target_rms_fraction > 0) o.target_rms_m = config_.target_rms_fraction * drop_height_m_;
   FitProblem restitution_problem;
-  bool restitution = false;  // the law's fit, when the model has the law and a quick model
-  for (const auto& s : model_.Coefficients())
-    restitution = restitution || (s.name == "rebound_restitution" && quick_model_ &&
-                                  config_.impact == "restitution");
+  const bool restitution = UsesRestitutionLaw();
   SearchResult restitution_result;
   if (restitution) restitution_result = FinalRestitutionSearch(budget * starts, o, &restitution_problem);
   // The starts' leads: 2, 3, 4... coefficients, never more than the bounces.
@@ -457,13 +452,32 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   return u;
 }
 
+bool FitSession::UsesRestitutionLaw() const {
+  if (config_.impact != "restitution" || !quick_model_) return false;
+  for (const auto& s : model_.Coefficients())
+    if (s.name == "rebound_restitution") return true;
+  return false;
+}
+
+int FitSession::AfterSearchSimulations() const {
+  return 2 * static_cast<int>(FreeSpecs().size()) + 2 + std::max(0, config_.ensemble_members) +
+         1 + static_cast<int>(config_.safe_drops_m.size());
+}
+
+int FitSession::FinalBudget() const {
+  if (!UsesRestitutionLaw()) return config_.max_evaluations_final;
+  const RestitutionFitOptions ro;
+  const int search = std::min(ro.max_evaluations, config_.max_evaluations_final - AfterSearchSimulations());
+  return ro.point_mass_evaluations + std::max(1, search) + AfterSearchSimulations();
+}
+
 SearchResult FitSession::FinalRestitutionSearch(int budget, const SearchOptions& options,
                                                FitProblem* p) const {
   RestitutionFitOptions ro;
   ro.segments = config_.objective == "segments";
   ro.max_evaluations = std::min(budget, ro.max_evaluations);
   const RestitutionFit rf =
-      FitRestitutionCurve(MakeProblem(FreeSpecs(), final_start_), *quick_model_, options, ro);
+      FitRestitutionCurve(WithSafety(MakeProblem(FreeSpecs(), final_start_)), *quick_model_, options, ro);
   *p = MakeProblem(FirstSpecs({"rebound_restitution", "rebound_restitution_per_mps", "drag"}, 3),
                    rf.soft.values);
   return rf.soft;

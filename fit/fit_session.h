@@ -79,11 +79,11 @@ struct FitSessionConfig {
   // the default: its free-running residual and transfer are not measured to beat "drop"
   // (docs/ACCURACY.md, issue 14).
   std::string objective = "drop";
-  // The impact (docs/MODEL.md): "restitution" (the rebound law e(v) = e0 - k v; the final fit
-  // is fit/restitution_fit.h's two stages, ~50 simulations; what transfers to other drop
-  // heights, docs/ACCURACY.md) or "boost" (default: the paper's extra force on Bullet's own
-  // rebound; the final fit searches every coefficient).
-  std::string impact = "boost";
+  // The impact (docs/MODEL.md): "restitution" (default: the rebound law e(v) = e0 - k v; the
+  // final fit is fit/restitution_fit.h's two stages, ~60 simulations; it transfers to other
+  // drop heights, docs/ACCURACY.md) or "boost" (the paper's extra force on Bullet's own
+  // rebound; the final fit searches every coefficient, ~940 simulations).
+  std::string impact = "restitution";
   // Timing: flight times (impact to impact) in the objective with this weight, m/s (0: off).
   // With the restitution law only: the boost's soft contact puts every impact ~15 ms late.
   double flight_weight_mps = 1.0;
@@ -156,6 +156,9 @@ class FitSession {
   FitUpdate QuickUpdate();
   FitUpdate Update(const CancelToken* cancel = nullptr);
   FitUpdate FinalUpdate(const CancelToken* cancel = nullptr);
+  // Simulations FinalUpdate() runs at most, everything included (what its progress reads
+  // against: never past it).
+  int FinalBudget() const;
 
   const CoefficientValues& warm_start() const { return current_; }
   const FitSessionConfig& config() const { return config_; }
@@ -165,6 +168,11 @@ class FitSession {
 
  private:
   std::vector<CoefficientSpec> FreeSpecs() const;
+  // The final fit is the restitution law's two stages (config impact "restitution", the
+  // model has the law, a quick model to start it).
+  bool UsesRestitutionLaw() const;
+  // Simulations after the search: the Jacobian and the free-running checks.
+  int AfterSearchSimulations() const;
   FitProblem MakeProblem(const std::vector<CoefficientSpec>& free, const CoefficientValues& at,
                          bool live = false) const;
   double MeasurementSigma() const;

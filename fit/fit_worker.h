@@ -41,6 +41,7 @@ class FitWorker {
   // Waits at most `timeout` for the same; true if idle.
   bool WaitIdleFor(std::chrono::milliseconds timeout);
   int simulations() const { return session_->simulations(); }  // progress of the fits
+  int final_budget() const { return session_->FinalBudget(); }
   // Cancels what runs, drops what is pending, joins the thread.
   void Stop();
 

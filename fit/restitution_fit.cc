@@ -45,10 +45,12 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
   pm.fixed.clear();
   pm.segments = false;  // not chaotic: its free drop is the best estimate
   pm.grid.clear();
+  pm.safety = nullptr;  // a point mass cannot diverge
+  pm.safety_simulations = 0;
   CoefficientValues pm_start;
   for (const auto& s : pm.free) pm_start[s.name] = s.default_value;
   SearchOptions po = options;
-  po.max_evaluations = 200;
+  po.max_evaluations = o.point_mass_evaluations;
   po.threads = 1;  // milliseconds each
   po.target_rms_m = 0;
   out.point_mass = LeastSquaresSearch(pm, pm_start, po);

@@ -17,6 +17,7 @@ namespace bouncefit {
 
 struct RestitutionFitOptions {
   bool segments = true;      // stage 2: multiple shooting (else one free drop)
+  int point_mass_evaluations = 200;  // stage 1 (point-mass runs: microseconds each)
   int max_evaluations = 40;  // stage 2 simulations (a segment evaluation counts once)
   double fd_step = 0.05;     // stage 2 finite differences, fraction of each narrowed range
   // Stage 2 ranges around stage 1's values: e0 +- this, k +- this (>= 0), Cd x [1/f, f].

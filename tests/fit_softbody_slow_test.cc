@@ -66,6 +66,7 @@ TEST(FinalFitSafety, UnsafeCandidatesAreRejectedInsideTheSearch) {
   const auto truth = testing::PointMassTruth(ball, drop);
   auto model = MakeBallModel("bullet-softbody", ball);
   FitSessionConfig cfg;
+  cfg.impact = "boost";  // the stored airball table (the boost's) is the unsafe start
   ConfigureSessionForModel(*model, ball, &cfg);
   ASSERT_NE(UnsafeDrop(*model, cfg.start, {0.3}, 2), "") << "the start is no longer unsafe";
   cfg.final_starts = 1;

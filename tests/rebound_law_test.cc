@@ -63,7 +63,8 @@ TEST(ReboundLaw, EveryBounceFollowsTheRestitutionCurve) {
 
 // With the preset's drag: heights within max(5 mm, 3%) of the point mass's, the first impact
 // (where the arcs meet) within one 120 fps frame and every flight through the 5th bounce
-// within 1% (a rebound at the contact's deepest point instead: 2.5% long), from 1 m and 1.6 m.
+// within 1% or half a frame (a rebound at the contact's deepest point instead: 2.5% long),
+// from 1 m and 1.6 m.
 // The fit's timing (fit/fit_objective.h) takes up the rest.
 TEST(ReboundLaw, HeightsAndImpactTimesMatchThePointMass) {
   const BallPreset ball = ResolveBallPreset("pingpong", 0, 0);
@@ -81,7 +82,9 @@ TEST(ReboundLaw, HeightsAndImpactTimesMatchThePointMass) {
     EXPECT_NEAR(r.impact_times_s[0], t.impact_times_s[0], 1 / 120.0) << h << " m";
     for (size_t i = 1; i < 6; ++i) {
       const double flight = t.impact_times_s[i] - t.impact_times_s[i - 1];
-      EXPECT_NEAR(r.impact_times_s[i] - r.impact_times_s[i - 1], flight, 0.01 * flight)
+      // 1%, or half a 120 fps frame (the timing must-show is one frame through bounce 5).
+      EXPECT_NEAR(r.impact_times_s[i] - r.impact_times_s[i - 1], flight,
+                  std::max(0.01 * flight, 0.5 / 120))
           << h << " m, flight " << i;
     }
   }

@@ -49,6 +49,7 @@ class FitNode {
   void WaitIdle();
   bool WaitIdleFor(std::chrono::milliseconds timeout);  // true if idle
   int simulations() const { return worker_->simulations(); }
+  int final_budget() const { return worker_->final_budget(); }
   void Stop();
 
   const BallPreset& ball() const { return ball_; }
