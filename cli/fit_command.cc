@@ -198,7 +198,7 @@ void RunOffline(FitOptions o) {
   if (o.final_only) emit(session.QuickUpdate());
   // The final fit takes seconds: its progress on stderr (stdout carries the updates).
   auto running = std::async(std::launch::async, [&session] { return session.FinalUpdate(); });
-  const int budget = o.node.session.max_evaluations_final;
+  const int budget = session.FinalBudget();
   const int before = session.simulations();
   while (running.wait_for(std::chrono::seconds(1)) != std::future_status::ready)
     std::fprintf(stderr, "final fit  %d / %d simulations\n", session.simulations() - before,
