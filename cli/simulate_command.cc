@@ -21,7 +21,7 @@ namespace {
 
 struct SimulateOptions {
   std::string coeffs;
-  std::string ball = "pingpong";
+  std::string ball;  // "" = the coefficient file's ball, else pingpong
   double diameter_m = 0, mass_kg = 0;
   double drop_m = 1.0;
   double duration_s = 6.0;
@@ -83,13 +83,27 @@ void Run(const SimulateOptions& o) {
   if (o.diameter_m < 0) throw std::invalid_argument("--diameter must be > 0 m");
   if (o.mass_kg < 0) throw std::invalid_argument("--mass must be > 0 kg");
   if (!(o.rate_hz > 0)) throw std::invalid_argument("--rate must be > 0 Hz");
-  const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);
+  // A fit's file names its ball (and its size and mass): the heights are that ball's.
+  std::optional<CoefficientTable> file;
+  if (!o.coeffs.empty() && o.coeffs != "preset" && o.coeffs.find('=') == std::string::npos)
+    file = LoadCoefficientTable(o.coeffs);
+  std::string ball_name = o.ball;
+  if (file && !file->ball.empty()) {
+    if (!ball_name.empty() && ball_name != file->ball)
+      throw std::invalid_argument(o.coeffs + " holds coefficients for the " + file->ball +
+                                  " ball, not " + ball_name);
+    ball_name = file->ball;
+  }
+  if (ball_name.empty()) ball_name = "pingpong";
+  const double diameter = o.diameter_m > 0 ? o.diameter_m : file ? file->diameter_m.value_or(0) : 0;
+  const double mass = o.mass_kg > 0 ? o.mass_kg : file ? file->mass_kg.value_or(0) : 0;
+  const BallPreset ball = ResolveBallPreset(ball_name, diameter, mass);
   const SoftBallModel model(ball);
   if (o.list) {
     ListCoefficients(model);
     return;
   }
-  const CoefficientValues given = ReadCoefficients(o.coeffs, o.ball, model);
+  const CoefficientValues given = ReadCoefficients(o.coeffs, ball_name, model);
   std::string error;
   const CoefficientValues values = model.Complete(given, &error);
   if (!error.empty()) throw std::invalid_argument(error);
@@ -206,7 +220,9 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_option("--coeffs", o->coeffs,
                   "Coefficients: a JSON file ({\"coefficients\": {name: value}}), name=value,... "
                   "or 'preset' (the ball's stored table); missing ones take their defaults");
-  cmd->add_option("--ball", o->ball, "Ball preset: " + BallPresetNames())->capture_default_str();
+  cmd->add_option("--ball", o->ball,
+                  "Ball preset (default: the one the --coeffs file names, else pingpong): " +
+                      BallPresetNames());
   cmd->add_option("--diameter", o->diameter_m, "Override the preset's diameter, metres");
   cmd->add_option("--mass", o->mass_kg, "Override the preset's mass, kilograms");
   cmd->add_option("--drop,--drop-height", o->drop_m,

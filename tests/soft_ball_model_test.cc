@@ -433,5 +433,24 @@ TEST(SimulateCommand, ErrorsAreOneLine) {
   }
 }
 
+// A fit's file names its ball: simulate runs that ball (an airball's coefficients on a
+// ping-pong ball gave heights 6% off the fit's), and says so when --ball names another.
+TEST(SimulateCommand, TakesTheBallTheCoefficientFileNames) {
+  const std::filesystem::path file = testing::ScratchDir("simulate_ball") / "airball.json";
+  std::ofstream(file) << R"({"model": "bullet-softbody", "ball": "airball",
+      "values": {"rebound_restitution": 0.8, "rebound_restitution_per_mps": 0.02}})";
+  std::string from_file, given, other;
+  ASSERT_EQ(testing::RunCommand(testing::BouncefitExe() + " simulate --no-trajectory --coeffs " +
+                                    file.string(), &from_file), 0) << from_file;
+  ASSERT_EQ(testing::RunCommand(testing::BouncefitExe() + " simulate --no-trajectory --ball airball --coeffs " +
+                                    file.string(), &given), 0) << given;
+  auto heights = [](const std::string& out) { return out.substr(out.find("bounce heights")); };
+  EXPECT_EQ(heights(from_file), heights(given));  // (the first line says the wall time)
+  EXPECT_NE(from_file.find("airball (0.15 m"), std::string::npos) << from_file;
+  EXPECT_EQ(testing::RunCommand(testing::BouncefitExe() + " simulate --ball pingpong --coeffs " +
+                                    file.string(), &other), 1);
+  EXPECT_NE(other.find("for the airball ball, not pingpong"), std::string::npos) << other;
+}
+
 }  // namespace
 }  // namespace bouncefit
