@@ -27,7 +27,7 @@ namespace {
 
 struct FitOptions {
   std::string heights;
-  std::string peaks_csv;
+  std::vector<std::string> peaks_csv;  // one file per drop, fitted jointly
   std::string export_dir;
   bool json = false;
   bool final_only = false;
@@ -138,6 +138,18 @@ void PrintUpdate(const FitUpdate& u) {
   std::printf("\n  simulated (m):");
   for (double s : u.simulated_m) std::printf(" %.4f", s);
   std::printf("\n");
+  if (!u.other_drop_heights_m.empty()) {  // a joint fit: which bounces are which drop's
+    size_t first = u.recorded_m.size();
+    for (int n : u.other_drop_bounces) first -= static_cast<size_t>(n);
+    std::printf("  drops: %.4f m (bounces 1-%zu)", u.drop_height_m, first);
+    size_t at = first;
+    for (size_t d = 0; d < u.other_drop_heights_m.size(); ++d) {
+      std::printf(", %.4f m (%zu-%zu)", u.other_drop_heights_m[d], at + 1,
+                  at + static_cast<size_t>(u.other_drop_bounces[d]));
+      at += static_cast<size_t>(u.other_drop_bounces[d]);
+    }
+    std::printf("\n");
+  }
   if (!u.segment_simulated_m.empty()) {
     std::printf("  segments  (m):");  // bounce i from the recorded apex i-1
     for (double s : u.segment_simulated_m) std::printf(" %.4f", s);
@@ -169,14 +181,18 @@ void ApplyBudgets(FitOptions* o) {
 }
 
 void RunOffline(FitOptions o) {
-  std::vector<PeakInput> peaks;
+  // Drops, each a list of peaks: --heights, or one per --peaks file (read before any fit,
+  // so a bad file fails at once).
+  std::vector<std::vector<PeakInput>> drops;
   if (!o.heights.empty()) {
     const auto h = ParseHeights(o.heights);
-    for (size_t i = 0; i < h.size(); ++i) peaks.push_back({0, static_cast<int>(i), h[i], 0, 0});
+    drops.emplace_back();
+    for (size_t i = 0; i < h.size(); ++i) drops.back().push_back({0, static_cast<int>(i), h[i], 0, 0});
   } else {
-    peaks = ReadPeaksCsv(o.peaks_csv);
+    for (const auto& path : o.peaks_csv) drops.push_back(ReadPeaksCsv(path));
   }
-  for (auto& p : peaks) p.sequence = 0;
+  for (size_t d = 0; d < drops.size(); ++d)
+    for (auto& p : drops[d]) p.sequence = static_cast<int>(d);
   const BallPreset ball = ResolveBallPreset(o.node.ball, o.node.diameter_m, o.node.mass_kg);
   auto model = MakeBallModel(o.node.model, ball);
   PointMassModel quick(ball);
@@ -185,12 +201,16 @@ void RunOffline(FitOptions o) {
   auto emit = [&](const FitUpdate& u) { Emit(o, FitNode::ToMessage(u), u); };
   // As the node would: the point-mass estimate and a refinement after every bounce (no
   // newer peak ever supersedes them offline), then the final fit.
-  for (const auto& p : peaks) {
-    session.AddPeak(p);
-    if (o.final_only || p.bounce < 1 || !session.CanFit()) continue;
-    if (static_cast<int>(session.FittedHeights().size()) < p.bounce) continue;  // below 1 cm
-    emit(session.QuickUpdate());
-    emit(session.Update());
+  // Earlier drops are kept and fitted with the last one (issue 14 item 4).
+  for (size_t d = 0; d < drops.size(); ++d) {
+    if (d > 0) session.KeepDropAndReset(static_cast<int>(d));
+    for (const auto& p : drops[d]) {
+      session.AddPeak(p);
+      if (o.final_only || p.bounce < 1 || !session.CanFit()) continue;
+      if (static_cast<int>(session.FittedHeights().size()) < p.bounce) continue;  // below 1 cm
+      emit(session.QuickUpdate());
+      emit(session.Update());
+    }
   }
   if (!session.CanFit())
     throw std::runtime_error("no bounce above " +
@@ -287,7 +307,9 @@ void AddFitCommand(CLI::App& app) {
       "heights offline with --heights / --peaks)");
   cmd->add_option("--heights", o->heights,
                   "offline: drop height then bounce apex heights, metres, e.g. 1.0,0.62,0.40");
-  cmd->add_option("--peaks", o->peaks_csv, "offline: a peaks.csv (docs/FORMATS.md)")
+  cmd->add_option("--peaks", o->peaks_csv,
+                  "offline: a peaks.csv (docs/FORMATS.md); repeat it for several drops of the "
+                  "same ball, fitted jointly")
       ->check(CLI::ExistingFile)
       ->excludes(cmd->get_option("--heights"));
   cmd->add_option("--ball", o->node.ball, "ball preset (" + BallPresetNames() + ")")

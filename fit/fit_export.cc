@@ -43,6 +43,9 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"free_run_mean_m", u.free_run_mean_m},
           {"free_run_sd_m", u.free_run_sd_m},
           {"free_run_residual_m", Num(u.free_run_residual_m)},
+          // A joint fit: the other drops' heights follow this drop's in the lists above.
+          {"other_drop_heights_m", u.other_drop_heights_m},
+          {"other_drop_bounces", u.other_drop_bounces},
           {"warning", u.warning},
           {"evaluations", u.evaluations},
           {"wall_time_s", u.wall_time_s}};

@@ -26,6 +26,21 @@ SimulationResult SimulateSafely(const BallModel& model, const CoefficientValues&
   }
 }
 
+size_t FitProblem::DropStart(size_t d) const {
+  size_t others = 0;
+  for (const auto& o : other_drops) others += static_cast<size_t>(std::max(0, o.bounces));
+  const size_t first = recorded_m.size() - std::min(others, recorded_m.size());
+  if (d == 0) return 0;
+  size_t at = first;
+  for (size_t j = 0; j + 1 < d && j < other_drops.size(); ++j)
+    at += static_cast<size_t>(std::max(0, other_drops[j].bounces));
+  return std::min(d > other_drops.size() ? recorded_m.size() : at, recorded_m.size());
+}
+
+double FitProblem::DropHeight(size_t d) const {
+  return d == 0 ? simulation.drop_height_m : other_drops.at(d - 1).drop_height_m;
+}
+
 double HeightObjective(const std::vector<double>& recorded, const std::vector<double>& simulated) {
   double sum = 0;
   for (size_t i = 0; i < recorded.size(); ++i) {
@@ -258,17 +273,53 @@ std::vector<double> FitObjective::Residuals(const Evaluation& e) const {
 SimulationResult FitObjective::Simulate(const CoefficientValues& values, bool parallel,
                                         std::vector<double>* flights) const {
   const size_t k = problem_.recorded_m.size();
-  if (!problem_.segments) {
+  if (!problem_.segments && problem_.other_drops.empty()) {
     SimulationResult r = SimulateSafely(*problem_.model, values, problem_.simulation);
     *flights = FlightTimes(r.impact_times_s, k);
     return r;
+  }
+  if (!problem_.segments) {
+    // Several drops: each from its own height, its heights and flights in its own slots.
+    SimulationResult out;
+    out.ok = true;
+    flights->clear();
+    for (size_t d = 0; d < problem_.Drops(); ++d) {
+      const size_t from = problem_.DropStart(d), to = problem_.DropStart(d + 1);
+      const std::vector<double> mine(problem_.recorded_m.begin() + static_cast<long>(from),
+                                     problem_.recorded_m.begin() + static_cast<long>(to));
+      SimulationOptions o = problem_.simulation;
+      o.drop_height_m = problem_.DropHeight(d);
+      if (d > 0) {
+        const int n = static_cast<int>(mine.size());
+        o.duration_s = 1.5 * FreeFallApexTime(o.drop_height_m, mine, n) + 0.2;
+        o.max_bounces = n;
+      }
+      const SimulationResult r = SimulateSafely(*problem_.model, values, o);
+      if (!r.ok) {
+        out.ok = false;
+        out.failure = "drop " + std::to_string(d + 1) + " (" + std::to_string(o.drop_height_m) +
+                      " m): " + r.failure;
+        return out;
+      }
+      for (size_t i = 0; i < mine.size(); ++i)
+        out.bounce_heights_m.push_back(i < r.bounce_heights_m.size() ? r.bounce_heights_m[i] : 0.0);
+      const std::vector<double> f = FlightTimes(r.impact_times_s, mine.size());
+      flights->insert(flights->end(), f.begin(), f.end());
+      out.wall_time_s += r.wall_time_s;
+    }
+    return out;
   }
   std::vector<SimulationResult> runs(k);
   const bool timing = timed();
   auto segment = [&](size_t i) {
     SimulationOptions o = problem_.simulation;
     o.record_trajectory = false;
-    o.drop_height_m = i == 0 ? problem_.simulation.drop_height_m : problem_.recorded_m[i - 1];
+    // Bounce i from the recorded apex before it, or from its drop's release height.
+    o.drop_height_m = problem_.recorded_m.empty() ? 0 : problem_.simulation.drop_height_m;
+    for (size_t d = 0; d < problem_.Drops(); ++d)
+      if (i == problem_.DropStart(d)) o.drop_height_m = problem_.DropHeight(d);
+      else if (i > problem_.DropStart(d) && i < problem_.DropStart(d + 1))
+        o.drop_height_m = problem_.recorded_m[i - 1];
     // Long enough for the first apex (and the samples after it that measure it), or with
     // timing for the impact that ends its arc.
     const double h = problem_.recorded_m[i];

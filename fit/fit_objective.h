@@ -59,6 +59,18 @@ struct FitProblem {
   // 1 m/s a flight 2 ms off weighs as a height 2 mm off). 0 or none: heights only.
   std::vector<double> recorded_flight_s;
   double flight_weight_mps = 0;
+  // Further drops of the same ball fitted with this one (issue 14 item 4): each from its own
+  // release height, its recorded heights (and flights) appended after this drop's in
+  // recorded_m (recorded_flight_s); the objective sums over every drop.
+  struct OtherDrop {
+    double drop_height_m = 0;
+    int bounces = 0;
+  };
+  std::vector<OtherDrop> other_drops;
+  // Where drop d's bounces start in recorded_m (d = 0: this drop), and its release height.
+  size_t DropStart(size_t d) const;
+  double DropHeight(size_t d) const;
+  size_t Drops() const { return 1 + other_drops.size(); }
 };
 
 struct SearchOptions {

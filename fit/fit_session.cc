@@ -95,6 +95,11 @@ void FitSession::Reset(int sequence) {
   impacts_before_.clear();
 }
 
+void FitSession::KeepDropAndReset(int sequence) {
+  if (CanFit()) kept_.push_back({drop_height_m_, FittedHeights(), FittedFlights()});
+  Reset(sequence);
+}
+
 bool FitSession::AddPeak(const PeakInput& p) {
   if (p.sequence != sequence_) return false;
   if (!std::isfinite(p.height_m) || p.bounce < 0) return true;  // nothing usable
@@ -180,6 +185,15 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
   p.simulation.min_bounce_height_m = 0.5 * std::min(config_.min_bounce_height_m, lowest);
   // No simulation runs past the last recorded bounce (a third of a drop's steps or more).
   p.simulation.max_bounces = k;
+  // The final fits take the kept drops too (the live ones follow the drop in progress).
+  if (!live)
+    for (const auto& d : kept_) {
+      p.recorded_m.insert(p.recorded_m.end(), d.heights_m.begin(), d.heights_m.end());
+      p.recorded_flight_s.insert(p.recorded_flight_s.end(), d.flights_s.begin(), d.flights_s.end());
+      p.other_drops.push_back({d.drop_height_m, static_cast<int>(d.heights_m.size())});
+      for (double h : d.heights_m)
+        p.simulation.min_bounce_height_m = std::min(p.simulation.min_bounce_height_m, 0.5 * h);
+    }
   return p;
 }
 
@@ -198,6 +212,10 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
   u.drop_height_m = drop_height_m_;
   u.recorded_m = problem.recorded_m;
   u.simulated_m = r.simulated_m;
+  for (const auto& d : problem.other_drops) {
+    u.other_drop_heights_m.push_back(d.drop_height_m);
+    u.other_drop_bounces.push_back(d.bounces);
+  }
   u.residual_m = RmsResidual(problem.recorded_m, r.simulated_m);
   if (problem.segments) {
     u.segment_simulated_m = r.simulated_m;
@@ -460,8 +478,10 @@ bool FitSession::UsesRestitutionLaw() const {
 }
 
 int FitSession::AfterSearchSimulations() const {
-  return 2 * static_cast<int>(FreeSpecs().size()) + 2 + std::max(0, config_.ensemble_members) +
-         1 + static_cast<int>(config_.safe_drops_m.size());
+  const int drops = 1 + static_cast<int>(kept_.size());
+  return 2 * static_cast<int>(FreeSpecs().size()) + 2 +
+         drops * std::max(1, config_.ensemble_members) + 1 +
+         static_cast<int>(config_.safe_drops_m.size());
 }
 
 int FitSession::FinalBudget() const {
@@ -486,13 +506,37 @@ SearchResult FitSession::FinalRestitutionSearch(int budget, const SearchOptions&
 void FitSession::CheckFreeRun(const FitProblem& p, FitUpdate* u) {
   // The free-running drop at the answer: one run exactly as `simulate` does it (so the export
   // reproduces these heights), and the ensemble around it, the honest error bar.
-  SimulationOptions drop = p.simulation;
   DropEnsembleOptions eo;
   eo.members = std::max(1, config_.ensemble_members);
   eo.threads = config_.threads;
-  const DropEnsemble e = SimulateDropEnsemble(model_, u->values, drop, eo);
-  simulations_ += e.simulations;
-  u->evaluations += e.simulations;
+  // Each drop of a joint fit from its own height, its bounces in its own slots.
+  DropEnsemble e;
+  e.ok = true;
+  for (size_t d = 0; d < p.Drops() && e.ok; ++d) {
+    SimulationOptions drop = p.simulation;
+    drop.drop_height_m = p.DropHeight(d);
+    const size_t n = p.DropStart(d + 1) - p.DropStart(d);
+    if (d > 0) {
+      const std::vector<double> mine(p.recorded_m.begin() + static_cast<long>(p.DropStart(d)),
+                                     p.recorded_m.begin() + static_cast<long>(p.DropStart(d + 1)));
+      drop.duration_s = config_.duration_margin * FreeFallApexTime(drop.drop_height_m, mine, static_cast<int>(n)) + 0.2;
+      drop.max_bounces = static_cast<int>(n);
+    }
+    const DropEnsemble one = SimulateDropEnsemble(model_, u->values, drop, eo);
+    simulations_ += one.simulations;
+    u->evaluations += one.simulations;
+    if (!one.ok) {
+      e.ok = false;
+      e.failure = one.failure;
+      break;
+    }
+    auto take = [n](std::vector<double>* to, const std::vector<double>& from) {
+      for (size_t i = 0; i < n; ++i) to->push_back(i < from.size() ? from[i] : 0.0);
+    };
+    take(&e.single_m, one.single_m);
+    take(&e.mean_m, one.mean_m);
+    take(&e.sd_m, one.sd_m);
+  }
   if (!e.ok) {  // simulated_m stays the search's own run at the answer (what simulate gives)
     AddWarning(u, "a perturbed free-running drop diverges: " + e.failure);
     return;

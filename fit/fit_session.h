@@ -70,6 +70,10 @@ struct FitUpdate {
   std::vector<std::string> no_effect;      // coefficients found to change no height
   std::vector<std::string> unidentified;   // coefficients the data cannot determine
   std::string warning;        // "" or why the answer is doubtful (e.g. its free drop diverges)
+  // A joint fit of several drops: recorded_m / simulated_m / free_run_* hold this drop's
+  // bounces, then each other drop's; their release heights and bounce counts (empty: one).
+  std::vector<double> other_drop_heights_m;
+  std::vector<int> other_drop_bounces;
 };
 
 struct FitSessionConfig {
@@ -139,6 +143,10 @@ class FitSession {
 
   // Starts a new drop (forgets heights; keeps the warm start).
   void Reset(int sequence);
+  // Keeps the drop recorded so far (when it has a bounce to fit) for the final fits that
+  // follow, fitted jointly with the next drops (issue 14 item 4), then starts a new drop.
+  void KeepDropAndReset(int sequence);
+  int kept_drops() const { return static_cast<int>(kept_.size()); }
   // Records a peak. Bounce 0 sets the drop height; bounce k sets r_k. Returns false (and
   // records nothing) for a peak of another sequence: call Reset() first.
   bool AddPeak(const PeakInput& peak);
@@ -207,6 +215,11 @@ class FitSession {
   std::vector<std::string> live_order_;  // free coefficients, most sensitive first
   std::vector<std::string> initial_live_order_;  // as configured: the final fit's lead
   std::atomic<int> simulations_{0};
+  struct KeptDrop {
+    double drop_height_m = 0;
+    std::vector<double> heights_m, flights_s;
+  };
+  std::vector<KeptDrop> kept_;  // earlier drops, fitted with this one in final fits
 };
 
 // Where the coefficients of a model hold: time step and solver iterations, read from
