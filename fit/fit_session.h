@@ -92,6 +92,9 @@ struct FitSessionConfig {
   // With the restitution law only: the boost's soft contact puts every impact ~15 ms late.
   double flight_weight_mps = 1.0;
   int ensemble_members = 8;         // the final fit's free-running check (0: none)
+  // A stream's later drops (the person drops the ball again) are fitted jointly with the
+  // earlier ones in the final fits (issue 14 item 4); false: each drop on its own.
+  bool joint_drops = true;
   // Safety (issue 14 item 5: the user may drop it anywhere in 0.3-2 m): inside the final
   // fit's search, a point that would become the best is first dropped from these heights
   // and from the fitted one, each until it settles, and rejected if one diverges (empty: no

@@ -112,7 +112,11 @@ void FitWorker::Loop() {
           // A new drop: the previous one is over, fit it thoroughly (a later peak may cut
           // it short; it is delivered anyway as the drop's last word).
           if (session_->CanFit() && !final_done) DeliverFinal(token.get());
-          session_->Reset(p.sequence);
+          // The ball dropped again: its final fits take the earlier drops too.
+          if (session_->config().joint_drops)
+            session_->KeepDropAndReset(p.sequence);
+          else
+            session_->Reset(p.sequence);
           final_done = false;
           need_fit = false;
         }

@@ -193,6 +193,42 @@ TEST(FitWorker, NewSequenceFinalisesThePreviousDrop) {
   EXPECT_EQ(finals, 1);
 }
 
+// The ball dropped again in the same stream (issue 14 item 4): the second drop's final fit
+// takes the first drop's bounces too, each drop from its own height.
+TEST(FitWorker, AStreamsLaterDropIsFittedWithTheEarlierOnes) {
+  const auto ball = *FindBallPreset("wiffle");
+  PointMassModel model(ball);
+  FitSessionConfig cfg;
+  cfg.max_evaluations_per_bounce = 10;
+  cfg.max_evaluations_final = 40;
+  Collected got;
+  FitWorker worker(std::make_unique<FitSession>(model, &model, cfg),
+                   [&](const FitUpdate& u) { got.Add(u); });
+  worker.Start();
+  const auto first = DropHeights(ball, 1.2, 2), second = DropHeights(ball, 0.8, 2);
+  for (int b = 0; b <= 2; ++b) worker.Submit({0, b, first[b], 0.001, b});
+  worker.WaitIdle();
+  for (int b = 0; b <= 2; ++b) worker.Submit({1, b, second[b], 0.001, 10 + b});
+  worker.Finish();
+  worker.WaitIdle();
+  std::vector<FitUpdate> finals;
+  for (const auto& u : got.Get())
+    if (u.final) finals.push_back(u);
+  ASSERT_EQ(finals.size(), 2u);
+  EXPECT_TRUE(finals[0].other_drop_heights_m.empty());
+  const FitUpdate& joint = finals[1];
+  EXPECT_EQ(joint.sequence, 1);
+  EXPECT_DOUBLE_EQ(joint.drop_height_m, 0.8);
+  EXPECT_EQ(joint.other_drop_heights_m, std::vector<double>{1.2});
+  EXPECT_EQ(joint.other_drop_bounces, std::vector<int>{2});
+  ASSERT_EQ(joint.recorded_m.size(), 4u);
+  const std::vector<double> want = {second[1], second[2], first[1], first[2]};
+  for (size_t i = 0; i < want.size(); ++i) {
+    EXPECT_DOUBLE_EQ(joint.recorded_m[i], want[i]);
+    EXPECT_NEAR(joint.simulated_m[i], want[i], 0.002) << i;  // the truth's own model
+  }
+}
+
 // Warm start and per-bounce refinement on a model with known truth: each update matches the
 // bounces it has, and the final fit recovers the restitution.
 TEST(FitSession, PerBounceUpdatesFollowTheDropAndTheFinalRecoversTruth) {
