@@ -6,6 +6,7 @@
 //             [--neighbours N]
 //   fit_bench --realtime [--ball pingpong] [--drop 1.0] [--detector-delay 0.05]
 //   fit_bench --law [--balls ...] [--inputs 0.8,0.9,1.0,1.2,1.4] [--budget 300]
+//             [--step F] [--range-scale S] [--stage2 N]   (the default's variants)
 //
 // Searches: recorded heights come from model/point_mass_drop with the ball's preset (synth's
 // physics); both searches start from the same point (the model's defaults, or the preset
@@ -68,6 +69,8 @@ struct Args {
   int threads = 0;
   bool realtime = false;
   bool law = false;
+  double range_scale = 0;  // --law: scales the default's stage-2 ranges (0: as the session)
+  int stage2 = 0;          // --law: the default's stage-2 budget (0: as the session)
   std::vector<double> inputs = {0.8, 0.9, 1.0, 1.2, 1.4};
   double detector_delay = 0.05;
   int per_bounce = 16;
@@ -103,6 +106,8 @@ Args Parse(int argc, char** argv) {
     else if (k == "--threads") a.threads = std::stoi(next());
     else if (k == "--realtime") a.realtime = true;
     else if (k == "--law") a.law = true;
+    else if (k == "--range-scale") a.range_scale = std::stod(next());
+    else if (k == "--stage2") a.stage2 = std::stoi(next());
     else if (k == "--inputs") {
       a.inputs.clear();
       for (const auto& h : Split(next())) a.inputs.push_back(std::stod(h));
@@ -263,6 +268,12 @@ int LawSearches(const Args& a) {
       const SearchResult paper = PaperSearch(p, p.fixed, o);
       RestitutionFitOptions ro;  // the session's, unless --step says otherwise
       if (a.step > 0) ro.fd_step = a.step;
+      if (a.range_scale > 0) {
+        ro.restitution_range *= a.range_scale;
+        ro.slope_range *= a.range_scale;
+        ro.drag_factor = std::pow(ro.drag_factor, a.range_scale);
+      }
+      if (a.stage2 > 0) ro.max_evaluations = a.stage2;
       const RestitutionFit def = FitRestitutionCurve(p, point_mass, o, ro);
       int reach = -1;
       for (size_t i = 0; i < def.soft.best_history.size(); ++i)
