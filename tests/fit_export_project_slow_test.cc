@@ -22,9 +22,10 @@
 namespace bouncefit {
 namespace {
 
-// A final fit's update for the pingpong preset's stored coefficients, with a rebound boost
-// that falls with impact speed (so the boost callback's whole rule is exercised).
-FitUpdate PresetUpdate(const SoftBallModel& model) {
+// A final fit's update for the pingpong preset's stored coefficients, with the rebound rule
+// of `impact` falling with impact speed (so the tick callback's whole rule is exercised):
+// "boost" (the paper's), or "restitution" (the law the default fit answers with).
+FitUpdate PresetUpdate(const SoftBallModel& model, const std::string& impact) {
   FitUpdate u;
   u.model = model.name();
   u.method = "preset";
@@ -33,7 +34,14 @@ FitUpdate PresetUpdate(const SoftBallModel& model) {
   u.time_step_s = model.config().time_step_s;
   u.iterations = model.config().position_iterations;
   CoefficientValues given = SoftBallPresetTable("pingpong")->values;
-  given["rebound_boost_per_mps"] = 0.03;
+  if (impact == "boost") {
+    given["rebound_boost_per_mps"] = 0.03;
+  } else {
+    given["rebound_boost"] = 0;
+    given["rebound_restitution"] = 0.92;
+    given["rebound_restitution_per_mps"] = 0.02;
+    given["damping"] = given["pressure"] = given["volume_conservation"] = 0;
+  }
   std::string error;
   u.values = model.Complete(given, &error);
   EXPECT_EQ(error, "");
@@ -57,11 +65,13 @@ std::vector<double> SimulateCommandHeights(const std::filesystem::path& coeffs, 
   return nlohmann::json::parse(out)["bounce_heights_m"].get<std::vector<double>>();
 }
 
-TEST(FitExportProject, BuildsAgainstBulletAndPrintsSimulatesHeights) {
+class FitExportProject : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(FitExportProject, BuildsAgainstBulletAndPrintsSimulatesHeights) {
   const BallPreset ball = *FindBallPreset("pingpong");
   const SoftBallModel model(ball);
-  const FitUpdate u = PresetUpdate(model);
-  const auto dir = testing::ScratchDir("export");
+  const FitUpdate u = PresetUpdate(model, GetParam());
+  const auto dir = testing::ScratchDir(std::string("export_") + GetParam());
   WriteFitExports(dir, u, ball);
   const auto project = dir / "fitted_ball";
 
@@ -137,7 +147,10 @@ TEST(FitExportProject, BuildsAgainstBulletAndPrintsSimulatesHeights) {
   EXPECT_NE(out.find("usage: fitted_ball H"), std::string::npos) << out;
 }
 
-TEST(FitExportProject, APointMassFitSaysThereIsNothingToBuild) {
+INSTANTIATE_TEST_SUITE_P(Impacts, FitExportProject, ::testing::Values("boost", "restitution"),
+                         [](const auto& info) { return std::string(info.param); });
+
+TEST(FitExportPointMass, APointMassFitSaysThereIsNothingToBuild) {
   const BallPreset ball = *FindBallPreset("pingpong");
   FitUpdate u;
   u.model = "point-mass";
