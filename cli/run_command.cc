@@ -232,6 +232,7 @@ void Run(RunOptions o) {
     final_budget = fit->final_budget();
   }
 
+  if (info.nominal_fps > 0) sound.set_frame_period_s(1.0 / info.nominal_fps);
   console.Info("run: " + info.description + ", " + Fixed(info.nominal_fps, 2) + " fps; ball " +
                ball.name + " (" + Fixed(ball.diameter_m * 1e3, 1) + " mm, " +
                Fixed(ball.mass_kg * 1e3, 1) + " g); output " + out.dir().string() + "; bus " + o.lcm_url +

@@ -161,6 +161,7 @@ ImpactFusionConfig RunSound::FusionConfig() const {
   ImpactFusionConfig fc;
   const double area = std::numbers::pi * ball_.diameter_m * ball_.diameter_m / 4;
   fc.drag_per_m = 0.5 * 1.2 * ball_.drag_coefficient * area / ball_.mass_kg;
+  fc.frame_period_s = frame_period_s_;
   return fc;
 }
 
@@ -239,6 +240,27 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
   for (const auto& m : peaks)
     apex_t.push_back(m.bounce > 0 || heard_before > 0 ? SecondsSince(m.apex_utime, t0) : NAN);
   const std::vector<ApexOnArc> on_arc = PlaceApexesOnHeardArcs(apex_t, fused_);
+  // With the sound checked against the picture, its impacts are the drop's: bounce k is the
+  // arc after the k-th impact since the release the picture saw (bounces the picture missed
+  // or split, heard before it locked on, are counted right).
+  // A seen "release" with an impact within twice its fall time before it was the apex of a
+  // bounce the picture came in on, not a release (a hand holds a ball still before it lets go).
+  std::vector<double> releases;
+  for (const auto& m : peaks) {
+    if (m.bounce != 0) continue;
+    const double t = SecondsSince(m.apex_utime, t0);
+    const double fall_s = std::sqrt(2 * std::max(m.height_m, 0.0) / 9.81);
+    if (std::none_of(fused_.impacts.begin(), fused_.impacts.end(),
+                     [&](const FusedImpact& i) { return i.t_s < t && i.t_s >= t - 2 * fall_s; }))
+      releases.push_back(t);
+  }
+  const auto impacts_before = [&](double t) {
+    double since = -1e300;
+    for (double r : releases)
+      if (r <= t) since = std::max(since, r);
+    return static_cast<int>(std::count_if(fused_.impacts.begin(), fused_.impacts.end(),
+                                          [&](const FusedImpact& i) { return i.t_s > since && i.t_s < t; }));
+  };
   std::vector<std::pair<double, std::string>> rows;  // apex time, line
   std::vector<bool> arc_seen(fused_.flights.size(), false);
   int last_bounce = -1, dropped = 0;
@@ -253,7 +275,7 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
     const HeardFlight* fl = on_arc[p].flight >= 0 ? &fused_.flights[on_arc[p].flight] : nullptr;
     if (fl) arc_seen[on_arc[p].flight] = true;
     const double flight_h = fl ? fl->height_m : m.flight_height_m;
-    const int bounce = m.bounce - dropped + heard_before;
+    const int bounce = fused_.sound_used ? impacts_before(t_s) : m.bounce - dropped + heard_before;
     std::ostringstream line;
     line << bounce << ',' << Cell(t_s, "%.6f") << ',' << Cell(m.height_m, "%.5f") << ','
          << Cell(m.height_px, "%.3f") << ',' << Cell(flight_h, "%.5f") << ','
@@ -264,12 +286,17 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
     first_t = std::min(first_t, t_s);
     last_t = std::max(last_t, t_s);
   }
-  // Bounces heard but not seen: before the picture found the ball, and after the last
-  // bounce it saw (too small to see).
+  // Bounces heard but not seen: with the sound checked, every heard arc no seen apex is on;
+  // a heard train alone, those before the picture found the ball and after the last bounce
+  // it saw (too small to see).
   for (size_t k = 0; k < fused_.flights.size(); ++k) {
     const HeardFlight& fl = fused_.flights[k];
-    if (!fl.heard_only || arc_seen[k] || (fl.apex_t_s > first_t && fl.apex_t_s <= last_t)) continue;
-    const int bounce = fl.apex_t_s < first_t ? fl.from + 1 : ++last_bounce;
+    if (arc_seen[k]) continue;
+    if (!fused_.sound_used && (!fl.heard_only || (fl.apex_t_s > first_t && fl.apex_t_s <= last_t)))
+      continue;
+    const int bounce = fused_.sound_used ? impacts_before(fl.apex_t_s)
+                       : fl.apex_t_s < first_t ? fl.from + 1
+                                               : ++last_bounce;
     rows.emplace_back(fl.apex_t_s, std::to_string(bounce) + ',' + Cell(fl.apex_t_s, "%.6f") + ',' +
                                        Cell(fl.height_m, "%.5f") + ",," + Cell(fl.height_m, "%.5f") +
                                        ",,heard only," +

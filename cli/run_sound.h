@@ -35,6 +35,8 @@ class RunSound {
   ~RunSound();
 
   bool enabled() const { return source_ != nullptr || mic_ != nullptr; }
+  // The picture's frame period, s (a seen impact is timed to about a frame).
+  void set_frame_period_s(double s) { frame_period_s_ = s; }
   std::string Describe() const { return description_; }
 
   // Decodes and listens up to video time t_s (s since the first frame; a microphone: all it
@@ -85,6 +87,7 @@ class RunSound {
   double first_sample_t_s_ = NAN;  // video clock
   std::vector<float> wave_peak_;    // per kWaveBinS window from wave_first_bin_
   int64_t wave_first_bin_ = 0;
+  double frame_period_s_ = 0;
   double cpu_s_ = 0;  // decoding + detecting, CPU seconds of the calling thread
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -19,6 +20,7 @@ std::string ImpactDetectorConfig::Validate() const {
   if (!(floor_percentile > 0 && floor_percentile < 1)) return "floor percentile must be in (0, 1)";
   if (!(min_snr_db > 0) || !(min_rise_db > 0) || !(decay_db > 0)) return "dB thresholds must be > 0";
   if (!(rise_window_s >= block_s)) return "rise window must be >= one block";
+  if (!(attack_s >= block_s && attack_s <= 0.1)) return "attack must be one block to 100 ms";
   if (!(max_click_s > block_s)) return "max click length must be > one block";
   if (!(min_spacing_s >= 0)) return "min spacing must be >= 0 s";
   if (!(onset_fraction > 0 && onset_fraction < 1)) return "onset fraction must be in (0, 1)";
@@ -35,7 +37,7 @@ ImpactDetector::ImpactDetector(ImpactDetectorConfig config, int sample_rate)
                                 std::to_string(sample_rate) + " Hz");
   block_len_ = std::max(1, static_cast<int>(std::lround(config_.block_s * rate_)));
   const auto keep = static_cast<int64_t>(
-      (config_.max_click_s + config_.rise_window_s + 0.01) * rate_ + 4 * block_len_);
+      (config_.attack_s + config_.max_click_s + config_.rise_window_s + 0.01) * rate_ + 4 * block_len_);
   int64_t ring = 1;
   while (ring < keep) ring *= 2;
   history_.assign(static_cast<size_t>(ring), 0.0f);
@@ -110,17 +112,20 @@ void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
     candidate_.early_energy = e;
     candidate_.block = block;
     candidate_.peak_energy = e;
+    candidate_.peak_block = block;
   }
   if (in_click_) {
-    if (e > candidate_.peak_energy) candidate_.peak_energy = e;
-    if ((block - candidate_.block) * block_len_ <= 0.002 * rate_)
-      candidate_.early_energy = std::max(candidate_.early_energy, e);
-    const double faded = candidate_.peak_energy * std::pow(10.0, -config_.decay_db / 10);
+    if (e > candidate_.peak_energy) candidate_.peak_energy = e, candidate_.peak_block = block;
     const double age_s = static_cast<double>(block - candidate_.block) * block_len_ / rate_;
+    if (age_s <= config_.attack_s) candidate_.early_energy = std::max(candidate_.early_energy, e);
+    const double faded = candidate_.peak_energy * std::pow(10.0, -config_.decay_db / 10);
+    const double since_peak_s =
+        static_cast<double>(block - candidate_.peak_block) * block_len_ / rate_;
     if (e < faded || e < 2 * floor_e) {
       in_click_ = false;
       Decide(candidate_, out);
-    } else if (age_s > config_.max_click_s) {
+    } else if (since_peak_s > config_.max_click_s ||
+               age_s > config_.attack_s + config_.max_click_s) {
       in_click_ = false;  // a sustained sound, not a click
     }
   } else if (block_energies_.size() >= 20) {
@@ -137,12 +142,13 @@ void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
     const double rise = Db(e / std::max(before, floor_e));
     const bool spaced =
         block_start - last_onset_sample_ >= config_.min_spacing_s * rate_;
-    // Triggered at half the rise in dB; the click's first 2 ms must reach the full rise.
+    // Triggered at half the rise in dB; the click's attack must reach the full rise.
     if (snr >= config_.min_snr_db && rise >= config_.min_rise_db / 2 && spaced) {
       in_click_ = true;
       candidate_ = Candidate{};
       candidate_.block = block;
       candidate_.peak_energy = e;
+      candidate_.peak_block = block;
       candidate_.early_energy = e;
       candidate_.before_energy = std::max(before, floor_e);
       candidate_.floor_energy = floor_e;
@@ -160,12 +166,12 @@ void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
 bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
   const double rise_db = Db(c.early_energy / c.before_energy);
   if (rise_db < config_.min_rise_db) return false;
-  // The click's first peak: the largest |y| from a block before the trigger to 2 ms after.
+  // The click's peak: the largest |y| from a block before the trigger to a block after its
+  // loudest block.
   const int64_t history_start = std::max<int64_t>(0, next_sample_ - static_cast<int64_t>(history_.size()));
   const int64_t trigger = c.block * block_len_;
   const int64_t from = std::max(history_start, trigger - block_len_);
-  const int64_t to = std::min<int64_t>(next_sample_ - 1,
-                                       trigger + block_len_ + static_cast<int64_t>(0.002 * rate_));
+  const int64_t to = std::min<int64_t>(next_sample_ - 1, (c.peak_block + 2) * block_len_);
   int64_t peak = from;
   double peak_abs = 0;
   for (int64_t s = from; s <= to; ++s) {
@@ -182,6 +188,9 @@ bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
     if (std::abs(history_[s & history_mask_]) >= threshold) onset = s, below = 0;
     else ++below;
   }
+  // A click reaches its peak within a cycle or two of its onset; sound above the threshold
+  // for longer before the peak is a ramp ahead of it (an encoder's pre-echo).
+  if (peak - onset > static_cast<int64_t>(0.001 * rate_)) onset = SteepestRise(onset, peak, history_start);
   if (onset - last_onset_sample_ < config_.min_spacing_s * rate_) return false;
   last_onset_sample_ = onset;
   AudioImpact impact;
@@ -194,6 +203,33 @@ bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
   impact.confidence = std::clamp(0.5 + 0.5 * std::min(snr_margin, rise_margin), 0.0, 1.0);
   out->push_back(impact);
   return true;
+}
+
+int64_t ImpactDetector::SteepestRise(int64_t from, int64_t to, int64_t history_start) const {
+  // Where the energy of the next millisecond stands highest over the millisecond before: the
+  // click itself, not the encoder's pre-echo ramp ahead of it (which rises ~3 dB per ms).
+  // Millisecond windows average the ramp's noise out but place the step up to a window
+  // early; the click's first cycle above half its amplitude within the window after it
+  // is the onset.
+  const int64_t w = std::max<int64_t>(2, static_cast<int64_t>(0.001 * rate_));
+  if (from - w < history_start || to + w > next_sample_) return from;
+  const auto y = [&](int64_t s) { return static_cast<double>(history_[s & history_mask_]); };
+  double before = 0, after = 0;  // sums of y^2 over [s - w, s) and [s, s + w)
+  for (int64_t s = from - w; s < from; ++s) before += y(s) * y(s);
+  for (int64_t s = from; s < from + w; ++s) after += y(s) * y(s);
+  const double tiny = 1e-30;
+  int64_t step = from;
+  double best_ratio = 0;
+  for (int64_t s = from; s <= to; ++s) {
+    if (const double ratio = (after + tiny) / (before + tiny); ratio > best_ratio) best_ratio = ratio, step = s;
+    before += y(s) * y(s) - y(s - w) * y(s - w);
+    after += y(s + w) * y(s + w) - y(s) * y(s);
+  }
+  double top = 0;
+  for (int64_t s = step; s < step + w; ++s) top = std::max(top, std::abs(y(s)));
+  for (int64_t s = step; s < step + w; ++s)
+    if (std::abs(y(s)) >= 0.5 * top) return s;
+  return step;
 }
 
 std::vector<AudioImpact> ImpactDetector::Finish() {

@@ -6,12 +6,14 @@
 // How: a high-pass (default 2 kHz) removes hum and most of speech's and music's energy; the
 // short-term energy of 0.5 ms blocks is compared with an adaptive noise floor (a low
 // percentile of the last 0.4 s of blocks, so a click does not raise it). A block far above
-// the floor that also rises sharply above everything in the 20 ms before it (within its
-// first 2 ms) starts a click; the click must
-// fade within a few tens of ms (a click, not a note or a vowel). Its onset is the first
-// sample, going back from the block's peak, where the filtered signal is still above a
-// fraction of the peak's amplitude. Strength is the peak amplitude; confidence grows with
-// how far the click stands above the floor and how sharply it rose.
+// the floor that also rises far above everything in the 20 ms before it starts a click; it
+// must reach min_rise_db over that within attack_s (a click, or a click behind the ramp of
+// quantisation noise a phone's AAC encoder spreads up to a frame, ~23 ms, ahead of a loud
+// transient), and then fade within max_click_s of its peak (a click, not a note or a vowel).
+// Its onset is the first sample, going back from the click's peak, where the filtered
+// signal is still above a fraction of the peak's amplitude (a ramp's pre-echo stays below
+// it). Strength is the peak amplitude; confidence grows with how far the click stands above
+// the floor and how sharply it rose.
 #include <cstdint>
 #include <deque>
 #include <string>
@@ -32,10 +34,11 @@ struct ImpactDetectorConfig {
   double floor_window_s = 0.4;   // noise floor: percentile of the blocks of this long a past
   double floor_percentile = 0.3;
   double min_snr_db = 16;        // block energy over the floor to start a click
-  double min_rise_db = 10;       // ... and (within 2 ms) over the loudest block of the preceding
-  double rise_window_s = 0.02;   //  rise_window_s (a click stands alone; pitch pulses repeat)
+  double min_rise_db = 10;       // ... and (within attack_s) over the loudest block of the
+  double rise_window_s = 0.02;   //  preceding rise_window_s (a click stands alone; pitch
+  double attack_s = 0.025;       //  pulses repeat)
   double max_click_s = 0.03;     // the click's energy falls below decay_db of its peak within
-  double decay_db = 12;          //  this long (sustained sounds are not impacts)
+  double decay_db = 12;          //  this long after the peak (sustained sounds are not impacts)
   double min_spacing_s = 0.012;  // two impacts closer than this are one
   double onset_fraction = 0.2;   // onset: first sample above this fraction of the peak
   double min_floor = 1e-5;       // floor never below this RMS (digital silence)
@@ -63,8 +66,9 @@ class ImpactDetector {
   struct Candidate {
     int64_t block = 0;           // block index where it triggered
     double peak_energy = 0;
+    int64_t peak_block = 0;
     double floor_energy = 0;
-    double early_energy = 0;     // loudest block of its first 2 ms
+    double early_energy = 0;     // loudest block of its first attack_s
     double before_energy = 0;    // loudest block of the rise window before it
     int64_t peak_sample = 0;     // absolute sample index of the largest |x|
     double peak_abs = 0;
@@ -73,6 +77,8 @@ class ImpactDetector {
   void ProcessBlock(std::vector<AudioImpact>* out);
   bool Decide(const Candidate& c, std::vector<AudioImpact>* out);
   double Floor();
+  // The sample in [from, to] where the energy rises most steeply (the onset behind a ramp).
+  int64_t SteepestRise(int64_t from, int64_t to, int64_t history_start) const;
   static int FloorBin(double energy);
 
   ImpactDetectorConfig config_;

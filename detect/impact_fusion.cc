@@ -87,6 +87,124 @@ FusedImpact HeardOnly(const AudioImpact& a, double offset_s) {
   return h;
 }
 
+// How close a seen impact must be to a heard one to be that impact: a quarter of the flight
+// around it, or a frame period and the tolerance (a picture times an impact to about a
+// frame), at most 0.4 of the flight.
+double MergeTolerance(double flight, const ImpactFusionConfig& c) {
+  return std::min(0.4 * flight, std::max(0.25 * flight, c.frame_period_s + c.match_tolerance_s));
+}
+
+// The shortest gap from impact i to its neighbours in im (times t_s, in order).
+double FlightAround(const std::vector<FusedImpact>& im, size_t i, bool both_only) {
+  double flight = 1e300;
+  for (size_t j = i; j-- > 0;)
+    if (!both_only || im[j].source == ImpactSource::kBoth) {
+      flight = std::min(flight, im[i].t_s - im[j].t_s);
+      break;
+    }
+  for (size_t j = i + 1; j < im.size(); ++j)
+    if (!both_only || im[j].source == ImpactSource::kBoth) {
+      flight = std::min(flight, im[j].t_s - im[i].t_s);
+      break;
+    }
+  return flight;
+}
+
+// Seen-only impacts near a heard one are that impact, timed poorly by the picture. Near one
+// already paired: the picture saw one impact twice (a small arc split by a noisy sample), a
+// duplicate, dropped. Near an unpaired click: they pair.
+void MergeSeenIntoHeard(const std::vector<AudioImpact>& heard, std::vector<bool>* used,
+                        const ImpactFusionConfig& c, FusionResult* r) {
+  auto& im = r->impacts;  // the seen impacts, in order; paired ones kBoth
+  for (size_t i = 0; i < im.size(); ++i) {
+    if (im[i].source != ImpactSource::kBoth) continue;
+    const double tol = MergeTolerance(FlightAround(im, i, true), c);
+    for (size_t j = 0; j < im.size(); ++j)
+      if (im[j].source == ImpactSource::kVideo && !std::isnan(im[j].t_s) &&
+          std::abs(im[j].video_t_s - im[i].t_s) <= tol) {
+        r->merged_seen.push_back(im[j].video_t_s);
+        im[j].t_s = kNaN;
+      }
+  }
+  std::erase_if(im, [](const FusedImpact& v) { return std::isnan(v.t_s); });
+  for (size_t i = 0; i < im.size(); ++i) {
+    if (im[i].source != ImpactSource::kVideo) continue;
+    const double tol = MergeTolerance(FlightAround(im, i, false), c);
+    int nearest = -1;
+    for (size_t a = 0; a < heard.size(); ++a) {
+      const double d = std::abs(heard[a].t_s - r->offset_s - im[i].video_t_s);
+      if (!(*used)[a] && d <= tol &&
+          (nearest < 0 || d < std::abs(heard[nearest].t_s - r->offset_s - im[i].video_t_s)))
+        nearest = static_cast<int>(a);
+    }
+    if (nearest < 0) continue;
+    (*used)[nearest] = true;
+    const AudioImpact& a = heard[nearest];
+    im[i].source = ImpactSource::kBoth;
+    im[i].t_s = a.t_s - r->offset_s;
+    im[i].audio_t_s = a.t_s;
+    im[i].strength = a.strength;
+    im[i].confidence = a.confidence;
+  }
+  std::stable_sort(im.begin(), im.end(),
+                   [](const FusedImpact& a, const FusedImpact& b) { return a.t_s < b.t_s; });
+}
+
+// A gap between two impacts longer than a bounce train allows (its flights shrink) misses
+// an impact: unpaired clicks inside it that continue the train are those impacts, heard
+// only. The train is followed forward from the flight before the gap, or, for the first
+// gap, backward from the flight after it (flights growing back in time).
+void FillGapsWithHeard(const std::vector<AudioImpact>& heard, std::vector<bool>* used,
+                       const ImpactFusionConfig& c, FusionResult* r) {
+  auto& im = r->impacts;
+  std::vector<FusedImpact> added;
+  for (size_t i = 0; i + 1 < im.size(); ++i) {
+    const double begin = im[i].t_s, end = im[i + 1].t_s;
+    if (i >= 1) {
+      double last = begin, flight = begin - im[i - 1].t_s;
+      if (end - last <= c.train_growth * flight) continue;
+      for (size_t a = 0; a < heard.size(); ++a) {
+        const double t = heard[a].t_s - r->offset_s;
+        if ((*used)[a] || t <= last) continue;
+        if (t >= end - c.train_min_ratio * flight) break;
+        const double f = t - last;
+        if (f < c.train_min_ratio * flight) continue;  // an echo or a stray sound
+        if (f > c.train_growth * flight) break;
+        (*used)[a] = true;
+        added.push_back(HeardOnly(heard[a], r->offset_s));
+        last = t, flight = f;
+      }
+    } else if (im.size() >= 3) {
+      double next = end, flight = im[2].t_s - end;
+      if (flight * c.lone_train_max_ratio / c.lone_train_min_ratio >= end - begin) continue;
+      for (size_t a = heard.size(); a-- > 0;) {
+        const double t = heard[a].t_s - r->offset_s;
+        if ((*used)[a] || t >= next) continue;
+        if (t <= begin + c.lone_train_min_ratio * flight) break;
+        const double q = flight / (next - t);  // the restitution, roughly
+        if (q > c.lone_train_max_ratio) continue;  // an echo or a stray sound
+        if (q < c.lone_train_min_ratio) break;
+        (*used)[a] = true;
+        added.push_back(HeardOnly(heard[a], r->offset_s));
+        flight = next - t, next = t;
+      }
+    }
+  }
+  im.insert(im.end(), added.begin(), added.end());
+  std::stable_sort(im.begin(), im.end(),
+                   [](const FusedImpact& a, const FusedImpact& b) { return a.t_s < b.t_s; });
+}
+
+// A flight is a bounce's only if it fits the train around it: no longer than train_growth
+// times the one before, the one after no longer than train_growth times it. A longer one
+// holds an impact nobody heard or saw (or a pickup between two drops): no height from it.
+bool FitsTheTrain(const std::vector<FusedImpact>& im, size_t i, const ImpactFusionConfig& c) {
+  const double flight = im[i + 1].t_s - im[i].t_s;
+  if (i >= 1 && flight > c.train_growth * (im[i].t_s - im[i - 1].t_s)) return false;
+  if (i + 2 < im.size() && im[i + 2].t_s - im[i + 1].t_s > c.train_growth * flight) return false;
+  return true;
+}
+
 }  // namespace
 
 const char* ImpactSourceName(ImpactSource s) {
@@ -187,6 +305,14 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
     r.impacts.push_back(f);
   }
 
+  if (r.sound_used) {
+    MergeSeenIntoHeard(heard, &used, c, &r);
+    FillGapsWithHeard(heard, &used, c, &r);
+    if (!r.merged_seen.empty())
+      r.verdict += "; " + std::to_string(r.merged_seen.size()) +
+                   " seen impact(s) were a heard one seen twice, dropped";
+  }
+
   // Heard only: the bounce train going on after the last impact both heard and seen,
   // flights shrinking.
   int last_both = -1, first_both = -1;
@@ -264,6 +390,7 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
     const FusedImpact& a = r.impacts[i];
     const FusedImpact& b = r.impacts[i + 1];
     if (a.source == ImpactSource::kVideo || b.source == ImpactSource::kVideo) continue;
+    if (!FitsTheTrain(r.impacts, i, c)) continue;
     HeardFlight f;
     f.from = static_cast<int>(i);
     f.flight_s = b.t_s - a.t_s;

@@ -10,6 +10,11 @@
 //   heard stays "video"; heard impacts that continue the bounce train past the last one
 //   both heard and seen (flight times shrinking as a bounce train's do) are "audio" (heard only). Other
 //   lone sounds are not impacts.
+// - A seen-only impact close to a heard one (a quarter of the flight around it, or a frame
+//   and the tolerance) is that impact timed poorly by the picture: it pairs with it, or,
+//   when the heard one is already paired, it is the picture seeing one impact twice (a
+//   small arc split by a noisy sample) and is dropped (FusionResult::merged_seen). This
+//   comes before the heard-only trains, so their flights start from the right impacts.
 // - Between two heard impacts the flight time gives the apex height with no scale and no
 //   frame rate (g dt^2/8, air drag included when the ball's is known).
 #include <string>
@@ -41,6 +46,7 @@ struct ImpactFusionConfig {
   int lone_train_min_impacts = 5;
   double lone_train_min_ratio = 0.45, lone_train_max_ratio = 1.0, lone_train_ratio_step = 0.03;
   double lone_train_echo_s = 0.02;  // a click this soon after an impact is its echo
+  double frame_period_s = 0;       // the picture's, when known (widens the merge above)
   double g_mps2 = 9.81;
   double drag_per_m = 0;           // k of the deceleration k v^2, 1/m (0: vacuum)
 };
@@ -71,6 +77,7 @@ struct FusionResult {
   int matched = 0;            // pairs
   int seen = 0, heard = 0;    // inputs (heard: within the video's span)
   int rejected_sounds = 0;    // heard clicks that are not impacts of this ball
+  std::vector<double> merged_seen;  // seen impacts (video clock) found to be a heard impact seen twice
   std::vector<FusedImpact> impacts;  // in time order
   std::vector<HeardFlight> flights;
 };

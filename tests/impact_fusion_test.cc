@@ -88,6 +88,40 @@ TEST(ImpactFusion, OffsetPairsHeardOnlyTrainAndStraySoundsRejected) {
 
 // The tracker locked on after three bounces (the football clip): those three impacts were
 // heard, and the first impact it saw, timed a frame late, is the fourth heard one.
+// A 24 fps picture: one impact seen twice (a small arc split by a noisy sample, a frame
+// apart) and one seen a frame late, both beside heard impacts. The duplicate is dropped and
+// the late one pairs, so every flight between heard impacts gives a height.
+TEST(ImpactFusion, ASeenImpactNearAHeardOneIsThatImpact) {
+  const PointMassDropResult r = Drop("pingpong", 0.6);
+  ASSERT_GE(r.impact_times_s.size(), 16u);
+  const auto& t = r.impact_times_s;
+  std::vector<double> seen(t.begin(), t.begin() + 14);
+  // Impact 12 a frame late: beyond a quarter of its flights (0.16 s), within a frame.
+  ASSERT_LT(0.25 * std::min(t[12] - t[11], t[13] - t[12]), 0.042);
+  seen[12] += 0.042;
+  seen.push_back(t[4] - 0.024);  // the arc before impact 4 split near its end
+  std::sort(seen.begin(), seen.end());
+  ImpactFusionConfig c;
+  c.frame_period_s = 1 / 24.0;
+  c.drag_per_m = DragPerM(ResolveBallPreset("pingpong"));
+  const FusionResult f = FuseImpacts(Heard(t, -0.04), seen, t.back() + 1, c);
+  ASSERT_TRUE(f.sound_used) << f.verdict;
+  ASSERT_EQ(f.merged_seen.size(), 1u);
+  EXPECT_NEAR(f.merged_seen[0], t[4] - 0.024, 1e-9);
+  ASSERT_EQ(f.impacts.size(), t.size());
+  for (size_t i = 0; i < f.impacts.size(); ++i) {
+    EXPECT_NEAR(f.impacts[i].t_s, t[i], 1e-6) << i;
+    EXPECT_EQ(f.impacts[i].source, i < 14 ? ImpactSource::kBoth : ImpactSource::kAudio) << i;
+  }
+  EXPECT_EQ(f.flights.size(), t.size() - 1);
+  // Without the frame period a quarter flight is the limit: the late one stays seen only.
+  c.frame_period_s = 0;
+  const FusionResult narrow = FuseImpacts(Heard(t, -0.04), seen, t.back() + 1, c);
+  int video = 0;
+  for (const auto& i : narrow.impacts) video += i.source == ImpactSource::kVideo;
+  EXPECT_EQ(video, 1);
+}
+
 TEST(ImpactFusion, BouncesHeardBeforeThePictureFoundTheBallAreKept) {
   const PointMassDropResult r = Drop("tennis", 1.5);
   ASSERT_GE(r.impact_times_s.size(), 9u);
