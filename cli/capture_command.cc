@@ -1,7 +1,11 @@
 // bouncefit capture: a V4L2 camera, or a clip replayed as a fake camera, through the tracker;
-// one ball_box_t per frame on BALL_BOX (track/node/capture_node.h).
+// one ball_box_t per frame on BALL_BOX (track/node/capture_node.h). Beside it, the sound: the
+// clip's own track, or a live ALSA microphone beside the camera; each impact heard goes out
+// on IMPACT (source "audio") as the stream reaches it (cli/run_sound.h).
+#include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <vector>
 #include <cstdlib>
 #include <memory>
 #include <sstream>
@@ -12,6 +16,7 @@
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/pick_window.h"
+#include "cli/run_sound.h"
 #include "cli/tracker_flags.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
@@ -42,6 +47,8 @@ struct CaptureOptions {
   bool quiet = false;
   TrackerConfig tracker;
   bool pick_window = false;
+  bool no_audio = false;
+  std::string audio_device;  // ALSA microphone beside --device
 };
 
 std::atomic<bool> g_stop{false};
@@ -107,6 +114,8 @@ void Run(CaptureOptions& o) {
     throw std::invalid_argument("give exactly one of --replay CLIP or --device /dev/videoN");
   if (!o.replay.empty() && !o.record.empty())
     throw std::invalid_argument("--record saves a camera; a replayed clip is already a file");
+  if (!o.audio_device.empty() && o.device.empty())
+    throw std::invalid_argument("--audio-device needs --device (a replayed clip's own sound track is used)");
   Pacer pacer(o.speed);  // validates --speed
   if (o.pick_window) CheckPickWindowDisplay();  // at once, before the camera or any file is opened
 
@@ -155,6 +164,32 @@ void Run(CaptureOptions& o) {
   if (log) node.set_log(log.get());
   if (recorder) node.set_recorder(recorder.get());
 
+  // The sound: heard impacts published on IMPACT as the frames reach their time. The ball
+  // only matters to fusing (which `run` and `detect` do), not to hearing.
+  std::unique_ptr<RunSound> sound;
+  if (!o.audio_device.empty())
+    sound = std::make_unique<RunSound>(AlsaMicrophoneConfig{.device = o.audio_device, .config_text = {}}, BallPreset{});
+  else if (is_file && !o.no_audio)
+    sound = std::make_unique<RunSound>(o.replay, BallPreset{});
+  if (sound && !sound->enabled()) sound.reset();
+  int64_t heard = 0, t0_utime = -1;
+  std::vector<uint8_t> impact_bytes;
+  const auto publish_impact = [&](const impact_t& m) {
+    bus.Publish(o.channels.impact, m);
+    ++heard;
+    if (!log) return;
+    impact_bytes.resize(static_cast<size_t>(m.getEncodedSize()));
+    m.encode(impact_bytes.data(), 0, static_cast<int>(impact_bytes.size()));
+    const auto now = std::chrono::duration_cast<std::chrono::microseconds>(
+        std::chrono::system_clock::now().time_since_epoch());
+    log->Record(o.channels.impact, impact_bytes.data(), impact_bytes.size(), now.count());
+  };
+  if (sound)
+    node.set_observer([&](const Frame& frame, const BallObservation&) {
+      if (t0_utime < 0) t0_utime = frame.utime;
+      for (const auto& m : sound->AdvanceTo((frame.utime - t0_utime) * 1e-6, t0_utime)) publish_impact(m);
+    });
+
   if (!o.quiet) {
     std::printf("capture: %s, %s fps nominal%s; publishing %s on %s%s\n",
                 info.description.c_str(), Fixed(info.nominal_fps, 2).c_str(),
@@ -177,6 +212,18 @@ void Run(CaptureOptions& o) {
   } catch (const std::exception& e) {
     failure = e.what();
   }
+  // The impacts still pending: the rest of the clip's sound, or what the microphone holds.
+  if (sound && t0_utime >= 0) {
+    try {
+      const double end_s = (node.stats().last_utime - t0_utime) * 1e-6 +
+                           (info.nominal_fps > 0 ? 1 / info.nominal_fps : 0);
+      for (const auto& m : o.audio_device.empty() ? sound->AdvanceTo(end_s, t0_utime)
+                                                   : sound->EndLive(t0_utime))
+        publish_impact(m);
+    } catch (const std::exception& e) {
+      if (failure.empty()) failure = e.what();
+    }
+  }
   // Whatever happened, keep what was captured: finish the recording and the log.
   if (recorder) recorder->Close();
   if (log) log->Close();
@@ -188,7 +235,7 @@ void Run(CaptureOptions& o) {
                 static_cast<long long>(info.frame_count));
   std::printf(
       "capture: %s%lld frames, %lld dropped, %lld found, %lld published, wall %s s, stream %s "
-      "s (read %s s, track %s s)%s%s%s\n",
+      "s (read %s s, track %s s)%s%s%s%s\n",
       g_stop ? "stopped: " : (failure.empty() ? "done: " : "failed after "),
       static_cast<long long>(s.frames), static_cast<long long>(s.dropped),
       static_cast<long long>(s.found), static_cast<long long>(s.published),
@@ -196,7 +243,10 @@ void Run(CaptureOptions& o) {
       Fixed(s.track_s, 2).c_str(),
       recorder ? ("; recorded " + std::to_string(recorder->written()) + " frames to " + o.record).c_str() : "",
       log ? ("; logged " + std::to_string(log->written()) + " messages to " + o.log).c_str() : "",
-      s.publish_failures ? ("; " + std::to_string(s.publish_failures) + " publish failures").c_str() : "");
+      s.publish_failures ? ("; " + std::to_string(s.publish_failures) + " publish failures").c_str() : "",
+      sound ? ("; sound: " + sound->Describe() + ", " + std::to_string(heard) + " impacts heard on " +
+               o.channels.impact).c_str()
+            : "");
   std::fflush(stdout);
   if (!failure.empty()) throw std::runtime_error(failure);
 }
@@ -236,6 +286,10 @@ void AddCaptureCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet,-q", o->quiet, "print only the final line");
   AddTrackerFlags(cmd, &o->tracker, &o->pick_window);
+  auto* no_audio = cmd->add_flag("--no-audio", o->no_audio, "replay: ignore the clip's sound track");
+  cmd->add_option("--audio-device", o->audio_device,
+                  "camera: ALSA microphone beside it (e.g. hw:1,0); impacts heard go out on IMPACT")
+      ->excludes(no_audio);
   cmd->callback([o] { Run(*o); });
 }
 

@@ -9,6 +9,10 @@
 #include <map>
 #include <sstream>
 
+#include <lcm/lcm-cpp.hpp>
+
+#include "bouncefit/ball_box_t.hpp"
+#include "bouncefit/impact_t.hpp"
 #include "synth/synth_truth.h"
 #include "tests/test_support.h"
 
@@ -214,6 +218,60 @@ TEST(RunSound, RealClipsHeardTrainsAndNothingFromNoise) {
     for (const auto& r : ReadCsv(run / "impacts.csv")) heard += r.at("source") != "video";
     EXPECT_GE(heard, c.min_heard);
     EXPECT_LE(heard, c.max_heard);
+  }
+}
+
+// `capture --replay` hears the clip's own sound beside the picture: every impact faster
+// than 0.5 m/s goes out on IMPACT (source audio), timed within 0.3 ms of the truth on the
+// frames' clock (first BALL_BOX = the clip's t = 0); --no-audio sends none.
+TEST(RunSound, CaptureReplayPublishesTheHeardImpacts) {
+  const auto dir = ScratchDir("capture");
+  const SynthTruth t = Synth(dir, "--sound --fps 60 --ball tennis");
+  for (const bool no_audio : {false, true}) {
+    const auto log_path = dir / (no_audio ? "silent.lcm" : "heard.lcm");
+    std::string out;
+    ASSERT_EQ(RunCommand(BouncefitExe() + " capture --replay " + (dir / "clip.avi").string() +
+                             " --speed 0 -q --lcm-url memq:// --log " + log_path.string() +
+                             (no_audio ? " --no-audio" : ""),
+                         &out),
+              0)
+        << out;
+    lcm::LogFile log(log_path.string(), "r");
+    ASSERT_TRUE(log.good());
+    int64_t t0 = -1;
+    std::vector<double> heard_s;
+    while (const lcm::LogEvent* ev = log.readNextEvent()) {
+      if (ev->channel == "BALL_BOX" && t0 < 0) {
+        ball_box_t b;
+        ASSERT_GT(b.decode(ev->data, 0, ev->datalen), 0);
+        t0 = b.utime;
+      } else if (ev->channel == "IMPACT") {
+        impact_t m;
+        ASSERT_GT(m.decode(ev->data, 0, ev->datalen), 0);
+        EXPECT_EQ(m.source, "audio");
+        heard_s.push_back(static_cast<double>(m.utime));
+      }
+    }
+    ASSERT_GE(t0, 0);
+    if (no_audio) {
+      EXPECT_TRUE(heard_s.empty());
+      continue;
+    }
+    for (double& h : heard_s) h = (h - t0) * 1e-6;
+    int checked = 0;
+    for (size_t k = 0; k < t.impact_times_s.size(); ++k) {
+      if (t.impact_speeds_mps[k] <= 0.5) continue;
+      double best = 1e9;
+      for (double h : heard_s) best = std::min(best, std::abs(h - t.impact_times_s[k]));
+      EXPECT_LT(best, 0.0003) << "impact at " << t.impact_times_s[k] << " s";
+      ++checked;
+    }
+    EXPECT_GE(checked, 5);
+    for (double h : heard_s) {
+      double best = 1e9;
+      for (double ti : t.impact_times_s) best = std::min(best, std::abs(h - ti));
+      EXPECT_LT(best, 0.0003) << "invented impact at " << h << " s";
+    }
   }
 }
 
