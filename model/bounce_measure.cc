@@ -40,6 +40,13 @@ MeasuredBounces MeasureBounces(const std::vector<double>& t, const std::vector<d
       }
     const ArcApex apex = FitArcApex(ts, ys);
     if (!apex.ok) return;
+    // A parabola through a few samples of a hop of a millimetre (or of a ball at rest) can
+    // put its vertex far off: a 1 mm hop read as 2.6 cm. A ballistic arc's apex lies among
+    // its samples and at most g dt^2 / 8 above the top one (dt: the sample interval).
+    const double dt = ts.size() > 1 ? (ts.back() - ts.front()) / static_cast<double>(ts.size() - 1) : 0;
+    const double top_y = *std::max_element(ys.begin(), ys.end());
+    if (apex.t < ts.front() - dt || apex.t > ts.back() + dt || apex.height > top_y + 9.81 * dt * dt / 8 + 1e-4)
+      return;
     out.apex_times_s.push_back(apex.t);
     out.apex_heights_m.push_back(apex.height);
   };

@@ -1,18 +1,27 @@
 #include "model/rebound_kick.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace bouncefit {
 
-double ReboundLaw::Kick(double impact_speed, double leave_speed) const {
+double ReboundLaw::Kick(double impact_speed, double leave_speed, double touch_gap_m,
+                        double bottom_m) const {
   if (restitution > 0) {
     // A re-contact while rising (a node swinging down) is no impact: nothing to set.
     if (impact_speed <= 0) return 0;
-    // The step before contact is one step of gravity short of the impact (measured: without
-    // this, a hop of 2 cm, 0.6 m/s, where g dt / v is 3%, rebounds lower than a 1 m drop).
-    const double v = impact_speed + gravity_mps2 * time_step_s;
+    const double g = gravity_mps2, dt = time_step_s;
+    // The step's speed as it touches (one step of gravity after the step before), and the
+    // point mass's on the floor: semi-implicit Euler falls g dt / 2 slow, and the touch is
+    // up to a step above the floor.
+    const double v_step = impact_speed + g * dt;
+    const double v = std::sqrt(v_step * v_step + g * dt * v_step + 2 * g * std::max(0.0, touch_gap_m));
     const double e = std::clamp(restitution - restitution_per_mps * v, 0.0, 1.0);
-    return e * v - leave_speed;
+    const double apex = (e * v) * (e * v) / (2 * g);  // the point mass's, bottom above the floor
+    // From bottom_m at speed w the steps rise w^2 / 2g - w dt / 2: reach the apex.
+    const double rise = std::max(0.0, apex - std::max(0.0, bottom_m));
+    const double w = g * dt / 2 + std::sqrt(g * dt / 2 * (g * dt / 2) + 2 * g * rise);
+    return w - leave_speed;
   }
   const double b = std::max(0.0, boost - boost_per_mps * (impact_speed - kReferenceSpeed));
   return b * impact_speed;
@@ -27,15 +36,16 @@ double ContactEpisode::ArcsMeet(double g) const {
   return std::clamp(t, start_s - dt, end_s + dt);
 }
 
-double ContactTracker::Step(double t, bool contact, double y, double vy) {
+double ContactTracker::Step(double t, bool contact, double y, double vy, double bottom) {
   double kick = 0;
   if (!in_contact_ && contact) {
     in_contact_ = true;
     turned_ = false;
     episodes_.push_back({t, 0, std::max(0.0, -prev_vy_), y});
+    episodes_.back().floor_y_m = y - std::max(0.0, bottom);
     if (law_.restitution > 0 && law_.at_touch) {  // rebound at once, as a hard ball does
       turned_ = true;
-      kick = law_.Kick(episodes_.back().impact_speed_mps, vy);
+      kick = law_.Kick(episodes_.back().impact_speed_mps, vy, y - episodes_.back().floor_y_m, y - episodes_.back().floor_y_m);
     }
   } else if (in_contact_) {
     ContactEpisode& e = episodes_.back();
@@ -43,14 +53,14 @@ double ContactTracker::Step(double t, bool contact, double y, double vy) {
     if (!contact && vy > 0) {  // lift-off
       in_contact_ = false;
       e.end_s = t;
-      if (!rest) kick = law_.Kick(e.impact_speed_mps, vy);
+      if (!rest) kick = law_.Kick(e.impact_speed_mps, vy, e.start_y_m - e.floor_y_m, y - e.floor_y_m);
       e.end_y_m = y;
       e.end_vy_mps = vy + kick;
     } else if (!rest && law_.restitution > 0 && !turned_ && vy >= 0) {
       // Not at touch: at the deepest point (a soft contact may never lift off by itself at
       // low speed, so the law does not wait for Bullet's own rebound).
       turned_ = true;
-      kick = law_.Kick(e.impact_speed_mps, vy);
+      kick = law_.Kick(e.impact_speed_mps, vy, e.start_y_m - e.floor_y_m, y - e.floor_y_m);
     }
   }
   prev_vy_ = vy;

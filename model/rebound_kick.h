@@ -10,8 +10,16 @@
 //  - restitution (rebound_restitution > 0): the centre leaves the floor at e(v) x v upward,
 //    e(v) = rebound_restitution - rebound_restitution_per_mps x v, whatever Bullet's contact
 //    gave: a first kick at touch (or at the deepest point) sends the centre up at e(v) v,
-//    lift-off corrects what the contact added meanwhile (either sign). Restitution against
-//    impact speed is what a recorded drop measures and what transfers to another drop height.
+//    lift-off corrects what the contact added meanwhile (either sign). The law is the
+//    continuous point mass's, not the time step's: the impact speed is what a point mass
+//    has on the floor given the ball's state as it touches (up to a step above the floor,
+//    at the step's speed), and each kick sets the speed from which Bullet's semi-implicit
+//    Euler steps reach the point mass's apex from where the ball is then. Without this the
+//    rebound rose from up to a step high as fast as from the floor (a softball's 8 cm bounce
+//    7% high) and the integrator took v dt / 2 off every apex (2 mm at 2 m/s): errors that
+//    change with speed, read by a fit as a restitution slope that is not the ball's.
+//    Restitution against impact speed is what a recorded drop measures and what transfers to
+//    another drop height.
 // Episodes longer than max_contact_s are a ball at rest (no kick).
 #include <vector>
 
@@ -31,9 +39,11 @@ struct ReboundLaw {
 
   static constexpr double kReferenceSpeed = 4.43;  // m/s, sqrt(2 g 1 m): the boost's pivot
   bool Active() const { return boost > 0 || boost_per_mps != 0 || restitution > 0; }
-  // Upward velocity change at lift-off after an impact at impact_speed (m/s, >= 0), the
-  // centre leaving at leave_speed (m/s, up positive).
-  double Kick(double impact_speed, double leave_speed) const;
+  // Upward velocity change after an impact at impact_speed (m/s, >= 0: the centre's speed
+  // the step before the touch), the centre leaving at leave_speed (m/s, up positive). The
+  // restitution law also takes the bottom's height above the floor as the ball touched and
+  // now (m; it rebounds as the point mass would from the floor).
+  double Kick(double impact_speed, double leave_speed, double touch_gap_m = 0, double bottom_m = 0) const;
 };
 
 struct ContactEpisode {
@@ -41,6 +51,7 @@ struct ContactEpisode {
   double end_s = 0;           // lift-off (0 while still in contact)
   double impact_speed_mps = 0;
   double start_y_m = 0, end_y_m = 0;  // centre heights then
+  double floor_y_m = 0;               // the centre's height with the bottom on the floor, as it touched
   double end_vy_mps = 0;              // centre's upward speed leaving (the kick included)
   // Where the falling arc (before start_s) and the rising arc (after end_s), continued as
   // drag-free parabolas, meet: the impact time a video measures.
@@ -52,8 +63,9 @@ class ContactTracker {
  public:
   explicit ContactTracker(ReboundLaw law) : law_(law) {}
   // Called every step before Bullet steps: time, whether any node touches the floor, the
-  // centre's height and vertical velocity. Returns the upward velocity to give every node now.
-  double Step(double t_s, bool contact, double centre_y_m, double centre_vy_mps);
+  // centre's height and vertical velocity, the lowest node's height above the floor.
+  // Returns the upward velocity to give every node now.
+  double Step(double t_s, bool contact, double centre_y_m, double centre_vy_mps, double bottom_m = 0);
   const std::vector<ContactEpisode>& episodes() const { return episodes_; }
   // Every closed episode's ArcsMeet() whose impact was faster than min_speed_mps: the impact
   // times as the detector measures them on video.

@@ -347,7 +347,7 @@ void ReboundBoost::BeforeStep(btSoftBody* ball, double t) {
   // two thirds of a ping-pong ball's radius, and the mesh caved in: measured from 2 m).
   if (law_.restitution > 0 && law_.at_touch && vy < 0 && lowest + vy * time_step_s_ <= 0)
     contact = true;
-  const double kick = contacts_.Step(t, contact, cy, vy);
+  const double kick = contacts_.Step(t, contact, cy, vy, lowest);
   if (kick != 0) ball->addVelocity(btVector3(0, btScalar(kick), 0));
 }
 
