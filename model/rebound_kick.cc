@@ -45,7 +45,8 @@ double ContactTracker::Step(double t, bool contact, double y, double vy, double 
     episodes_.back().floor_y_m = y - std::max(0.0, bottom);
     if (law_.restitution > 0 && law_.at_touch) {  // rebound at once, as a hard ball does
       turned_ = true;
-      kick = law_.Kick(episodes_.back().impact_speed_mps, vy, y - episodes_.back().floor_y_m, y - episodes_.back().floor_y_m);
+      kick = law_.Kick(episodes_.back().impact_speed_mps, vy, y - episodes_.back().floor_y_m,
+                       law_.set_down ? 0.0 : y - episodes_.back().floor_y_m);
     }
   } else if (in_contact_) {
     ContactEpisode& e = episodes_.back();
