@@ -37,9 +37,10 @@ struct ReboundLaw {
   // as the point mass does, so impacts keep time: docs/MODEL.md) or at the deepest point.
   bool at_touch = true;
   // ... and the world sets the ball down on the floor as it turns (every node moved down by
-  // the bottom's height above the floor): the rebound then starts where and nearly when the
-  // point mass's does (up to a step early, not the time to fall and rise through that height
-  // again: 7 ms a bounce for a softball turned 9 mm up).
+  // the bottom's height above the floor), and a step later back to where the point mass is
+  // (ContactTracker::shift): the rebound then starts where and when the point mass's does (not
+  // the time to fall and rise through that height again: 7 ms a bounce for a softball turned
+  // 9 mm up; nor a step early).
   bool set_down = true;
 
   static constexpr double kReferenceSpeed = 4.43;  // m/s, sqrt(2 g 1 m): the boost's pivot
@@ -49,6 +50,10 @@ struct ReboundLaw {
   // restitution law also takes the bottom's height above the floor as the ball touched and
   // now (m; it rebounds as the point mass would from the floor).
   double Kick(double impact_speed, double leave_speed, double touch_gap_m = 0, double bottom_m = 0) const;
+  // Restitution law: where the continuous point mass's bottom is a step after the ball
+  // touched touch_gap_m above the floor (it still had the gap to fall, then rose for the rest
+  // of the step), m above the floor.
+  double HeightAfterStep(double impact_speed, double touch_gap_m) const;
 };
 
 struct ContactEpisode {
@@ -73,6 +78,9 @@ class ContactTracker {
   double Step(double t_s, bool contact, double centre_y_m, double centre_vy_mps, double bottom_m = 0);
   const std::vector<ContactEpisode>& episodes() const { return episodes_; }
   bool in_contact() const { return in_contact_; }
+  // How far to move the ball down this step, m, before its kick (set down on the floor as it
+  // turns; a step later back to where the point mass is, which had the gap still to fall).
+  double shift() const { return shift_; }
   // Every closed episode's ArcsMeet() whose impact was faster than min_speed_mps: the impact
   // times as the detector measures them on video.
   std::vector<double> ImpactTimes(double min_speed_mps = 0.05) const;
@@ -81,6 +89,9 @@ class ContactTracker {
   ReboundLaw law_;
   bool in_contact_ = false;
   bool turned_ = false;  // the restitution law's first kick was given
+  bool retarget_ = false;  // set down at touch: the next step puts it on the point mass's arc
+  double pm_height_next_ = 0;  // the point mass's bottom height a step after the touch
+  double shift_ = 0;
   double prev_vy_ = 0;
   std::vector<ContactEpisode> episodes_;
 };

@@ -347,12 +347,11 @@ void ReboundBoost::BeforeStep(btSoftBody* ball, double t) {
   // two thirds of a ping-pong ball's radius, and the mesh caved in: measured from 2 m).
   const bool turns_at_touch = law_.restitution > 0 && law_.at_touch;
   if (turns_at_touch && vy < 0 && lowest + vy * time_step_s_ <= 0) contact = true;
-  const bool touches = contact && !contacts_.in_contact();
   const double kick = contacts_.Step(t, contact, cy, vy, lowest);
-  if (kick != 0 && touches && turns_at_touch && law_.set_down && lowest > 0)
-    for (int i = 0; i < ball->m_nodes.size(); ++i) {  // onto the floor as it turns
-      ball->m_nodes[i].m_x.setY(ball->m_nodes[i].m_x.y() - btScalar(lowest));
-      ball->m_nodes[i].m_q.setY(ball->m_nodes[i].m_q.y() - btScalar(lowest));
+  if (const double shift = contacts_.shift(); shift > 0)
+    for (int i = 0; i < ball->m_nodes.size(); ++i) {  // onto the floor as it turns, and so on
+      ball->m_nodes[i].m_x.setY(ball->m_nodes[i].m_x.y() - btScalar(shift));
+      ball->m_nodes[i].m_q.setY(ball->m_nodes[i].m_q.y() - btScalar(shift));
     }
   if (kick != 0) ball->addVelocity(btVector3(0, btScalar(kick), 0));
 }
