@@ -14,6 +14,7 @@
 
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
+#include "cli/fit_offline.h"
 #include "fit/fit_export.h"
 #include "fit/fit_models.h"
 #include "fit/node/fit_node.h"
@@ -64,115 +65,11 @@ std::vector<double> ParseHeights(const std::string& text) {
   return v;
 }
 
-// peaks.csv (docs/FORMATS.md): columns by header name; rows of bounce 0 start a new drop,
-// only the first drop is fitted.
-std::vector<PeakInput> ReadPeaksCsv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read " + path);
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(path + ": empty");
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    std::string col;
-    while (std::getline(ss, col, ',')) header.push_back(col);
-  }
-  auto index = [&](const std::string& name) {
-    for (size_t i = 0; i < header.size(); ++i)
-      if (header[i] == name) return static_cast<int>(i);
-    return -1;
-  };
-  const int ib = index("bounce"), ih = index("height_m"), it = index("t_s");
-  if (ib < 0 || ih < 0) throw std::runtime_error(path + ": needs columns bounce and height_m");
-  std::vector<PeakInput> peaks;
-  int drops = 0;
-  for (int row = 2; std::getline(in, line); ++row) {
-    if (line.empty()) continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (static_cast<int>(cells.size()) <= std::max(ib, ih))
-      throw std::runtime_error(path + ":" + std::to_string(row) + ": too few columns");
-    PeakInput p;
-    try {
-      p.bounce = std::stoi(cells[ib]);
-      p.height_m = std::stod(cells[ih]);
-      if (it >= 0 && it < static_cast<int>(cells.size()) && !cells[it].empty())
-        p.utime = static_cast<int64_t>(std::llround(std::stod(cells[it]) * 1e6));
-    } catch (const std::exception&) {
-      throw std::runtime_error(path + ":" + std::to_string(row) + ": not a number");
-    }
-    if (p.bounce == 0 && ++drops > 1) break;
-    peaks.push_back(p);
-  }
-  if (peaks.empty() || peaks.front().bounce != 0)
-    throw std::runtime_error(path + ": the first peak must be bounce 0 (the release height)");
-  return peaks;
-}
-
-std::string Fmt(double v, int digits = 4) {
-  if (!std::isfinite(v)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-
-void PrintUpdate(const FitUpdate& u) {
-  std::printf("%s fit after bounce %d  [%s, %s]: RMS residual %s mm over %zu bounces, "
-              "%d simulations, %.2f s%s\n",
-              u.final ? "FINAL" : (u.model == "point-mass" ? "quick" : "bounce"),
-              u.after_bounce, u.model.c_str(), u.method.c_str(), Fmt(u.residual_m * 1000, 3).c_str(),
-              u.recorded_m.size(), u.evaluations, u.wall_time_s, u.cancelled ? " (cut short)" : "");
-  for (const auto& c : u.coefficients) {
-    const std::string unit = c.unit.empty() ? "" : " " + c.unit;
-    if (c.identifiable)
-      std::printf("  %-28s %12s +- %-10s%s\n", c.name.c_str(), Fmt(c.value, 6).c_str(),
-                  Fmt(c.sigma, 2).c_str(), unit.c_str());
-    else
-      std::printf("  %-28s %12s %s  (%s)\n", c.name.c_str(), Fmt(c.value, 6).c_str(),
-                  unit.c_str(), c.note.empty() ? "not identifiable" : c.note.c_str());
-  }
-  std::printf("  recorded  (m):");
-  for (double r : u.recorded_m) std::printf(" %.4f", r);
-  std::printf("\n  simulated (m):");
-  for (double s : u.simulated_m) std::printf(" %.4f", s);
-  std::printf("\n");
-  if (!u.other_drop_heights_m.empty()) {  // a joint fit: which bounces are which drop's
-    size_t first = u.recorded_m.size();
-    for (int n : u.other_drop_bounces) first -= static_cast<size_t>(n);
-    std::printf("  drops: %.4f m (bounces 1-%zu)", u.drop_height_m, first);
-    size_t at = first;
-    for (size_t d = 0; d < u.other_drop_heights_m.size(); ++d) {
-      std::printf(", %.4f m (%zu-%zu)", u.other_drop_heights_m[d], at + 1,
-                  at + static_cast<size_t>(u.other_drop_bounces[d]));
-      at += static_cast<size_t>(u.other_drop_bounces[d]);
-    }
-    std::printf("\n");
-  }
-  if (!u.segment_simulated_m.empty()) {
-    std::printf("  segments  (m):");  // bounce i from the recorded apex i-1
-    for (double s : u.segment_simulated_m) std::printf(" %.4f", s);
-    std::printf("   RMS %s mm\n", Fmt(u.segment_residual_m * 1000, 3).c_str());
-  }
-  if (!u.free_run_mean_m.empty()) {
-    std::printf("  free drop, ensemble mean +- sd (m):");
-    for (size_t i = 0; i < u.free_run_mean_m.size(); ++i)
-      std::printf(" %.4f+-%.4f", u.free_run_mean_m[i], u.free_run_sd_m[i]);
-    std::printf("   RMS %s mm\n", Fmt(u.free_run_residual_m * 1000, 3).c_str());
-  }
-  if (!u.warning.empty()) std::printf("  warning: %s\n", u.warning.c_str());
-  if (u.time_step_s > 0)
-    std::printf("  holds for time step %.6g s, %d position iterations\n", u.time_step_s,
-                u.iterations);
-  std::fflush(stdout);
-}
-
 void Emit(const FitOptions& o, const fit_update_t& m, const FitUpdate& u) {
   if (o.json)
     std::printf("%s\n", ToJson(m, 0).dump().c_str()), std::fflush(stdout);
   else
-    PrintUpdate(u);
+    PrintFitUpdate(u);
 }
 
 void ApplyBudgets(FitOptions* o) {
@@ -191,45 +88,9 @@ void RunOffline(FitOptions o) {
   } else {
     for (const auto& path : o.peaks_csv) drops.push_back(ReadPeaksCsv(path));
   }
-  for (size_t d = 0; d < drops.size(); ++d)
-    for (auto& p : drops[d]) p.sequence = static_cast<int>(d);
   const BallPreset ball = ResolveBallPreset(o.node.ball, o.node.diameter_m, o.node.mass_kg);
-  auto model = MakeBallModel(o.node.model, ball);
-  PointMassModel quick(ball);
-  ConfigureSessionForModel(*model, ball, &o.node.session);
-  FitSession session(*model, &quick, o.node.session);
-  auto emit = [&](const FitUpdate& u) { Emit(o, FitNode::ToMessage(u), u); };
-  // As the node would: the point-mass estimate and a refinement after every bounce (no
-  // newer peak ever supersedes them offline), then the final fit.
-  // Earlier drops are kept and fitted with the last one (issue 14 item 4).
-  for (size_t d = 0; d < drops.size(); ++d) {
-    if (d > 0) session.KeepDropAndReset(static_cast<int>(d));
-    for (const auto& p : drops[d]) {
-      session.AddPeak(p);
-      if (o.final_only || p.bounce < 1 || !session.CanFit()) continue;
-      if (static_cast<int>(session.FittedHeights().size()) < p.bounce) continue;  // below 1 cm
-      emit(session.QuickUpdate());
-      emit(session.Update());
-    }
-  }
-  if (!session.CanFit())
-    throw std::runtime_error("no bounce above " +
-                             Fmt(o.node.session.min_bounce_height_m * 100, 3) + " cm to fit");
-  if (o.final_only) emit(session.QuickUpdate());
-  // The final fit takes seconds: its progress on stderr (stdout carries the updates).
-  auto running = std::async(std::launch::async, [&session] { return session.FinalUpdate(); });
-  const int budget = session.FinalBudget();
-  const int before = session.simulations();
-  while (running.wait_for(std::chrono::seconds(1)) != std::future_status::ready)
-    std::fprintf(stderr, "final fit  %d / %d simulations\n", session.simulations() - before,
-                 budget);
-  const FitUpdate final_fit = running.get();
-  std::fprintf(stderr,
-               "final fit: %d simulations in %.1f s wall (%d candidate answers checked from "
-               "the safe drop heights, %d rejected as unsafe)\n",
-               final_fit.evaluations, final_fit.wall_time_s, final_fit.safety_checks,
-               final_fit.rejected_unsafe);
-  emit(final_fit);
+  const FitUpdate final_fit = FitDropsOffline(drops, o.node, o.final_only,
+                                              [&](const FitUpdate& u) { Emit(o, FitNode::ToMessage(u), u); });
   if (!o.export_dir.empty()) {
     for (const auto& path : WriteFitExports(o.export_dir, final_fit, ball))
       std::fprintf(stderr, "wrote %s\n", path.string().c_str());

@@ -6,12 +6,15 @@
 #include <csignal>
 #include <cstdio>
 #include <deque>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <mutex>
 
 #include "capture/v4l2_camera.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
+#include "cli/fit_offline.h"
 #include "cli/pick_window.h"
 #include "cli/run_console.h"
 #include "cli/run_output.h"
@@ -34,7 +37,7 @@ namespace bouncefit::cli {
 namespace {
 
 struct RunOptions {
-  std::string clip;
+  std::vector<std::string> clips;  // none: the built-in sample (or --device); several: RunSeveral
   std::string device;
   std::string out = "bouncefit-out";
   std::string ball;  // empty: the sample's ball, else pingpong
@@ -157,7 +160,23 @@ void WriteSimulatedTrajectory(const RunOutput& out, const FitNode& fit, const Fi
     f << Fixed(t_release + s.t_s, 6) << ',' << Fixed(s.bottom_height_m, 5) << '\n';
 }
 
+FitNodeConfig FitConfig(const RunOptions& o) {
+  FitNodeConfig fc;
+  fc.ball = o.ball;
+  fc.mass_kg = o.mass_kg;
+  fc.diameter_m = o.diameter_m;
+  fc.model = o.model;
+  fc.session.method = o.method;
+  fc.session.impact = o.impact;
+  if (o.max_evals > 0) fc.session.max_evaluations_final = o.max_evals;
+  fc.channels = o.channels;
+  return fc;
+}
+
+void RunSeveral(RunOptions o);
+
 void Run(RunOptions o) {
+  if (o.clips.size() > 1) return RunSeveral(o);
   if (!o.audio_device.empty() && o.device.empty())
     throw std::invalid_argument("--audio-device needs --device (a clip's own sound track is used)");
   Pacer pacer(o.speed);  // validates --speed
@@ -167,7 +186,7 @@ void Run(RunOptions o) {
   ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
   if (o.pick_window) CheckPickWindowDisplay();  // at once, before anything is rendered or written
 
-  std::string clip = o.clip;
+  std::string clip = o.clips.empty() ? std::string() : o.clips.front();
   if (clip.empty() && o.device.empty()) {
     const SampleClip sample = BuiltInSample([&](const std::string& s) { console.Info(s); });
     clip = sample.clip.string();
@@ -217,15 +236,7 @@ void Run(RunOptions o) {
   int final_budget = 0;
   int final_sims_start = 0;  // simulations run when the final fit was asked for
   if (!o.no_fit) {
-    FitNodeConfig fc;
-    fc.ball = o.ball;
-    fc.mass_kg = o.mass_kg;
-    fc.diameter_m = o.diameter_m;
-    fc.model = o.model;
-    fc.session.method = o.method;
-    fc.session.impact = o.impact;
-    if (o.max_evals > 0) fc.session.max_evaluations_final = o.max_evals;
-    fc.channels = o.channels;
+    const FitNodeConfig fc = FitConfig(o);
     fit = std::make_unique<FitNode>(
         fc, [&inbox](const fit_update_t& m, const FitUpdate& u) { inbox.Push(m, u); });
     fit->Start();
@@ -430,6 +441,56 @@ void Run(RunOptions o) {
                                                  out.dir().string() + ")");
 }
 
+// Several clips of one ball (issue 14 item 4): each run as `run CLIP --no-fit` into
+// OUT/<k>-<name>/ (track, detect, sound, its own peaks), then the drops fitted jointly, the last
+// clip's drop with the earlier ones, into OUT/coefficients.json and OUT/fitted_ball/.
+void RunSeveral(RunOptions o) {
+  if (o.pick_window)
+    throw std::invalid_argument("--pick-window picks on one clip: give --pick or --color, or run the clips one at a time");
+  if (o.ball.empty()) o.ball = "pingpong";
+  const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);  // validates it
+  const bool talk = !o.quiet && !o.json;
+  const std::filesystem::path root(o.out);
+  std::vector<std::vector<PeakInput>> drops;
+  nlohmann::json clips = nlohmann::json::array();
+  for (size_t k = 0; k < o.clips.size(); ++k) {
+    RunOptions one = o;
+    one.clips = {o.clips[k]};
+    one.no_fit = true;
+    one.out = (root / (std::to_string(k + 1) + "-" + std::filesystem::path(o.clips[k]).stem().string())).string();
+    if (talk) std::printf("run: clip %zu of %zu: %s -> %s\n", k + 1, o.clips.size(), o.clips[k].c_str(), one.out.c_str());
+    std::fflush(stdout);
+    nlohmann::json entry = {{"input", o.clips[k]}, {"out", one.out}};
+    try {
+      Run(one);
+      drops.push_back(ReadPeaksCsv((std::filesystem::path(one.out) / "peaks.csv").string()));
+      entry["release_m"] = drops.back().front().height_m;
+      entry["bounces"] = drops.back().size() - 1;
+    } catch (const std::exception& e) {  // what that clip recorded stays in its directory
+      if (!o.quiet) std::fprintf(stderr, "run: warning: %s: %s; not fitted\n", o.clips[k].c_str(), e.what());
+      entry["not_fitted"] = e.what();
+    }
+    clips.push_back(entry);
+  }
+  nlohmann::json summary = {{"clips", clips}, {"ball", {{"name", ball.name}, {"diameter_m", ball.diameter_m}, {"mass_kg", ball.mass_kg}}}};
+  std::filesystem::create_directories(root);
+  if (!o.no_fit) {
+    if (drops.empty()) throw std::runtime_error("no clip gave a drop with its release seen to fit (see the warnings above)");
+    if (talk) std::printf("run: fitting the %zu drops jointly\n", drops.size());
+    const FitUpdate final_fit = FitDropsOffline(drops, FitConfig(o), /*final_only=*/true, [&](const FitUpdate& u) {
+      if (o.json)
+        std::printf("%s\n", nlohmann::json{{"event", "fit"}, {"fit", ToJson(FitNode::ToMessage(u), 0)}}.dump().c_str());
+      else if (talk && u.final)
+        PrintFitUpdate(u);
+      std::fflush(stdout);
+    }, talk);
+    WriteFitExports(root, final_fit, ball);
+    summary["final_fit"] = FitUpdateToJson(final_fit, ball);
+  }
+  std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
+  if (talk) std::printf("run: done: %zu clips, %zu drops fitted; wrote %s\n", o.clips.size(), drops.size(), root.string().c_str());
+}
+
 }  // namespace
 
 void AddRunCommand(CLI::App& app) {
@@ -438,8 +499,9 @@ void AddRunCommand(CLI::App& app) {
       "Everything in one process: replay a clip (or the built-in sample) at its recorded pace, "
       "track, calibrate, detect every bounce apex and fit the ball model after each bounce");
   auto o = std::make_shared<RunOptions>();
-  auto* clip = cmd->add_option("clip", o->clip,
-                               "clip to replay (.avi/.mp4/.mov); none: the built-in sample drop")
+  auto* clip = cmd->add_option("clip", o->clips,
+                               "clip to replay (.avi/.mp4/.mov); none: the built-in sample drop; "
+                               "several: drops of one ball, each run into OUT/<k>-<name>/, fitted jointly")
                    ->check(CLI::ExistingFile);
   cmd->add_option("--device", o->device, "a V4L2 camera instead of a clip, e.g. /dev/video0")
       ->excludes(clip);
