@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "report/report_drops.h"
 #include "report/report_html.h"
 
 namespace bouncefit::cli {
@@ -15,7 +16,7 @@ void AddReportCommand(CLI::App& app) {
     ReportOptions options;
   };
   auto flags = std::make_shared<Flags>();
-  cmd->add_option("DIR", flags->dir, "Output directory of `bouncefit run --out DIR`")
+  cmd->add_option("DIR", flags->dir, "Output directory of `bouncefit run --out DIR` (one clip or several)")
       ->required();
   cmd->add_option("--gnuplot", flags->options.figures.gnuplot.executable,
                   "gnuplot executable (Debian package gnuplot-nox)")
@@ -29,7 +30,10 @@ void AddReportCommand(CLI::App& app) {
       ->check(CLI::Range(300, 4000));
   cmd->add_flag("--quiet,-q", flags->quiet, "Print nothing on success");
   cmd->callback([flags] {
-    const ReportOutcome out = WriteReport(flags->dir, flags->options);
+    // `run a.mp4 b.mp4 --out DIR` leaves one directory per clip and the joint fit's drops.csv.
+    const ReportOutcome out = IsSeveralClipsDirectory(flags->dir)
+                                  ? WriteSeveralClipsReport(flags->dir, flags->options)
+                                  : WriteReport(flags->dir, flags->options);
     if (flags->quiet) return;
     std::printf("report: %s (%zu figures", out.html.c_str(), out.figures.size());
     if (!out.skipped.empty()) std::printf(", %zu not drawn", out.skipped.size());

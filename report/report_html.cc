@@ -25,14 +25,6 @@ std::string Sig(double v, int digits = 5) {
   return buf;
 }
 
-std::string ReadBinary(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot be read");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // A coefficient's entry in the fit export (coefficients.json), if there is one: either
 // {"coefficients": {name: {...}}} (fit/fit_export.h) or a list of {"name": ...}.
 const nlohmann::json* ExportEntry(const ReportRunData& run, const std::string& name) {
@@ -230,6 +222,14 @@ void ExportSection(std::ostringstream& h, const ReportRunData& run) {
 
 }  // namespace
 
+std::string ReadBinary(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(file.string() + ": cannot be read");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 std::string Base64Encode(const std::string& bytes) {
   static const char* kAlphabet =
       "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -276,12 +276,8 @@ std::string HtmlEscape(const std::string& text) {
   return out;
 }
 
-std::string RenderReportHtml(const ReportRunData& run, const std::vector<ReportFigure>& figures,
-                             const std::vector<std::string>& skipped) {
-  std::ostringstream h;
-  h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-    << "<title>bouncefit report: " << HtmlEscape(run.dir.filename().string()) << "</title>\n"
-    << "<style>\n"
+std::string ReportStyle() {
+  return
        "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;margin:24px auto;"
        "max-width:1140px;color:#222;line-height:1.4}\n"
        "h1{font-size:1.6em;margin-bottom:0}h2{border-bottom:1px solid #ccc;margin-top:1.6em}\n"
@@ -292,7 +288,15 @@ std::string RenderReportHtml(const ReportRunData& run, const std::vector<ReportF
        "figcaption{color:#444;font-size:.92em}\n"
        ".left{display:block;text-align:left}"
        "pre{background:#f6f6f6;padding:8px;overflow-x:auto;font-size:.88em}"
-       ".note{color:#555;font-size:.92em}\n"
+       ".note{color:#555;font-size:.92em}\n";
+}
+
+std::string RenderReportHtml(const ReportRunData& run, const std::vector<ReportFigure>& figures,
+                             const std::vector<std::string>& skipped) {
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+    << "<title>bouncefit report: " << HtmlEscape(run.dir.filename().string()) << "</title>\n"
+    << "<style>\n" << ReportStyle()
     << "</style>\n</head>\n<body>\n"
     << "<h1>bouncefit report</h1>\n<p class=\"note\">Heights are the ball's bottom above the "
        "floor along true vertical; times are seconds since the first frame.</p>\n";

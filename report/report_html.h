@@ -12,6 +12,9 @@ namespace bouncefit {
 
 std::string Base64Encode(const std::string& bytes);
 std::string HtmlEscape(const std::string& text);
+// The pages' stylesheet (inline CSS), shared by a run's report and a several-clip report.
+std::string ReportStyle();
+std::string ReadBinary(const std::filesystem::path& file);
 
 // The page as a string. Figures are read from their PNG files and embedded.
 std::string RenderReportHtml(const ReportRunData& run, const std::vector<ReportFigure>& figures,

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -144,6 +145,32 @@ TEST(SeveralClips, RunFitsTheirDropsJointly) {
   EXPECT_NEAR(fit["other_drop_heights_m"][0].get<double>(), 1.0, 0.03);
   const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   ASSERT_EQ(summary["clips"].size(), 2u);
+
+  // Each drop beside the fitted ball dropped from its own release: drops.csv, each clip's
+  // simulated.csv, and a report of both drops.
+  std::ifstream drops(out / "drops.csv");
+  std::string line;
+  std::getline(drops, line);
+  EXPECT_EQ(line, "drop,clip_dir,release_m,bounce,recorded_m,simulated_m");
+  std::set<std::string> clips_seen;
+  while (std::getline(drops, line)) {
+    std::vector<std::string> c;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+    ASSERT_EQ(c.size(), 6u) << line;
+    clips_seen.insert(c[1]);
+    if (c[3] == "1") {  // the first rebound, 8-10 cm: the joint fit reproduces it
+      EXPECT_NEAR(std::stod(c[5]), std::stod(c[4]), 0.005) << line;
+    }
+  }
+  EXPECT_EQ(clips_seen, (std::set<std::string>{"1-drop1.0", "2-drop1.4"}));
+  EXPECT_TRUE(fs::exists(out / "1-drop1.0" / "simulated.csv"));
+  EXPECT_TRUE(fs::exists(out / "2-drop1.4" / "simulated.csv"));
+  ASSERT_EQ(RunCommand(BouncefitExe() + " report --quiet " + out.string(), &log), 0) << log;
+  std::stringstream page;
+  page << std::ifstream(out / "report.html").rdbuf();
+  EXPECT_NE(page.str().find("2 drops, one fit"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "2-drop1.4" / "report_trajectory.png"));
 
   const fs::path table = dir / "truth.json";
   std::ofstream(table) << nlohmann::json{
