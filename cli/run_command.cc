@@ -352,6 +352,11 @@ void Run(RunOptions o) {
     else
       console.Info("run: warning: " + read);
   }
+  if (file_source && file_source->repeated_frames() > 0)
+    console.Info("run: " + std::to_string(file_source->repeated_frames()) + " of " +
+                 std::to_string(file_source->repeated_frames() + capture.stats().frames) +
+                 " pictures repeat the one before (content of a lower frame rate on this file's "
+                 "timeline): skipped, each picture tracked once at the time it was first shown");
   if (stream_started)
     for (const auto& m : sound.EndLive(out.stream_start())) publish_impact(m);
   publish_heard_peaks();
@@ -385,6 +390,7 @@ void Run(RunOptions o) {
   summary["frames"] = cs.frames;
   summary["found_frames"] = cs.found;
   summary["dropped_frames"] = cs.dropped;
+  summary["repeated_frames"] = file_source ? file_source->repeated_frames() : 0;
   summary["duration_s"] = cs.stream_s();
   summary["wall_time_s"] = cs.wall_s;
   summary["timings_ms"] = {{"decode", cs.read_s * 1e3},

@@ -182,6 +182,7 @@ class BounceDetector {
   void OnRest(const Sample& s, std::vector<DetectorEvent>& ev);
   bool Predict(const Arc& arc, double t, double* u, double* w, double* v_down) const;
   void RefitArc(Arc& arc);
+  bool AdoptOffArcSamples(Arc& cur);
   void Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev);
   bool DecideClock();
   void RescaleTime(double k);

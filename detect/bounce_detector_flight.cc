@@ -13,6 +13,8 @@ namespace bouncefit {
 using detector_stats::LineDrift;
 using detector_stats::Median;
 
+constexpr int kMissesEndArc = 6;  // samples in a row off an arc that end it
+
 bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
                              double* v_down) const {
   if (calibrated_ && arc.fit_ok) {
@@ -171,8 +173,9 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     }
   } else {
     pending_off_.push_back(s);
+    if (AdoptOffArcSamples(cur)) return;
   }
-  if (misses_ >= 6) {
+  if (misses_ >= kMissesEndArc) {
     // Six frames in a row off the arc: it has ended (at rest, caught, rolling away).
     const bool near_floor = calibrated_ && calibration_.calibration.has_floor &&
                             std::abs(u - calibration_.calibration.floor_centre_px()) <=
@@ -185,6 +188,40 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     if (!near_floor)
       for (const auto& o : recent) OnWaiting(o, ev);
   }
+}
+
+bool BounceDetector::AdoptOffArcSamples(Arc& cur) {
+  // A rebound's first samples at a low frame rate: the one straddling the impact is smeared,
+  // and an arc of two or three samples extrapolates its error for every frame after. When the
+  // arc is about to end for it (one miss short), and the samples it turned away agree with one
+  // arc of their own (with its samples that fit too), they are that rebound, not the end of
+  // the drop.
+  if (!calibrated_ || cur.release || cur.samples.size() > 3 || misses_ < kMissesEndArc - 1 ||
+      pending_off_.size() < 3 || !pending_up_.empty())
+    return false;
+  const FlightGlobals& g = calibration_.flight.globals;
+  auto offset = [&](const Arc& a, const Sample& q) {
+    double x, y;
+    FlightPosition(g, a.fit, a.held, q.t, &x, &y);
+    return std::hypot(x - q.x, y - q.y);
+  };
+  Arc trial = cur;
+  for (const auto& q : pending_off_) trial.samples.push_back(q);
+  for (size_t kept = cur.samples.size();; --kept) {
+    trial.fit_ok = false;
+    RefitArc(trial);  // drops a first sample the others put off the arc
+    if (!trial.fit_ok || trial.samples.size() < 4) return false;
+    double worst = 0;
+    for (const auto& q : trial.samples) worst = std::max(worst, offset(trial, q));
+    if (worst <= 3 * Gate()) break;  // a young arc's gate
+    // The arc's own first samples may be the ones off (straddling the impact): drop them.
+    if (kept == 0 || offset(trial, trial.samples.front()) < worst) return false;
+    trial.samples.erase(trial.samples.begin());
+  }
+  cur = std::move(trial);
+  pending_off_.clear();
+  misses_ = 0;
+  return true;
 }
 
 bool BounceDetector::NearTheFloor(const Arc& cur) const {

@@ -95,6 +95,15 @@ bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<Detector
   // twice the margin: five samples place the vertex roughly).
   const double t_vertex = fall.back().t - c(1) / (2 * c(2));
   if (fall.front().t - t_vertex > 2 * UnseenReleaseMaxS()) return false;
+  // Seen rising into that vertex just before (a rebound, or a throw, entering the view): an
+  // arc, not a fall from rest; ArcFromUnseenStart takes it with its rising branch.
+  for (size_t i = hold_.size() - m, k = 0; i > 0 && k < 2; --i, ++k) {
+    const Sample& before = hold_[i - 1];
+    if (fall.front().t - before.t > 3 * frame_dt_) break;
+    if (Down(before) > Down(fall.front()) + 2 * thr &&
+        std::abs(Floor(before) - Floor(fall.front())) <= 10 * thr)
+      return false;
+  }
 
   // Released out of sight: a release arc from rest whose vertex is fitted, not seen.
   Arc arc;
@@ -181,8 +190,15 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   int first_bounce = 1;
   const size_t before = hold_.size() - m;
   if (before >= 1 && run.front().t - hold_[before - 1].t <= 3 * frame_dt_) {
+    // Only a sample where the arc leads back to can be the hand it left (a detection far off
+    // it, say of a hand elsewhere in the picture, tells nothing of where the ball came from).
+    const Sample& b = hold_[before - 1];
+    const double dt = b.t - run.back().t;
+    const double near = std::max(4 * thr, radii_.empty() ? 0.0 : 2 * Median(radii_));
+    const bool on_arc = std::abs(Down(b) - (c(0, 0) + c(1, 0) * dt + c(2, 0) * dt * dt)) <= near &&
+                        std::abs(Floor(b) - (c(0, 1) + c(1, 1) * dt + c(2, 1) * dt * dt)) <= near;
     const bool falling_in = before >= 2 && Down(hold_[before - 1]) > Down(hold_[before - 2]) + thr;
-    first_bounce = falling_in ? 1 : 0;
+    first_bounce = on_arc && !falling_in ? 0 : 1;
   }
   StartSequence(std::move(arc), s, ev);
   first_bounce_ = first_bounce;

@@ -161,8 +161,10 @@ std::optional<Frame> VideoFileSource::Next() {
     ended_short_ = info_.frame_count > 0 && pass_frames_ < info_.frame_count * 0.95 - 1;
     return std::nullopt;
   }
-  frame->index = delivered_;
-  frame->sequence = delivered_;
+  ++decoded_;
+  if (config_.skip_repeats && repeats_.IsRepeat(frame->image)) return Next();
+  frame->index = decoded_ - 1;
+  frame->sequence = decoded_ - 1;
   if (!recorded_.empty()) {
     // A recording: the camera's own times and sequence numbers, for as long as they last.
     const auto i = static_cast<std::size_t>(pass_frames_ - 1);

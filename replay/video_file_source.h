@@ -14,12 +14,16 @@
 #include <vector>
 
 #include "capture/frame_source.h"
+#include "replay/repeated_frames.h"
 
 namespace bouncefit {
 
 struct VideoFileSourceConfig {
   std::string path;
   bool loop = false;  // start again at the end; times keep increasing across loops
+  // Skip pictures the file repeats (replay/repeated_frames.h): 30 fps content on a 60 fps
+  // timeline gives its 30 pictures a second, each at the time it was first shown.
+  bool skip_repeats = true;
 };
 
 class VideoFileSource final : public FrameSource {
@@ -30,7 +34,8 @@ class VideoFileSource final : public FrameSource {
 
   SourceInfo Info() const override { return info_; }
   // Frames in order; utime = container time of the frame since the first one (plus the
-  // length of the previous passes when looping). nullopt at the end.
+  // length of the previous passes when looping); index = the picture's number in the file
+  // (gaps where repeats were skipped). nullopt at the end.
   std::optional<Frame> Next() override;
 
   int loops_done() const { return loops_; }
@@ -41,6 +46,8 @@ class VideoFileSource final : public FrameSource {
   // nominal interval.
   int64_t repaired_times() const { return repaired_; }
   int64_t dropped_frames() const override { return dropped_; }
+  // Pictures skipped as repeats of the one before (not delivered, not dropped).
+  int64_t repeated_frames() const { return repeats_.repeats(); }
   bool uses_times_file() const { return !recorded_.empty(); }
   // Clockwise turn applied to every decoded frame to show it upright: 0, 90, 180 or 270 deg.
   int rotation_deg() const { return rotation_deg_; }
@@ -70,6 +77,8 @@ class VideoFileSource final : public FrameSource {
   std::vector<Recorded> recorded_;  // from FILE.times.csv, one per frame
   int64_t repaired_ = 0;
   int rotation_deg_ = 0;
+  RepeatedFrameFilter repeats_;
+  int64_t decoded_ = 0;  // pictures decoded over all passes, repeats included
 };
 
 }  // namespace bouncefit

@@ -294,6 +294,52 @@ TEST(DetectClock, SlowMotionFromTheContainerConfirmedByTheBallSize) {
   EXPECT_EQ(log.find("slow motion"), std::string::npos) << log;
 }
 
+// A file that shows each picture twice (30 fps content on a 60 fps timeline, as phones'
+// variable-rate encoders and frame-rate conversions write it): made here from a 30 fps synth
+// clip with ffmpeg's fps filter. Each picture is tracked once, at the time it was first shown,
+// so the arcs are the 30 fps clip's and every apex is found as on it.
+TEST(DetectRepeatedFrames, ThirtyFpsPicturesOnASixtyFpsTimeline) {
+  const auto dir = testing::ScratchDir("detect_repeated_frames");
+  const auto clip = dir / "clip30.avi", doubled = dir / "clip60.avi";
+  std::string out;
+  ASSERT_EQ(testing::RunCommand(testing::BouncefitExe() + " synth -o '" + clip.string() +
+                                    "' --ball tennis --drop-height 1.0 --fps 30 --duration 3 --quiet",
+                                &out),
+            0)
+      << out;
+  const SynthTruth truth = LoadSynthTruth(SynthTruthPathFor(clip));
+  ASSERT_EQ(testing::RunCommand("ffmpeg -v error -y -i '" + clip.string() +
+                                    "' -vf fps=60 -c:v mjpeg -q:v 2 '" + doubled.string() + "'",
+                                &out),
+            0)
+      << out;
+  const auto o = dir / "out";
+  ASSERT_EQ(testing::RunCommand(testing::BouncefitExe() + " run '" + doubled.string() +
+                                    "' --ball tennis --speed 0 --no-fit --lcm-url memq:// --out '" +
+                                    o.string() + "'",
+                                &out),
+            0)
+      << out;
+  const auto s = nlohmann::json::parse(std::ifstream(o / "summary.json"));
+  const int frames = s["frames"].get<int>(), repeats = s["repeated_frames"].get<int>();
+  std::printf("60 fps file of 30 fps pictures: %d delivered, %d repeats skipped\n", frames, repeats);
+  // Every other picture, but for the few shown before the pattern is established (a file's
+  // first repeats, and repeats while the scene is still and noise-free, are delivered).
+  EXPECT_LE(repeats, frames) << out;
+  EXPECT_GE(repeats, frames - 8) << out;
+  EXPECT_NE(out.find("repeat the one before"), std::string::npos) << out;
+  int matched = 0;
+  for (const auto& p : s["peaks"]) {
+    const auto b = p["bounce"].get<size_t>();
+    if (b >= truth.apex_heights_m.size()) continue;
+    const double h = truth.apex_heights_m[b];
+    std::printf("  bounce %zu: %.4f m, truth %.4f m\n", b, p["height_m"].get<double>(), h);
+    EXPECT_NEAR(p["height_m"].get<double>(), h, std::max(0.002, 0.01 * h)) << b << out;
+    ++matched;
+  }
+  EXPECT_GE(matched, 3) << out;
+}
+
 TEST(DetectCommand, SeparateProcessPrintsThePeaks) {
   testing::SimOptions o;
   o.ball = "wiffle";

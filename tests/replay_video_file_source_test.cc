@@ -99,7 +99,8 @@ TEST(VideoFileSource, RealVariableRateClipKeepsItsContainerTimes) {
   // ffprobe: 188 frames; the second at 15.000 ms (nominal 60 fps would say 16.667), the last
   // at 3115.000 ms (nominal: 3116.667). OpenCV returns no time for the last two frames
   // (flushed from the H.264 decoder): they continue at the last interval.
-  VideoFileSource source({(dir / "pingpong_ruler_60fps.mov").string(), false});
+  // Every picture, the ones it repeats included (see PicturesTheFileRepeatsComeOutOnce).
+  VideoFileSource source({(dir / "pingpong_ruler_60fps.mov").string(), false, false});
   std::vector<int64_t> t;
   while (auto f = source.Next()) t.push_back(f->utime);
   ASSERT_EQ(t.size(), 188u);
@@ -165,6 +166,58 @@ TEST(VideoFileSource, RealPhoneClipsStoredTurnedComeOutUpright) {
     ASSERT_TRUE(first);
     EXPECT_LT(MeanAbsDiff(first->image, expect), 3.0) << name;
   }
+}
+
+// Pictures written twice (a 30 fps scene on a 60 fps timeline) come out once each, at the time
+// each was first shown, numbered as in the file; a scene that stands still after moving (a
+// ball at rest, the camera's noise alone) is not taken for repeats.
+TEST(VideoFileSource, PicturesTheFileRepeatsComeOutOnce) {
+  const auto dir = testing::ScratchDir("video_file_source_repeats");
+  const std::string path = (dir / "doubled.avi").string();
+  {
+    cv::VideoWriter w(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 60, cv::Size(160, 120));
+    ASSERT_TRUE(w.isOpened());
+    for (int i = 0; i < 20; ++i) {
+      cv::Mat img(120, 160, CV_8UC3, cv::Scalar(40, 40, 40));
+      cv::circle(img, cv::Point(30 + 3 * i, 10 + 5 * i), 8, cv::Scalar(255, 255, 255), cv::FILLED);
+      w.write(img);
+      w.write(img);
+    }
+  }
+  VideoFileSource source({path, false});
+  int n = 0;
+  while (auto f = source.Next()) {
+    // The first two repeats are delivered while the pattern is not yet established.
+    if (f->index >= 6) {
+      EXPECT_EQ(f->index % 2, 0) << n;
+      EXPECT_NEAR(BarRow(f->image), 10 + 5 * f->index / 2, 1) << f->index;
+      EXPECT_NEAR(f->utime, f->index * 1e6 / 60, 1000) << f->index;
+    }
+    ++n;
+  }
+  EXPECT_GE(source.repeated_frames(), 17);
+  EXPECT_EQ(n + source.repeated_frames(), 40);
+
+  const std::string still = (dir / "still.avi").string();
+  {
+    cv::VideoWriter w(still, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 60, cv::Size(160, 120));
+    cv::RNG rng(7);
+    for (int i = 0; i < 40; ++i) {
+      cv::Mat img(120, 160, CV_8UC3, cv::Scalar(90, 90, 90));
+      const int at = 10 + 5 * std::min(i, 10);  // moves for 10 frames, then stays
+      cv::circle(img, cv::Point(at, at), 8, cv::Scalar(255, 255, 255), cv::FILLED);
+      cv::Mat noisy(img.size(), CV_16SC3), noise(img.size(), CV_16SC3);
+      img.convertTo(noisy, CV_16SC3);
+      rng.fill(noise, cv::RNG::NORMAL, 0, 2);
+      cv::Mat(noisy + noise).convertTo(img, CV_8UC3);
+      w.write(img);
+    }
+  }
+  VideoFileSource quiet({still, false});
+  int m = 0;
+  while (quiet.Next()) ++m;
+  EXPECT_EQ(m, 40);
+  EXPECT_EQ(quiet.repeated_frames(), 0);
 }
 
 TEST(VideoFileSource, LoopsWithTimesThatKeepIncreasing) {
