@@ -418,8 +418,16 @@ void Run(RunOptions o) {
                          {"speed_in_mps", i.speed_in_mps},
                          {"speed_out_mps", i.speed_out_mps},
                          {"restitution", i.restitution}});
+    // Every arc refitted with all of them at the drop's end, beside its flight-time height
+    // (bounce = first_bounce + index): what the live peaks became once the whole drop was seen.
+    nlohmann::json final_h = nlohmann::json::array(), flight_h = nlohmann::json::array();
+    for (double h : d.final_height_m) final_h.push_back(FiniteOrNull(h));
+    for (double h : d.flight_height_m) flight_h.push_back(FiniteOrNull(h));
     drops.push_back({{"sequence", d.sequence},
                      {"end", d.end_reason},
+                     {"first_bounce", d.first_bounce},
+                     {"final_height_m", final_h},
+                     {"flight_height_m", flight_h},
                      {"impacts", impacts},
                      {"restitution_intercept", FiniteOrNull(d.restitution_intercept)},
                      {"restitution_slope_per_mps", FiniteOrNull(d.restitution_slope_per_mps)}});

@@ -162,7 +162,8 @@ std::optional<Frame> VideoFileSource::Next() {
     return std::nullopt;
   }
   ++decoded_;
-  if (config_.skip_repeats && repeats_.IsRepeat(frame->image)) return Next();
+  // A recording of ours carries the camera's own times: every frame is an exposure.
+  if (config_.skip_repeats && recorded_.empty() && repeats_.IsRepeat(frame->image)) return Next();
   frame->index = decoded_ - 1;
   frame->sequence = decoded_ - 1;
   if (!recorded_.empty()) {

@@ -22,7 +22,8 @@ struct VideoFileSourceConfig {
   std::string path;
   bool loop = false;  // start again at the end; times keep increasing across loops
   // Skip pictures the file repeats (replay/repeated_frames.h): 30 fps content on a 60 fps
-  // timeline gives its 30 pictures a second, each at the time it was first shown.
+  // timeline gives its 30 pictures a second, each at the time it was first shown. Not for a
+  // recording with its camera's times file (each of its frames was captured).
   bool skip_repeats = true;
 };
 
