@@ -178,9 +178,9 @@ void ExpectMustShow(const ClipExpectation& c) {
 }
 
 TEST(RealClipsMustShow, GreenBallPoster30fps) {
-  ExpectMustShow({"green_ball_poster_30fps.avi", "tennis", 4, 6, 1,
-                  "the automatic choice takes its colour from the ball held half out of the "
-                  "frame's top and loses the smeared fall: 0 rebounds"});
+  // The colour is taken from the ball held at the frame's top, washed out by the hand and the
+  // smear; the body's stronger green of the same hue matches too (ColorModelParams).
+  ExpectMustShow({"green_ball_poster_30fps.avi", "tennis", 4, 6});
 }
 TEST(RealClipsMustShow, PingpongRuler60fps) {
   // 30 fps pictures on a 60 fps timeline, each shown twice: the repeats are skipped.

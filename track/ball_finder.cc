@@ -252,6 +252,7 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
     if (chroma_contrast >= params_.min_chroma_contrast &&
         std::hypot(ball.nu, ball.nv) >= params_.min_ball_chroma) {
       model = ColorModel(ball.nu, ball.nv, color_);
+      model.KeepOut(around.nu, around.nv);
       // The ring must not match the ball's colour: a model that takes in the surroundings
       // cannot separate the ball from them.
       if (std::hypot(around.nu - ball.nu, around.nv - ball.nv) <= model.tolerance()) continue;
@@ -279,6 +280,7 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
         return is_ball(p);
       });
       c.color = ColorModel(blob.nu, blob.nv, color_);
+      c.color.KeepOut(around.nu, around.nv);
     }
     // Where it is now: the same blob near there in the newest frame (it moved for `lag`
     // frames), else where it was.

@@ -10,6 +10,10 @@ namespace bouncefit {
 
 ColorModel::ColorModel(double nu, double nv, ColorModelParams params)
     : valid_(true), nu_(nu), nv_(nv), params_(params) {
+  const double mag = std::hypot(nu, nv);
+  reach_end_ = mag < params.washed_out
+                   ? std::max(mag, std::min(params.saturation_reach * mag, params.saturation_reach_max))
+                   : mag;
   Update();
 }
 
@@ -34,6 +38,20 @@ void ColorModel::Update() {
   ftol_ = static_cast<float>(tol_);
   min_luma_ = static_cast<float>(params_.min_luma);
   luma_floor_ = static_cast<float>(std::max(1.0, params_.luma_floor));
+  fdu_ = static_cast<float>(du_);
+  fdv_ = static_cast<float>(dv_);
+  freach_ = static_cast<float>(std::max(0.0, reach_end_ - mag));
+}
+
+void ColorModel::KeepOut(double nu, double nv) {
+  const double mag = std::hypot(nu_, nv_);
+  if (mag <= 1e-9 || reach_end_ <= mag) return;
+  const double along = nu * du_ + nv * dv_;
+  const double perp = std::abs(-nu * dv_ + nv * du_);
+  if (perp > tol_ || along <= mag) return;  // off the hue ray, or no more saturated
+  // The segment must end where that colour is still beyond the tolerance, with a margin.
+  reach_end_ = std::clamp(along - std::sqrt(tol_ * tol_ - perp * perp) - 0.5 * tol_, mag, reach_end_);
+  Update();
 }
 
 void ColorModel::AdaptTowards(double nu, double nv, double rate, const ColorModel& anchor,

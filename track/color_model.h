@@ -13,6 +13,16 @@ struct ColorModelParams {
   double tolerance_min = 0.08;  // ... but never tighter than this (chroma per luma, unitless)
   double min_luma = 14;         // pixels darker than this (0-255) never match
   double luma_floor = 24;       // Y below this is taken as this when normalising (noise)
+  // The same hue up to this many times as saturated also matches: a colour taken from the
+  // ball's rim, its highlight or a motion-blurred frame is the body's hue mixed with grey,
+  // never more saturated than the body (a dark green ball sampled in a smear reads light
+  // green: the body lies 2x further out along the same direction). 1: a plain disc. Not for
+  // pixels darker than twice luma_floor, whose normalised chroma is mostly noise (shadows);
+  // only for a colour below washed_out (chroma/luma: a colour that saturated was not washed
+  // out), and never beyond saturation_reach_max (stronger ones are shadows, saturated walls).
+  double saturation_reach = 2.5;
+  double washed_out = 0.5;
+  double saturation_reach_max = 0.75;
 };
 
 class ColorModel {
@@ -33,13 +43,23 @@ class ColorModel {
 
   // Normalised chroma distance of one pixel (y, u, v as in YccPlanes) to the ball colour;
   // +inf for pixels darker than min_luma.
+  // Distance to the segment from the colour out to `saturation_reach` times it.
   float Distance(float y, float u, float v) const {
     if (y < min_luma_) return 1e9f;
     const float inv = 1.0f / (y > luma_floor_ ? y : luma_floor_);
-    const float a = u * inv - fnu_, b = v * inv - fnv_;
+    float a = u * inv - fnu_, b = v * inv - fnv_;
+    const float along = a * fdu_ + b * fdv_;
+    if (along > 0 && y >= 2 * luma_floor_) {
+      const float t = along < freach_ ? along : freach_;
+      a -= t * fdu_, b -= t * fdv_;
+    }
     return std::sqrt(a * a + b * b);
   }
   bool Matches(float y, float u, float v) const { return Distance(y, u, v) <= ftol_; }
+
+  // Shortens the saturation reach so that a colour (the ball's surroundings) does not match:
+  // an orange ball before an ochre wall must not take in the wall's stronger orange.
+  void KeepOut(double nu, double nv);
 
   // Moves the colour towards (nu, nv) by `rate` (0-1), staying within `max_drift` of `anchor`.
   void AdaptTowards(double nu, double nv, double rate, const ColorModel& anchor,
@@ -53,7 +73,9 @@ class ColorModel {
   void Update();
   bool valid_ = false;
   double nu_ = 0, nv_ = 0, tol_ = 0, du_ = 0, dv_ = 0;
+  double reach_end_ = 0;  // chroma/luma the hue's segment reaches out to (set with the colour)
   float fnu_ = 0, fnv_ = 0, ftol_ = 0, min_luma_ = 0, luma_floor_ = 1;
+  float fdu_ = 0, fdv_ = 0, freach_ = 0;  // unit hue direction; how far along it still matches
   ColorModelParams params_;
 };
 

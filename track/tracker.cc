@@ -36,6 +36,7 @@ bool TrackerConfig::IsValid(std::string* error) const {
   if (roi_x < 0 || roi_y < 0 || roi_w < 0 || roi_h < 0) return fail("ROI must not be negative");
   if (blur_sigma_px < 0 || blur_sigma_px > 5) return fail("blur sigma must be 0-5 px");
   if (color.tolerance_rel <= 0 || color.tolerance_rel > 2) return fail("colour tolerance must be in (0, 2]");
+  if (!(color.saturation_reach >= 1)) return fail("colour saturation reach must be >= 1");
   if (segment.min_box_px < 1 || segment.max_box_px <= segment.min_box_px)
     return fail("box limits must satisfy 1 <= min < max");
   if (centre.rays < 8 || centre.rays > 1024) return fail("rays must be 8-1024");
