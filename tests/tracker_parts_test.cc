@@ -62,5 +62,32 @@ TEST(ColorModel, ShadingKeepsTheMatchWhiteAndGreyDoNot) {
   EXPECT_FALSE(orange.Matches(static_cast<float>(y), static_cast<float>(u), static_cast<float>(v)));
 }
 
+// The green ball clip: its colour read from a smear is a washed-out green (BGR 115,157,76); the
+// body is the same hue twice as saturated (BGR 46,96,12): it matches, a blue-green does not,
+// nor a dark pixel of that hue (a shadow), nor the surroundings' colour kept out; a colour
+// read saturated already (orange) gets no reach.
+TEST(ColorModel, AWashedOutColourMatchesTheBodysStrongerSameHue) {
+  ColorModel washed = ColorModel::FromBgr(115, 157, 76, {});
+  auto matches = [](const ColorModel& m, double b, double g, double r) {
+    double y, u, v;
+    BgrToYuv(b, g, r, &y, &u, &v);
+    return m.Matches(static_cast<float>(y), static_cast<float>(u), static_cast<float>(v));
+  };
+  EXPECT_TRUE(matches(washed, 46, 96, 12));     // the body
+  EXPECT_TRUE(matches(washed, 115, 157, 76));   // the washed-out colour itself
+  EXPECT_FALSE(matches(washed, 140, 120, 20));  // blue-green
+  EXPECT_FALSE(matches(washed, 12, 30, 2));     // the same hue, dark: shadow noise
+  ColorModelParams disc;
+  disc.saturation_reach = 1;
+  EXPECT_FALSE(matches(ColorModel::FromBgr(115, 157, 76, disc), 46, 96, 12));
+  double y, u, v;
+  BgrToYuv(46, 96, 12, &y, &u, &v);
+  washed.KeepOut(u / y, v / y);  // surroundings of the body's colour: no longer the ball's
+  EXPECT_FALSE(matches(washed, 46, 96, 12));
+  EXPECT_TRUE(matches(washed, 115, 157, 76));
+  const ColorModel orange = ColorModel::FromBgr(20, 120, 250, {});
+  EXPECT_FALSE(matches(orange, 0, 60, 250));    // a deeper red-orange is not taken in
+}
+
 }  // namespace
 }  // namespace bouncefit
