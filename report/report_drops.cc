@@ -33,10 +33,7 @@ std::vector<DropRow> ReadDropsCsv(const fs::path& file) {
   while (std::getline(in, line)) {
     ++n;
     if (line.empty()) continue;
-    std::vector<std::string> c;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
-    if (!line.empty() && line.back() == ',') c.emplace_back();
+    const std::vector<std::string> c = SplitCsvLine(line);
     try {
       if (c.size() != 6) throw std::invalid_argument("columns");
       rows.push_back({std::stoi(c[0]), std::stoi(c[3]), c[1], Cell(c[2]), Cell(c[4]), Cell(c[5])});
@@ -95,9 +92,7 @@ ReportOutcome WriteSeveralClipsReport(const fs::path& dir, const ReportOptions& 
     h << "<h2>Drop " << drop << ": " << HtmlEscape(clip) << "</h2>\n";
     for (const auto& f : one.figures) {
       if (f.id != "trajectory") continue;
-      h << "<figure><img class=\"figure\" alt=\"" << HtmlEscape(f.title) << "\" src=\"data:image/png;base64,"
-        << Base64Encode(ReadBinary(f.png)) << "\">\n<figcaption><b>" << HtmlEscape(f.title) << ".</b> "
-        << HtmlEscape(f.caption) << "</figcaption>\n</figure>\n";
+      h << FigureHtml(f);
       out.figures.push_back(f);
     }
     for (const auto& s : one.skipped) out.skipped.push_back(clip + ": " + s);
@@ -105,13 +100,7 @@ ReportOutcome WriteSeveralClipsReport(const fs::path& dir, const ReportOptions& 
   h << "</body>\n</html>\n";
 
   out.html = dir / "report.html";
-  const fs::path tmp = out.html.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << h.str();
-    if (!f) throw std::runtime_error(tmp.string() + ": cannot be written");
-  }
-  fs::rename(tmp, out.html);
+  WriteTextAtomically(out.html, h.str());
   return out;
 }
 

@@ -276,6 +276,25 @@ std::string HtmlEscape(const std::string& text) {
   return out;
 }
 
+std::string FigureHtml(const ReportFigure& f) {
+  std::ostringstream h;
+  h << "<figure id=\"fig-" << f.id << "\">\n<img class=\"figure\" alt=\"" << HtmlEscape(f.title)
+    << "\" src=\"data:image/png;base64," << Base64Encode(ReadBinary(f.png)) << "\">\n"
+    << "<figcaption><b>" << HtmlEscape(f.title) << ".</b> " << HtmlEscape(f.caption)
+    << "</figcaption>\n</figure>\n";
+  return h.str();
+}
+
+void WriteTextAtomically(const std::filesystem::path& file, const std::string& text) {
+  const std::filesystem::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    if (!f) throw std::runtime_error(tmp.string() + ": cannot be written");
+  }
+  std::filesystem::rename(tmp, file);
+}
+
 std::string ReportStyle() {
   return
        "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;margin:24px auto;"
@@ -303,12 +322,7 @@ std::string RenderReportHtml(const ReportRunData& run, const std::vector<ReportF
   SummarySection(h, run);
 
   h << "<h2>Figures</h2>\n";
-  for (const auto& f : figures) {
-    h << "<figure id=\"fig-" << f.id << "\">\n<img class=\"figure\" alt=\"" << HtmlEscape(f.title)
-      << "\" src=\"data:image/png;base64," << Base64Encode(ReadBinary(f.png)) << "\">\n"
-      << "<figcaption><b>" << HtmlEscape(f.title) << ".</b> " << HtmlEscape(f.caption)
-      << "</figcaption>\n</figure>\n";
-  }
+  for (const auto& f : figures) h << FigureHtml(f);
   if (!skipped.empty()) {
     h << "<p class=\"note\">Not drawn:</p><ul class=\"note\">\n";
     for (const auto& s : skipped) h << "<li>" << HtmlEscape(s) << "</li>\n";
@@ -342,14 +356,7 @@ ReportOutcome WriteReport(const fs::path& dir, const ReportOptions& options) {
   out.run = LoadRunDirectory(dir);
   out.figures = WriteReportFigures(out.run, dir, options.figures, &out.skipped);
   out.html = dir / "report.html";
-  const std::string page = RenderReportHtml(out.run, out.figures, out.skipped);
-  const fs::path tmp = out.html.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << page;
-    if (!f) throw std::runtime_error(tmp.string() + ": cannot be written");
-  }
-  fs::rename(tmp, out.html);
+  WriteTextAtomically(out.html, RenderReportHtml(out.run, out.figures, out.skipped));
   return out;
 }
 

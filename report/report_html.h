@@ -15,6 +15,10 @@ std::string HtmlEscape(const std::string& text);
 // The pages' stylesheet (inline CSS), shared by a run's report and a several-clip report.
 std::string ReportStyle();
 std::string ReadBinary(const std::filesystem::path& file);
+// One figure as an embedded <figure> (its PNG as a data URI, title and caption).
+std::string FigureHtml(const ReportFigure& f);
+// Writes `file` through a temporary beside it, so a reader never sees half a page.
+void WriteTextAtomically(const std::filesystem::path& file, const std::string& text);
 
 // The page as a string. Figures are read from their PNG files and embedded.
 std::string RenderReportHtml(const ReportRunData& run, const std::vector<ReportFigure>& figures,

@@ -24,20 +24,6 @@ std::string ReadWholeFile(const fs::path& file) {
   return ss.str();
 }
 
-std::vector<std::string> SplitCsvLine(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  for (char c : line) {
-    if (c == ',') {
-      cells.push_back(cell);
-      cell.clear();
-    } else if (c != '\r') {
-      cell += c;
-    }
-  }
-  cells.push_back(cell);
-  return cells;
-}
 
 // A CSV with a header; columns looked up by name so that added columns do not break it.
 class CsvTable {
@@ -270,6 +256,21 @@ std::vector<ReportFit> LoadFits(const fs::path& file) {
 }
 
 }  // namespace
+
+std::vector<std::string> SplitCsvLine(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  for (char c : line) {
+    if (c == ',') {
+      cells.push_back(cell);
+      cell.clear();
+    } else if (c != '\r') {
+      cell += c;
+    }
+  }
+  cells.push_back(cell);
+  return cells;
+}
 
 const ReportFit* ReportRunData::FinalFit() const {
   for (auto it = fits.rbegin(); it != fits.rend(); ++it) {

@@ -16,6 +16,9 @@
 
 namespace bouncefit {
 
+// The cells of one CSV line (no quoting in our files; a trailing comma is an empty last cell).
+std::vector<std::string> SplitCsvLine(const std::string& line);
+
 inline constexpr double kReportNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct ReportTrackRow {
