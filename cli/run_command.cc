@@ -17,6 +17,7 @@
 #include "cli/fit_offline.h"
 #include "cli/pick_window.h"
 #include "cli/run_console.h"
+#include "cli/run_options.h"
 #include "cli/run_output.h"
 #include "cli/run_sound.h"
 #include "cli/sample_clip.h"
@@ -36,32 +37,6 @@
 namespace bouncefit::cli {
 namespace {
 
-struct RunOptions {
-  std::vector<std::string> clips;  // none: the built-in sample (or --device); several: RunSeveral
-  std::string device;
-  std::string out = "bouncefit-out";
-  std::string ball;  // empty: the sample's ball, else pingpong
-  double diameter_m = 0;
-  double mass_kg = 0;
-  double speed = 1.0;
-  bool quiet = false;
-  bool json = false;
-  bool no_fit = false;
-  bool no_audio = false;
-  std::string audio_device;  // ALSA microphone beside --device
-  std::string lcm_url = kDefaultLcmUrl;
-  Channels channels;
-  std::string model = "bullet-softbody";
-  std::string method = "nlopt";
-  std::string impact = "restitution";  // the final fit's rebound law (docs/MODEL.md)
-  int max_evals = 0;  // 0: the session's default
-  double px_per_m = 0;
-  double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
-  double drop_height_m = 0;
-  int64_t max_frames = 0;
-  TrackerConfig tracker;
-  bool pick_window = false;
-};
 
 std::atomic<bool> g_stop{false};
 extern "C" void OnRunSignal(int) { g_stop = true; }
@@ -160,6 +135,9 @@ void WriteSimulatedTrajectory(const RunOutput& out, const FitNode& fit, const Fi
     f << Fixed(t_release + s.t_s, 6) << ',' << Fixed(s.bottom_height_m, 5) << '\n';
 }
 
+
+}  // namespace
+
 FitNodeConfig FitConfig(const RunOptions& o) {
   FitNodeConfig fc;
   fc.ball = o.ball;
@@ -173,10 +151,7 @@ FitNodeConfig FitConfig(const RunOptions& o) {
   return fc;
 }
 
-void RunSeveral(RunOptions o);
-
-void Run(RunOptions o) {
-  if (o.clips.size() > 1) return RunSeveral(o);
+void RunOneClip(RunOptions o) {
   if (!o.audio_device.empty() && o.device.empty())
     throw std::invalid_argument("--audio-device needs --device (a clip's own sound track is used)");
   Pacer pacer(o.speed);  // validates --speed
@@ -455,96 +430,6 @@ void Run(RunOptions o) {
                                                  out.dir().string() + ")");
 }
 
-// Each drop of a joint fit beside the fitted ball dropped from its release: the clip's
-// simulated.csv (so `report CLIPDIR` draws it, the paper's Fig. 7) and, for all drops,
-// OUT/drops.csv (clip, release, bounce, recorded and simulated heights).
-void WriteDropsBesideTheirSimulation(const RunOptions& o, const BallPreset& ball, const FitUpdate& fit,
-                                     const std::vector<std::vector<PeakInput>>& drops,
-                                     const std::vector<std::filesystem::path>& dirs,
-                                     const std::filesystem::path& root) {
-  auto model = MakeBallModel(fit.model, ball);
-  std::ofstream table(root / "drops.csv", std::ios::trunc);
-  table << "drop,clip_dir,release_m,bounce,recorded_m,simulated_m\n";
-  for (size_t d = 0; d < drops.size(); ++d) {
-    SimulationOptions so;
-    so.drop_height_m = drops[d].front().height_m;
-    so.record_trajectory = true;
-    so.duration_s = 8.0;
-    const SimulationResult r = model->Simulate(fit.values, so);
-    if (!r.ok) {
-      if (!o.quiet) std::fprintf(stderr, "run: warning: the fitted ball dropped from %.3f m: %s\n",
-                                 so.drop_height_m, r.failure.c_str());
-      continue;
-    }
-    std::ofstream sim(dirs[d] / "simulated.csv", std::ios::trunc);
-    sim << "t_s,height_m\n";
-    const double t_release = static_cast<double>(drops[d].front().utime) * 1e-6;
-    for (const auto& s : r.trajectory)
-      sim << Fixed(t_release + s.t_s, 6) << ',' << Fixed(s.bottom_height_m, 5) << '\n';
-    for (size_t i = 1; i < drops[d].size(); ++i) {
-      const size_t b = static_cast<size_t>(drops[d][i].bounce);
-      table << d + 1 << ',' << dirs[d].filename().string() << ',' << Fixed(so.drop_height_m, 5) << ','
-            << b << ',' << Fixed(drops[d][i].height_m, 5) << ','
-            << (b >= 1 && b <= r.bounce_heights_m.size() ? Fixed(r.bounce_heights_m[b - 1], 5) : "") << '\n';
-    }
-  }
-}
-
-// Several clips of one ball (issue 14 item 4): each run as `run CLIP --no-fit` into
-// OUT/<k>-<name>/ (track, detect, sound, its own peaks), then the drops fitted jointly, the last
-// clip's drop with the earlier ones, into OUT/coefficients.json and OUT/fitted_ball/.
-void RunSeveral(RunOptions o) {
-  if (o.pick_window)
-    throw std::invalid_argument("--pick-window picks on one clip: give --pick or --color, or run the clips one at a time");
-  if (o.ball.empty()) o.ball = "pingpong";
-  const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);  // validates it
-  const bool talk = !o.quiet && !o.json;
-  const std::filesystem::path root(o.out);
-  std::vector<std::vector<PeakInput>> drops;
-  std::vector<std::filesystem::path> fitted_dirs;  // the clip directory of each drop
-  nlohmann::json clips = nlohmann::json::array();
-  for (size_t k = 0; k < o.clips.size(); ++k) {
-    RunOptions one = o;
-    one.clips = {o.clips[k]};
-    one.no_fit = true;
-    one.out = (root / (std::to_string(k + 1) + "-" + std::filesystem::path(o.clips[k]).stem().string())).string();
-    if (talk) std::printf("run: clip %zu of %zu: %s -> %s\n", k + 1, o.clips.size(), o.clips[k].c_str(), one.out.c_str());
-    std::fflush(stdout);
-    nlohmann::json entry = {{"input", o.clips[k]}, {"out", one.out}};
-    try {
-      Run(one);
-      drops.push_back(ReadPeaksCsv((std::filesystem::path(one.out) / "peaks.csv").string()));
-      fitted_dirs.push_back(one.out);
-      entry["release_m"] = drops.back().front().height_m;
-      entry["bounces"] = drops.back().size() - 1;
-    } catch (const std::exception& e) {  // what that clip recorded stays in its directory
-      if (!o.quiet) std::fprintf(stderr, "run: warning: %s: %s; not fitted\n", o.clips[k].c_str(), e.what());
-      entry["not_fitted"] = e.what();
-    }
-    clips.push_back(entry);
-  }
-  nlohmann::json summary = {{"clips", clips}, {"ball", {{"name", ball.name}, {"diameter_m", ball.diameter_m}, {"mass_kg", ball.mass_kg}}}};
-  std::filesystem::create_directories(root);
-  if (!o.no_fit) {
-    if (drops.empty()) throw std::runtime_error("no clip gave a drop with its release seen to fit (see the warnings above)");
-    if (talk) std::printf("run: fitting the %zu drops jointly\n", drops.size());
-    const FitUpdate final_fit = FitDropsOffline(drops, FitConfig(o), /*final_only=*/true, [&](const FitUpdate& u) {
-      if (o.json)
-        std::printf("%s\n", nlohmann::json{{"event", "fit"}, {"fit", ToJson(FitNode::ToMessage(u), 0)}}.dump().c_str());
-      else if (talk && u.final)
-        PrintFitUpdate(u);
-      std::fflush(stdout);
-    }, talk);
-    WriteFitExports(root, final_fit, ball);
-    summary["final_fit"] = FitUpdateToJson(final_fit, ball);
-    WriteDropsBesideTheirSimulation(o, ball, final_fit, drops, fitted_dirs, root);
-  }
-  std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
-  if (talk) std::printf("run: done: %zu clips, %zu drops fitted; wrote %s\n", o.clips.size(), drops.size(), root.string().c_str());
-}
-
-}  // namespace
-
 void AddRunCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "run",
@@ -602,7 +487,7 @@ void AddRunCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   AddTrackerFlags(cmd, &o->tracker, &o->pick_window);
-  cmd->callback([o] { Run(*o); });
+  cmd->callback([o] { o->clips.size() > 1 ? RunSeveral(*o) : RunOneClip(*o); });
 }
 
 }  // namespace bouncefit::cli

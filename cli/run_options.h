@@ -1,0 +1,51 @@
+#pragma once
+// The options of `bouncefit run`, shared by one clip's run (cli/run_command.cc) and the joint
+// run of several clips of one ball (cli/run_several.cc).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fit/node/fit_node.h"
+#include "msgs/channels.h"
+#include "track/tracker.h"
+
+namespace bouncefit::cli {
+
+struct RunOptions {
+  std::vector<std::string> clips;  // none: the built-in sample (or --device); several: RunSeveral
+  std::string device;
+  std::string out = "bouncefit-out";
+  std::string ball;  // empty: the sample's ball, else pingpong
+  double diameter_m = 0;
+  double mass_kg = 0;
+  double speed = 1.0;
+  bool quiet = false;
+  bool json = false;
+  bool no_fit = false;
+  bool no_audio = false;
+  std::string audio_device;  // ALSA microphone beside --device
+  std::string lcm_url = kDefaultLcmUrl;
+  Channels channels;
+  std::string model = "bullet-softbody";
+  std::string method = "nlopt";
+  std::string impact = "restitution";  // the final fit's rebound law (docs/MODEL.md)
+  int max_evals = 0;  // 0: the session's default
+  double px_per_m = 0;
+  double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
+  double drop_height_m = 0;
+  int64_t max_frames = 0;
+  TrackerConfig tracker;
+  bool pick_window = false;
+};
+
+// The fit node's configuration from the run's flags.
+FitNodeConfig FitConfig(const RunOptions& o);
+
+// One clip, the built-in sample or a camera: track, detect, hear, fit; writes o.out.
+void RunOneClip(RunOptions o);
+
+// Several clips of one ball: each run as `run CLIP --no-fit` into OUT/<k>-<name>/, then their
+// drops fitted jointly into OUT (cli/run_several.cc).
+void RunSeveral(RunOptions o);
+
+}  // namespace bouncefit::cli
