@@ -21,6 +21,8 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
   if (!(emit_after_apex_frames >= 0)) return fail("emit after apex must be >= 0 frames");
   if (!(gate_sigmas > 0) || !(min_gate_px > 0)) return fail("gates must be > 0");
   if (!(noise_floor_px > 0) || !(initial_noise_px > 0)) return fail("noise must be > 0 px");
+  if (!(initial_noise_radius_share >= 0 && initial_noise_radius_share < 0.5))
+    return fail("initial noise share of the radius must be in [0, 0.5)");
   if (!(release_px > 0)) return fail("release distance must be > 0 px");
   if (!(min_apex_px >= 0)) return fail("minimum apex must be >= 0 px");
   if (!(min_flight_frames >= 0)) return fail("minimum flight must be >= 0 frames");
@@ -59,6 +61,12 @@ BounceDetector::BounceDetector(BounceDetectorConfig config)
 
 double BounceDetector::Gate() const {
   return std::max(config_.min_gate_px, config_.gate_sigmas * sigma_);
+}
+
+double BounceDetector::StartGate() const {
+  if (sigma_measured_) return Gate();
+  const double sigma = std::max(sigma_, config_.initial_noise_radius_share * radius_px_);
+  return std::max(config_.min_gate_px, config_.gate_sigmas * sigma);
 }
 
 double BounceDetector::MinApexPx() const {
@@ -136,6 +144,7 @@ std::vector<DetectorEvent> BounceDetector::Push(const BallObservation& o) {
   if (s.r > 0) {
     radii_.push_back(s.r);
     if (radii_.size() > 301) radii_.erase(radii_.begin());
+    radius_px_ = Median(radii_);
   }
   if (phase_ == Phase::kFlight && t - last_seen_t_ > config_.lost_s) EndSequence("lost", ev);
   last_seen_t_ = t;

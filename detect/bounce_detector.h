@@ -94,6 +94,10 @@ struct BounceDetectorConfig {
   double min_gate_px = 0.8;     // ... and at least this far
   double noise_floor_px = 0.05; // lower bound on the noise estimate
   double initial_noise_px = 0.3;  // until the first fit measures it
+  // Whether the first samples make an arc: until then, the noise is taken as at least this
+  // share of the ball's radius (a ball 150 px across, smeared at 24 fps, is not located to
+  // 0.3 px; every length in the picture scales with its size).
+  double initial_noise_radius_share = 0.01;
   double release_px = 1.5;      // a move down of at least this (and the gate) starts a drop
   double max_hold_drift = 0.5;  // a hold drifts less than this fraction of that move
   // No hold seen (the tracker found the ball only once it fell): this many samples, each
@@ -192,6 +196,9 @@ class BounceDetector {
   void EmitPeak(size_t arc_index, int64_t utime, std::vector<DetectorEvent>& ev);
   void EndSequence(const std::string& reason, std::vector<DetectorEvent>& ev);
   double Gate() const;
+  // Gate() for the fit of an arc's first samples, before the noise is measured: at least a
+  // share of the ball's radius (BounceDetectorConfig::initial_noise_radius_share).
+  double StartGate() const;
   double MinApexPx() const;
   double UnseenReleaseMaxS() const;
   double Down(const Sample& s) const;
@@ -218,6 +225,7 @@ class BounceDetector {
   std::vector<Sample> pending_up_, pending_off_;
   int misses_ = 0;  // consecutive samples off the current arc
   std::vector<double> radii_;
+  double radius_px_ = 0;  // median of radii_
   int sequence_ = -1;
   bool bounce0_emitted_ = false;
   int first_bounce_ = 0;  // bounce number of arc 0 in this sequence

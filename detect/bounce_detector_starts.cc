@@ -90,7 +90,7 @@ bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<Detector
   const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
   if (!(c(2) > 0)) return false;
   const double rms = std::sqrt((a * c - b).squaredNorm() / static_cast<double>(m));
-  if (rms > Gate()) return false;
+  if (rms > StartGate()) return false;
   // Far from its vertex already: it came from out of view, not from a hand (see below;
   // twice the margin: five samples place the vertex roughly).
   const double t_vertex = fall.back().t - c(1) / (2 * c(2));
@@ -173,7 +173,7 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   const Eigen::MatrixXd r = a * c - b;
   const double rms_u = std::sqrt(r.col(0).squaredNorm() / static_cast<double>(m));
   const double rms_w = std::sqrt(r.col(1).squaredNorm() / static_cast<double>(m));
-  if (rms_u > Gate() || rms_w > Gate()) return false;
+  if (rms_u > StartGate() || rms_w > StartGate()) return false;
 
   Arc arc;
   arc.samples = run;
