@@ -341,10 +341,12 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
   // ratio of the two heard-and-seen flights after it. A seen impact the picture timed
   // poorly (beyond the pairing tolerance) within a quarter flight of such a heard impact is
   // that impact.
-  const auto both_at = [&](int i) {
-    return i < static_cast<int>(r.impacts.size()) && r.impacts[i].source == ImpactSource::kBoth;
+  // The two flights after it may end at impacts only heard (the picture missed them): with the
+  // sound checked against the picture, heard times are the better ones.
+  const auto heard_at = [&](int i) {
+    return i < static_cast<int>(r.impacts.size()) && r.impacts[i].source != ImpactSource::kVideo;
   };
-  if (r.sound_used && first_both >= 0 && both_at(first_both + 1) && both_at(first_both + 2)) {
+  if (r.sound_used && first_both >= 0 && heard_at(first_both + 1) && heard_at(first_both + 2)) {
     double next = r.impacts[first_both].t_s;
     double flight = r.impacts[first_both + 1].t_s - next;
     double ratio = (r.impacts[first_both + 2].t_s - r.impacts[first_both + 1].t_s) / flight;

@@ -150,6 +150,29 @@ TEST(ImpactFusion, BouncesHeardBeforeThePictureFoundTheBallAreKept) {
   }
 }
 
+// The same, when the picture also misses the impact right after its first seen one (a
+// smeared frame at the floor): the bounce train is read back in time from heard flights, the
+// heard-only impact among them as good as one also seen.
+TEST(ImpactFusion, BouncesHeardBeforeThePictureFoundTheBallAreKeptWhenItMissesTheNext) {
+  const PointMassDropResult r = Drop("tennis", 1.5);
+  ASSERT_GE(r.impact_times_s.size(), 9u);
+  std::vector<double> seen;
+  for (int i = 3; i < 9; ++i)
+    if (i != 4) seen.push_back(r.impact_times_s[i] + 0.004);
+  const auto heard = Heard(r.impact_times_s, 0.013);
+  ImpactFusionConfig c;
+  c.drag_per_m = DragPerM(ResolveBallPreset("tennis"));
+  const FusionResult f = FuseImpacts(heard, seen, r.impact_times_s.back() + 1, c);
+  ASSERT_TRUE(f.sound_used) << f.verdict;
+  EXPECT_EQ(f.rejected_sounds, 0);
+  ASSERT_EQ(f.impacts.size(), r.impact_times_s.size());
+  for (size_t i = 0; i < f.impacts.size(); ++i) {
+    const bool seen_too = i >= 3 && i < 9 && i != 4;
+    EXPECT_EQ(f.impacts[i].source, seen_too ? ImpactSource::kBoth : ImpactSource::kAudio) << "impact " << i;
+    EXPECT_NEAR(f.impacts[i].t_s, r.impact_times_s[i], 0.005) << "impact " << i;
+  }
+}
+
 TEST(ImpactFusion, SoundThatDisagreesWithThePictureIsNotUsed) {
   const PointMassDropResult r = Drop("tennis", 1.2);
   std::vector<double> seen(r.impact_times_s.begin(), r.impact_times_s.begin() + 5);
