@@ -65,7 +65,8 @@ double BounceDetector::Gate() const {
 
 double BounceDetector::StartGate() const {
   if (sigma_measured_) return Gate();
-  const double sigma = std::max(sigma_, config_.initial_noise_radius_share * radius_px_);
+  const double radius = radii_.empty() ? 0.0 : Median(radii_);
+  const double sigma = std::max(sigma_, config_.initial_noise_radius_share * radius);
   return std::max(config_.min_gate_px, config_.gate_sigmas * sigma);
 }
 
@@ -144,7 +145,6 @@ std::vector<DetectorEvent> BounceDetector::Push(const BallObservation& o) {
   if (s.r > 0) {
     radii_.push_back(s.r);
     if (radii_.size() > 301) radii_.erase(radii_.begin());
-    radius_px_ = Median(radii_);
   }
   if (phase_ == Phase::kFlight && t - last_seen_t_ > config_.lost_s) EndSequence("lost", ev);
   last_seen_t_ = t;

@@ -225,7 +225,6 @@ class BounceDetector {
   std::vector<Sample> pending_up_, pending_off_;
   int misses_ = 0;  // consecutive samples off the current arc
   std::vector<double> radii_;
-  double radius_px_ = 0;  // median of radii_
   int sequence_ = -1;
   bool bounce0_emitted_ = false;
   int first_bounce_ = 0;  // bounce number of arc 0 in this sequence
