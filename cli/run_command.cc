@@ -128,13 +128,8 @@ void WriteSimulatedTrajectory(const RunOutput& out, const FitNode& fit, const Fi
   so.duration_s = 8.0;
   const SimulationResult r = fit.model().Simulate(u.values, so);
   if (!r.ok) return;
-  std::ofstream f(out.dir() / "simulated.csv", std::ios::trunc);
-  f << "t_s,height_m\n";
-  const double t_release = SecondsSince(release_utime, out.stream_start());
-  for (const auto& s : r.trajectory)
-    f << Fixed(t_release + s.t_s, 6) << ',' << Fixed(s.bottom_height_m, 5) << '\n';
+  WriteSimulatedCsv(out.dir(), SecondsSince(release_utime, out.stream_start()), r.trajectory);
 }
-
 
 }  // namespace
 

@@ -93,4 +93,12 @@ std::pair<int64_t, int64_t> RunOutput::CloseLog() {
   return {log_.written(), log_.dropped()};
 }
 
+void WriteSimulatedCsv(const std::filesystem::path& dir, double t_release_s,
+                       const std::vector<TrajectorySample>& trajectory) {
+  std::ofstream f(dir / "simulated.csv", std::ios::trunc);
+  f << "t_s,height_m\n";
+  for (const auto& s : trajectory)
+    f << Cell(t_release_s + s.t_s, "%.6f") << ',' << Cell(s.bottom_height_m, "%.5f") << '\n';
+}
+
 }  // namespace bouncefit::cli

@@ -14,6 +14,7 @@
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/calibration_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
+#include "model/ball_model.h"
 #include "msgs/lcm_log_recorder.h"
 
 namespace bouncefit::cli {
@@ -56,5 +57,10 @@ class RunOutput {
   std::ofstream fits_;
   LcmLogRecorder log_;
 };
+
+// simulated.csv in `dir` (docs/FORMATS.md): a simulated drop's trajectory, its release at
+// t_release_s on the stream clock, beside the recorded one for the report's Fig. 7.
+void WriteSimulatedCsv(const std::filesystem::path& dir, double t_release_s,
+                       const std::vector<TrajectorySample>& trajectory);
 
 }  // namespace bouncefit::cli

@@ -8,6 +8,7 @@
 
 #include "cli/fit_offline.h"
 #include "cli/run_options.h"
+#include "cli/run_output.h"
 #include "fit/fit_export.h"
 #include "model/model_by_name.h"
 #include "msgs/msg_json.h"
@@ -42,11 +43,7 @@ void WriteDropsBesideTheirSimulation(const RunOptions& o, const BallPreset& ball
                                  so.drop_height_m, r.failure.c_str());
       continue;
     }
-    std::ofstream sim(dirs[d] / "simulated.csv", std::ios::trunc);
-    sim << "t_s,height_m\n";
-    const double t_release = static_cast<double>(drops[d].front().utime) * 1e-6;
-    for (const auto& s : r.trajectory)
-      sim << Fixed(t_release + s.t_s, 6) << ',' << Fixed(s.bottom_height_m, 5) << '\n';
+    WriteSimulatedCsv(dirs[d], static_cast<double>(drops[d].front().utime) * 1e-6, r.trajectory);
     for (size_t i = 1; i < drops[d].size(); ++i) {
       const size_t b = static_cast<size_t>(drops[d][i].bounce);
       table << d + 1 << ',' << dirs[d].filename().string() << ',' << Fixed(so.drop_height_m, 5) << ','
