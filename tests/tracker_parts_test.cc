@@ -1,5 +1,6 @@
 // The tracker's parts on their own: robust circle fit, parabolic prediction, colour model.
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
 #include <numbers>
@@ -7,11 +8,39 @@
 
 #include "track/circle_fit.h"
 #include "track/color_model.h"
+#include "track/mask_components.h"
 #include "track/motion_predictor.h"
 #include "track/ycc_planes.h"
 
 namespace bouncefit {
 namespace {
+
+// Labelling only the box around the set pixels gives what labelling the whole mask gives:
+// the same components, areas, boxes and centroids, and each pixel's label; nothing set, none.
+TEST(MaskComponents, TheSameComponentsAsLabellingTheWholeMask) {
+  cv::Mat mask = cv::Mat::zeros(240, 320, CV_8U);
+  cv::circle(mask, {200, 150}, 12, 255, cv::FILLED);
+  cv::circle(mask, {120, 90}, 5, 255, cv::FILLED);
+  cv::rectangle(mask, {150, 60}, {158, 100}, 255, cv::FILLED);
+  cv::Mat whole, whole_stats, whole_centroids;
+  const int n_whole = cv::connectedComponentsWithStats(mask, whole, whole_stats, whole_centroids, 8, CV_32S);
+  cv::Mat labels, stats, centroids;
+  cv::Rect box;
+  const int n = MaskComponents(mask, &labels, &stats, &centroids, &box);
+  ASSERT_EQ(n, n_whole);
+  EXPECT_EQ(box, cv::Rect(115, 60, 98, 103));
+  for (int k = 1; k < n; ++k) {
+    for (int s : {cv::CC_STAT_LEFT, cv::CC_STAT_TOP, cv::CC_STAT_WIDTH, cv::CC_STAT_HEIGHT, cv::CC_STAT_AREA})
+      EXPECT_EQ(stats.at<int>(k, s), whole_stats.at<int>(k, s)) << "label " << k;
+    EXPECT_DOUBLE_EQ(centroids.at<double>(k, 0), whole_centroids.at<double>(k, 0));
+    EXPECT_DOUBLE_EQ(centroids.at<double>(k, 1), whole_centroids.at<double>(k, 1));
+  }
+  for (int y = box.y; y < box.y + box.height; ++y)
+    for (int x = box.x; x < box.x + box.width; ++x)
+      ASSERT_EQ(labels.at<int>(y - box.y, x - box.x), whole.at<int>(y, x)) << x << "," << y;
+  EXPECT_EQ(MaskComponents(cv::Mat::zeros(240, 320, CV_8U), &labels, &stats, &centroids, &box), 1);
+  EXPECT_EQ(box.area(), 0);
+}
 
 TEST(CircleFit, IgnoresAFlattenedArcOfTheRim) {
   // 64 rim points of a circle (10.3, -4.2) r 7.5 with 0.1 px noise; a quarter of them pulled

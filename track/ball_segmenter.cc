@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "track/mask_components.h"
+
 namespace bouncefit {
 
 std::vector<Blob> SegmentBlobs(const YccPlanes& planes, const ColorModel& color,
@@ -25,19 +27,10 @@ std::vector<Blob> SegmentBlobs(const YccPlanes& planes, const ColorModel& color,
       pm[i] = pd[i] <= tol ? 255 : 0;
     }
   }
-  // Labelling costs ~7 ns a pixel whatever it finds: a whole-frame search's mask is mostly
-  // empty, so only the box around its matching pixels is labelled.
-  const cv::Rect box = cv::boundingRect(*mask);
-  if (box.area() == 0) return blobs;
-  cv::Mat labels, stats, centroids;  // labels: of the box's pixels
-  const int n = cv::connectedComponentsWithStats((*mask)(box), labels, stats, centroids, 8, CV_32S);
+  cv::Mat labels, stats, centroids;
+  cv::Rect box;  // of the matching pixels; labels are the box's
+  const int n = MaskComponents(*mask, &labels, &stats, &centroids, &box);
   if (n <= 1) return blobs;
-  for (int k = 1; k < n; ++k) {
-    stats.at<int>(k, cv::CC_STAT_LEFT) += box.x;
-    stats.at<int>(k, cv::CC_STAT_TOP) += box.y;
-    centroids.at<double>(k, 0) += box.x;
-    centroids.at<double>(k, 1) += box.y;
-  }
   const float s = static_cast<float>(planes.step);
   const float ox = static_cast<float>(planes.rect.x), oy = static_cast<float>(planes.rect.y);
   std::vector<int> keep(n, -1);
