@@ -166,6 +166,7 @@ class BounceDetector {
   struct Arc {
     std::vector<Sample> samples;
     bool held = false;
+    size_t hold_samples = 0;  // held: the first samples, still in the hand
     bool release = false;  // the first arc of a drop: a fall from rest (held seen or not)
     bool entered = false;  // the first arc of a drop, not from rest: thrown, or already
                            // in flight when first seen
@@ -191,7 +192,17 @@ class BounceDetector {
   bool DecideClock();
   void RescaleTime(double k);
   void ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev);
+  // At 24 fps with a long exposure, the frames either side of an impact can both show the
+  // ball at the floor, a little apart: taken for an impact, a hop of two samples, and a
+  // second impact. The hop is known for what it is when the rebound after it rises higher
+  // than the hop could have (a bounced ball loses height at every impact): its samples are
+  // dropped and its impact withdrawn, so that one impact, timed anew, joins the arcs either
+  // side (its event goes out again with the same index).
+  bool StraddlesItsImpact(const Arc& cur) const;
+  void ForgetStraddlingArc();
   bool NearTheFloor(const Arc& cur) const;
+  // The noise an arc's own samples show about its fit, px per coordinate (0: too few).
+  double ArcScatter(const Arc& arc) const;
   void TryEmitApex(double t, int64_t utime, bool have_sample, std::vector<DetectorEvent>& ev);
   void EmitPeak(size_t arc_index, int64_t utime, std::vector<DetectorEvent>& ev);
   void EndSequence(const std::string& reason, std::vector<DetectorEvent>& ev);

@@ -32,16 +32,15 @@ bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
   // in sqrt(u - u_hold) (a quadratic through the first few noisy samples extrapolates badly).
   std::vector<const Sample*> moving;
   std::vector<double> hold_u;
-  const double thr = 0.5 * std::max(config_.release_px, Gate());
-  const double u0 = Down(arc.samples.front());
-  for (const auto& s : arc.samples) {
-    if (!arc.held || Down(s) - u0 > thr)
-      moving.push_back(&s);
+  for (size_t i = 0; i < arc.samples.size(); ++i) {
+    if (i < arc.hold_samples)
+      hold_u.push_back(Down(arc.samples[i]));
     else
-      hold_u.push_back(Down(s));
+      moving.push_back(&arc.samples[i]);
   }
-  if (moving.size() < 3) return false;
-  if (arc.held && moving.size() < 10 && hold_u.size() >= 3) {
+  // Two samples below a seen hold pin that curve (u_hold is known): at 24 fps the third
+  // sample of a fall is already tens of pixels further than the second went.
+  if (arc.held && moving.size() >= 2 && moving.size() < 10 && hold_u.size() >= 3) {
     const double uh = Median(hold_u);
     double st = 0, sq = 0, stt = 0, stq = 0, sw = 0, n = 0;
     for (const Sample* m : moving) {
@@ -65,6 +64,7 @@ bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
     *v_down = 2 * slope * slope * dt;
     return true;
   }
+  if (moving.size() < 3) return false;
   if (moving.size() > 12) moving.erase(moving.begin(), moving.end() - 12);
   const auto m = static_cast<Eigen::Index>(moving.size());
   Eigen::MatrixXd a(m, 3);
@@ -133,6 +133,9 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   const double gap_frames = std::max(1.0, (s.t - cur.samples.back().t) / frame_dt_);
   double gate = Gate() + 0.02 * std::abs(vp) * frame_dt_ * gap_frames;
   if (cur.samples.size() < 4 || !calibrated_) gate += 2 * Gate();
+  // Until the drop's noise is measured, an arc whose own samples scatter more than assumed
+  // (a smeared ball at 20-30 fps is located to pixels, not tenths) is followed with its scatter.
+  if (!sigma_measured_) gate = std::max(gate, config_.gate_sigmas * ArcScatter(cur));
   const double ru = u - up, rw = w - wp;
   if (std::abs(ru) <= gate && std::abs(rw) <= 2 * gate) {
     cur.samples.push_back(s);
@@ -152,11 +155,13 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   ++misses_;
   if (ru < -gate && falling && std::abs(rw) <= 2 * gate) {
     pending_up_.push_back(s);
+    if (AdoptOffArcSamples(cur)) return;
     while (static_cast<int>(pending_up_.size()) >= config_.impact_confirm_samples) {
       // A rebound rises: the newest sample must be above the first one off the arc; if it
       // is not, the first one was a stray detection.
       if (pending_up_.size() == 1 || Down(pending_up_.back()) < Down(pending_up_.front())) {
         if (NearTheFloor(cur)) {
+          if (StraddlesItsImpact(cur)) ForgetStraddlingArc();
           ConfirmImpact(s, ev);
         } else {
           // High above the floor: the arc's young fit turned down too early (few samples
@@ -192,13 +197,14 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
 
 bool BounceDetector::AdoptOffArcSamples(Arc& cur) {
   // A rebound's first samples at a low frame rate: the one straddling the impact is smeared,
-  // and an arc of two or three samples extrapolates its error for every frame after. When the
-  // arc is about to end for it (one miss short), and the samples it turned away agree with one
-  // arc of their own (with its samples that fit too), they are that rebound, not the end of
-  // the drop.
-  if (!calibrated_ || cur.release || cur.samples.size() > 3 || misses_ < kMissesEndArc - 1 ||
-      pending_off_.size() < 3 || !pending_up_.empty())
-    return false;
+  // and an arc of two or three samples extrapolates its error for every frame after (at
+  // 24 fps the next sample is then tens of pixels off). When the samples it turned away, high
+  // or low, agree with one arc together with its samples that fit too, they are that
+  // rebound, not a new impact or the end of the drop.
+  std::vector<Sample> missed = pending_off_;
+  missed.insert(missed.end(), pending_up_.begin(), pending_up_.end());
+  if (!calibrated_ || cur.release || cur.samples.size() > 3 || missed.size() < 2) return false;
+  std::sort(missed.begin(), missed.end(), [](const Sample& x, const Sample& y) { return x.t < y.t; });
   const FlightGlobals& g = calibration_.flight.globals;
   auto offset = [&](const Arc& a, const Sample& q) {
     double x, y;
@@ -206,22 +212,48 @@ bool BounceDetector::AdoptOffArcSamples(Arc& cur) {
     return std::hypot(x - q.x, y - q.y);
   };
   Arc trial = cur;
-  for (const auto& q : pending_off_) trial.samples.push_back(q);
+  for (const auto& q : missed) trial.samples.push_back(q);
   for (size_t kept = cur.samples.size();; --kept) {
     trial.fit_ok = false;
     RefitArc(trial);  // drops a first sample the others put off the arc
-    if (!trial.fit_ok || trial.samples.size() < 4) return false;
+    if (!trial.fit_ok || trial.samples.size() < 3) return false;
     double worst = 0;
     for (const auto& q : trial.samples) worst = std::max(worst, offset(trial, q));
-    if (worst <= 3 * Gate()) break;  // a young arc's gate
+    if (worst <= 3 * StartGate()) break;  // a young arc's gate (the noise maybe not measured)
     // The arc's own first samples may be the ones off (straddling the impact): drop them.
     if (kept == 0 || offset(trial, trial.samples.front()) < worst) return false;
     trial.samples.erase(trial.samples.begin());
   }
+  // Without any of the arc's own samples it is another arc (after an impact the arc missed):
+  // that is for the impact to confirm, not for this arc to swallow.
+  if (trial.samples.front().t > cur.samples.back().t) return false;
+  // ... and so is an arc that left the floor well after the impact that began this one.
+  const size_t idx = arcs_.size() - 1;
+  if (idx >= 1 && idx - 1 < calibration_.impacts.size() && calibration_.impacts[idx - 1].ok &&
+      calibration_.calibration.has_floor) {
+    const double rise = calibration_.calibration.floor_centre_px() - trial.fit.u_apex;
+    const double left_floor = trial.fit.t_apex - std::sqrt(2 * std::max(0.0, rise) / g.gravity_px);
+    if (left_floor > calibration_.impacts[idx - 1].t + 1.5 * frame_dt_) return false;
+  }
   cur = std::move(trial);
   pending_off_.clear();
+  pending_up_.clear();
   misses_ = 0;
   return true;
+}
+
+double BounceDetector::ArcScatter(const Arc& arc) const {
+  constexpr int kArcParams = 4;  // apex time, height and horizontal place, horizontal speed
+  const int coords = 2 * static_cast<int>(arc.samples.size());
+  if (!calibrated_ || !arc.fit_ok || coords - kArcParams < 4) return 0;
+  const FlightGlobals& g = calibration_.flight.globals;
+  double ss = 0;
+  for (const auto& q : arc.samples) {
+    double x, y;
+    FlightPosition(g, arc.fit, arc.held, q.t, &x, &y);
+    ss += (x - q.x) * (x - q.x) + (y - q.y) * (y - q.y);
+  }
+  return std::sqrt(ss / (coords - kArcParams));
 }
 
 bool BounceDetector::NearTheFloor(const Arc& cur) const {
@@ -233,6 +265,40 @@ bool BounceDetector::NearTheFloor(const Arc& cur) const {
   // so the lower of the two is in the lower part of the arc; near the apex both are high.
   const double low = floor - std::max(Down(cur.samples.back()), Down(pending_up_.front()));
   return low < 0.6 * apex;
+}
+
+bool BounceDetector::StraddlesItsImpact(const Arc& cur) const {
+  if (!calibrated_ || !calibration_.calibration.has_floor || arcs_.size() < 2 ||
+      cur.samples.size() > 2 || pending_up_.size() < 2)
+    return false;
+  const size_t idx = arcs_.size() - 1;
+  if (idx - 1 >= calibration_.impacts.size() || !calibration_.impacts[idx - 1].ok) return false;
+  const int bounce = static_cast<int>(idx) + first_bounce_;
+  if (std::any_of(peaks_.begin(), peaks_.end(), [&](const BouncePeak& p) { return p.bounce == bounce; }))
+    return false;
+  // The highest the arc can have flown: a flight from its impact to the first rising sample.
+  const double g = calibration_.flight.globals.gravity_px;
+  const double t_max = pending_up_.front().t - calibration_.impacts[idx - 1].t;
+  const double cur_max = g * t_max * t_max / 8;
+  // The rebound after it, from its first two samples under the same gravity.
+  const Sample& p = pending_up_[0];
+  const Sample& q = pending_up_[1];
+  if (!(q.t > p.t)) return false;
+  const double t_apex = 0.5 * (p.t + q.t) + (Down(q) - Down(p)) / (g * (q.t - p.t));
+  const double u_apex = Down(p) - 0.5 * g * (p.t - t_apex) * (p.t - t_apex);
+  const double next = calibration_.calibration.floor_centre_px() - u_apex;
+  // A ball that is only bounced rises lower after every impact: a rebound clearly higher
+  // than the arc before it could have flown means that arc was no flight.
+  return next > 1.5 * cur_max + Gate();
+}
+
+void BounceDetector::ForgetStraddlingArc() {
+  const size_t idx = arcs_.size() - 1;
+  const int bounce = static_cast<int>(idx) + first_bounce_;
+  impacts_.erase(std::remove_if(impacts_.begin(), impacts_.end(),
+                                [&](const BounceImpact& i) { return i.index == bounce; }),
+                 impacts_.end());
+  arcs_.pop_back();
 }
 
 void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev) {

@@ -58,6 +58,7 @@ bool BounceDetector::ReleasedFromHold(const Sample& s, std::vector<DetectorEvent
   for (size_t i = 0; i + 2 < n; ++i)
     if (hold_[i].t >= a.t - config_.hold_window_s && still(hold_[i]))
       arc.samples.push_back(hold_[i]);
+  arc.hold_samples = arc.samples.size();
   arc.samples.push_back(a);
   arc.samples.push_back(b);
   StartSequence(std::move(arc), s, ev);

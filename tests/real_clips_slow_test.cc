@@ -184,9 +184,7 @@ TEST(RealClipsMustShow, GreenBallPoster30fps) {
 }
 TEST(RealClipsMustShow, PingpongRuler60fps) {
   // 30 fps pictures on a 60 fps timeline, each shown twice: the repeats are skipped.
-  ExpectMustShow({"pingpong_ruler_60fps.mov", "pingpong", 5, 9, 1,
-                  "8 rebounds found in one drop, falling, but the pixel heights are 7-12% below "
-                  "the flight-time heights (the free-fall scale of the smeared 30 fps arcs)"});
+  ExpectMustShow({"pingpong_ruler_60fps.mov", "pingpong", 5, 9});
 }
 TEST(RealClipsMustShow, TennisRuler25fps) {
   ExpectMustShow({"tennis_ruler_25fps.mp4", "tennis", 5, 10});
@@ -196,8 +194,9 @@ TEST(RealClipsMustShow, BasketballTileOchre24fps) {
 }
 TEST(RealClipsMustShow, FootballDoorWood20fps) {
   ExpectMustShow({"football_door_wood_20fps.mp4", "football", 4, 8, 1,
-                  "the box sits on a bright patch of floor for a few frames: the second apex "
-                  "comes out above the first and heights are 10-50% off flight time"});
+                  "the box sits on a bright patch of floor for a few frames after the first "
+                  "impact: the first rebound's apex comes out 40% low, below the second, and "
+                  "the others 7-34% below their flight-time heights"});
 }
 TEST(RealClipsMustShow, TennisDoorWood20fps) {
   ExpectMustShow({"tennis_door_wood_20fps.mp4", "tennis", 3, 5, 1,

@@ -277,7 +277,10 @@ TEST(RunSound, CaptureReplayPublishesTheHeardImpacts) {
 
 // Phone clips whose sound holds every impact (AAC: each click behind its encoder's pre-echo
 // ramp), where the picture misses impacts, sees one twice or comes in mid-drop: every bounce
-// the sound bounds is a row, numbered in order from the first impact, its height falling.
+// the sound bounds is a row, numbered in order from the first impact, its height falling; and
+// every impact the picture sees while the sound hears the drop is one the sound heard (a
+// seen-only impact there is one impact seen twice). After the last click heard, the picture
+// may still see a bounce too small to hear.
 TEST(RunSound, PhoneClipsEveryHeardBounceInOrder) {
   const auto clips = testing::RealClipsDir();
   if (clips.empty()) GTEST_SKIP() << "shared real clips not found";
@@ -298,31 +301,31 @@ TEST(RunSound, PhoneClipsEveryHeardBounceInOrder) {
       EXPECT_EQ(std::stoi(peaks[k].at("bounce")), std::stoi(peaks[k - 1].at("bounce")) + 1) << "row " << k;
       EXPECT_LT(Num(peaks[k], "fused_height_m"), Num(peaks[k - 1], "fused_height_m")) << "row " << k;
     }
-    for (const auto& r : ReadCsv(run / "impacts.csv")) EXPECT_NE(r.at("source"), "video") << r.at("t_s");
+    const auto impacts = ReadCsv(run / "impacts.csv");
+    double last_heard_s = 0;
+    for (const auto& r : impacts)
+      if (r.at("source") != "video") last_heard_s = Num(r, "t_s");
+    for (const auto& r : impacts)
+      if (Num(r, "t_s") < last_heard_s) EXPECT_NE(r.at("source"), "video") << r.at("t_s");
   }
 }
 
-// The football clip: the tracker locks on after the third bounce; the bounces heard before
-// it are kept (a bounce train leading into the impacts both heard and seen), and the seen
-// bounces are numbered after them.
-TEST(RunSound, BouncesHeardBeforeTheTrackerLockedAreKept) {
+// The football clip: the picture first sees the ball at the top of its first rebound and takes
+// that for a release (bounce 0); the impact heard before it is kept, and the bounces are
+// numbered from it: the picture's release is bounce 1, and every later bounce follows in order.
+TEST(RunSound, ABounceHeardBeforeThePictureFoundTheBallNumbersTheRest) {
   const auto clips = testing::RealClipsDir();
   if (clips.empty()) GTEST_SKIP() << "shared real clips not found";
   const auto dir = ScratchDir("before_lock");
   const auto run = RunClip(clips / "football_door_wood_20fps.mp4", "--ball football", dir / "run");
   const auto impacts = ReadCsv(run / "impacts.csv");
-  int heard_before_seen = 0;
-  for (const auto& r : impacts) {
-    if (r.at("source") != "audio") break;
-    ++heard_before_seen;
-  }
-  EXPECT_GE(heard_before_seen, 2);
-  EXPECT_GE(impacts.size(), 8u);
-  for (const auto& r : impacts) EXPECT_NE(r.at("source"), "video") << "impact at " << r.at("t_s");
-  // Bounces in time order, numbered 1, 2, ... from the first impact heard; heights falling.
+  ASSERT_GE(impacts.size(), 8u);
+  EXPECT_EQ(impacts[0].at("source"), "audio");
+  int both = 0;
+  for (const auto& r : impacts) both += r.at("source") == "both";
+  EXPECT_GE(both, 6);
   const auto peaks = ReadCsv(run / "peaks.csv");
   ASSERT_GE(peaks.size(), 7u);
-  EXPECT_EQ(peaks[0].at("heard"), "heard only");
   // A heard-only row still carries a height in height_m (its flight-time height), so readers
   // of height_m (fit --peaks, report, the real-clips check) never see an empty cell.
   for (const auto& r : peaks)

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "track/shrink.h"
+
 namespace bouncefit {
 
 namespace {
@@ -24,54 +26,74 @@ ColorModel LumaContrast::BallModel(const LumaContrastParams& params, ColorModelP
 }
 
 void LumaContrast::SetFrame(const Frame& frame) {
-  if (!now_.y.empty()) std::swap(previous_, now_.y);
+  std::swap(previous_, grey_);
   // Luma only (the same BT.601 weights as ExtractYcc), through OpenCV's vectorised paths.
   CheckFrameFormat(frame);
-  cv::Mat grey;
   if (frame.format == PixelFormat::kYuyv) {
-    cv::extractChannel(frame.image, grey, 0);  // Y bytes, limited range
-    grey.convertTo(now_.y, CV_32F, 255.0 / 219.0, -16.0 * 255.0 / 219.0);
+    cv::Mat y;
+    cv::extractChannel(frame.image, y, 0);  // Y bytes, limited range
+    y.convertTo(grey_, CV_8U, 255.0 / 219.0, -16.0 * 255.0 / 219.0);
   } else {
-    cv::cvtColor(frame.image, grey, cv::COLOR_BGR2GRAY);
-    grey.convertTo(now_.y, CV_32F);
+    cv::cvtColor(frame.image, grey_, cv::COLOR_BGR2GRAY);
   }
-  now_.rect = cv::Rect(0, 0, now_.y.cols, now_.y.rows);
-  now_.step = 1;
-  if (background_.size() != now_.y.size()) background_ = now_.y.clone();
-  // Exposure and white balance drift move the whole frame: the median difference over a
-  // coarse grid is that global offset, not the ball.
-  std::vector<float> d;
-  for (int j = 0; j < now_.y.rows; j += 8)
-    for (int i = 0; i < now_.y.cols; i += 8)
-      d.push_back(now_.y.at<float>(j, i) - background_.at<float>(j, i));
+  cv::Mat soft8;
+  ShrinkByBlocks(grey_, &soft8, kSoftScale);
+  soft8.convertTo(soft_now_, CV_32F);
+  if (background_.size() != grey_.size()) {
+    grey_.convertTo(background_, CV_32F);
+    soft_background_ = soft_now_.clone();
+    previous_.release();
+  }
+  // Exposure and white balance drift move the whole frame: the median difference is that
+  // global offset, not the ball.
+  cv::Mat soft_diff = soft_now_ - soft_background_;
+  std::vector<float> d(soft_diff.begin<float>(), soft_diff.end<float>());
   auto mid = d.begin() + static_cast<long>(d.size() / 2);
   std::nth_element(d.begin(), mid, d.end());
-  cv::subtract(now_.y, background_, diff_);
-  diff_ -= *mid;
+  offset_ = d.empty() ? 0 : *mid;
   // Shadows of the hand and arm, and light changes, move soft and large regions: only what
   // stands out of its own neighbourhood (the high-passed difference) is ball-like.
   if (params_.highpass_sigma_px > 0) {
-    cv::Mat low;
-    cv::resize(diff_, low, cv::Size(std::max(1, diff_.cols / 8), std::max(1, diff_.rows / 8)), 0,
-               0, cv::INTER_AREA);
-    cv::GaussianBlur(low, low, cv::Size(), params_.highpass_sigma_px / 8);
-    cv::resize(low, low, diff_.size(), 0, 0, cv::INTER_LINEAR);
-    diff_ -= low;
+    soft_diff -= offset_;
+    cv::GaussianBlur(soft_diff, soft_change_, cv::Size(), params_.highpass_sigma_px / kSoftScale);
+  } else {
+    soft_change_.release();
   }
 }
 
 void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
                                   YccPlanes* out) const {
-  rect &= cv::Rect(0, 0, now_.y.cols, now_.y.rows);
+  rect &= cv::Rect(0, 0, grey_.cols, grey_.rows);
   out->rect = rect;
   out->step = step;
-  cv::Mat diff = diff_(rect).clone();
+  // Decimated first (8-bit luma and the background each shrunk on their own), so that a
+  // whole-frame search costs a quarter of the float work.
+  cv::Mat diff, background;
+  if (step > 1) {
+    cv::Mat grey;
+    ShrinkByBlocks(grey_(rect), &grey, step);
+    grey.convertTo(diff, CV_32F);
+    ShrinkByBlocks(background_(rect), &background, step);
+  } else {
+    grey_(rect).convertTo(diff, CV_32F);
+    background = background_(rect);
+  }
+  diff -= background;
+  diff -= offset_;
+  if (!soft_change_.empty()) {
+    // The soft change, bilinear from the small copy, for this rect only. A small pixel k
+    // covers frame pixels [8k, 8k + 8); an output pixel i covers [x0 + step i, + step).
+    const double s = 1.0 / kSoftScale;
+    const cv::Matx23d to_small(step * s, 0, (rect.x + 0.5 * step) * s - 0.5, 0, step * s,
+                               (rect.y + 0.5 * step) * s - 0.5);
+    cv::Mat soft;
+    cv::warpAffine(soft_change_, soft, to_small, diff.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                   cv::BORDER_REPLICATE);
+    diff -= soft;
+  }
   if (params_.polarity < 0) diff = -diff;
   if (params_.polarity == 0) diff = cv::abs(diff);
-  if (step > 1)
-    cv::resize(diff, out->u, cv::Size(rect.width / step, rect.height / step), 0, 0, cv::INTER_AREA);
-  else
-    out->u = diff;
+  out->u = diff;
   if (blur_sigma_px > 0) cv::GaussianBlur(out->u, out->u, cv::Size(), blur_sigma_px);
   const float c = static_cast<float>(params_.clamp_luma);
   cv::min(out->u, c, out->u);
@@ -81,15 +103,16 @@ void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
 }
 
 double LumaContrast::MovedFraction(cv::Rect2f box) const {
-  if (previous_.size() != now_.y.size()) return 0;
-  const cv::Rect r = cv::Rect(box) & cv::Rect(0, 0, now_.y.cols, now_.y.rows);
+  if (previous_.size() != grey_.size()) return 0;
+  const cv::Rect r = cv::Rect(box) & cv::Rect(0, 0, grey_.cols, grey_.rows);
   if (r.area() == 0) return 0;
+  const int motion = static_cast<int>(std::lround(params_.motion_luma));
   int moved = 0;
   for (int j = r.y; j < r.y + r.height; ++j) {
-    const float* pn = now_.y.ptr<float>(j);
-    const float* pp = previous_.ptr<float>(j);
+    const uint8_t* pn = grey_.ptr<uint8_t>(j);
+    const uint8_t* pp = previous_.ptr<uint8_t>(j);
     for (int i = r.x; i < r.x + r.width; ++i)
-      if (std::abs(pn[i] - pp[i]) > params_.motion_luma) ++moved;
+      if (std::abs(pn[i] - pp[i]) > motion) ++moved;
   }
   return static_cast<double>(moved) / r.area();
 }
@@ -97,14 +120,22 @@ double LumaContrast::MovedFraction(cv::Rect2f box) const {
 void LumaContrast::UpdateBackground(double cx, double cy, double r) {
   if (background_.empty()) return;
   const double keep = r > 0 ? params_.keep_out_radii * r + 4 : -1;
+  const double rate = params_.background_rate;
   if (keep > 0) {
-    keep_mask_.create(background_.size(), CV_8U);
-    keep_mask_.setTo(255);
-    cv::circle(keep_mask_, cv::Point(static_cast<int>(std::lround(cx)), static_cast<int>(std::lround(cy))),
-               static_cast<int>(std::ceil(keep)), cv::Scalar(0), cv::FILLED);
-    cv::accumulateWeighted(now_.y, background_, params_.background_rate, keep_mask_);
+    auto keep_out = [&](cv::Mat* mask, cv::Size size, double scale) {
+      mask->create(size, CV_8U);
+      mask->setTo(255);
+      cv::circle(*mask, cv::Point(static_cast<int>(std::lround((cx + 0.5) * scale - 0.5)),
+                                  static_cast<int>(std::lround((cy + 0.5) * scale - 0.5))),
+                 static_cast<int>(std::ceil(keep * scale)), cv::Scalar(0), cv::FILLED);
+    };
+    keep_out(&keep_mask_, background_.size(), 1.0);
+    keep_out(&soft_keep_mask_, soft_background_.size(), 1.0 / kSoftScale);
+    cv::accumulateWeighted(grey_, background_, rate, keep_mask_);
+    cv::accumulateWeighted(soft_now_, soft_background_, rate, soft_keep_mask_);
   } else {
-    cv::accumulateWeighted(now_.y, background_, params_.background_rate);
+    cv::accumulateWeighted(grey_, background_, rate);
+    cv::accumulateWeighted(soft_now_, soft_background_, rate);
   }
 }
 
@@ -126,6 +157,7 @@ void LumaContrast::ForgetBall(double cx, double cy, double r) {
   for (int j = box.y; j < box.y + box.height; ++j)
     for (int i = box.x; i < box.x + box.width; ++i)
       if (std::hypot(i - cx, j - cy) < r_in) background_.at<float>(j, i) = mean;
+  ShrinkByBlocks(background_, &soft_background_, kSoftScale);
 }
 
 }  // namespace bouncefit

@@ -11,6 +11,11 @@
 // updated everywhere except around the ball's last known position (so a ball at rest does
 // not fade into it). A ball held still in the first frame leaves a trace of the opposite sign,
 // which the polarity ignores.
+//
+// Cost: only what the tracker looks at is computed at full resolution (the contrast of a
+// window); the per-frame work on the whole frame is one 8-bit luma conversion, one blend of
+// it into the background, and the global drift and soft shadows measured on an 8x smaller
+// copy (docs/PERFORMANCE.md).
 #include <opencv2/core.hpp>
 
 #include "capture/frame.h"
@@ -25,8 +30,8 @@ struct LumaContrastParams {
   double clamp_luma = 40;         // differences beyond this count as this, 0-255 units
   double background_rate = 0.05;  // running-mean weight of each new frame, 0-1
   double highpass_sigma_px = 32;  // soft changes wider than this are removed (0: off), pixels
-  double keep_out_radii = 1.8;
-  double motion_luma = 12;        // frame-to-frame luma change that counts as motion, 0-255    // not updated within this many ball radii (+4 px) of the ball
+  double keep_out_radii = 1.8;     // not updated within this many ball radii (+4 px) of the ball
+  double motion_luma = 12;        // frame-to-frame luma change that counts as motion, 0-255
 };
 
 class LumaContrast {
@@ -56,12 +61,14 @@ class LumaContrast {
   const LumaContrastParams& params() const { return params_; }
 
  private:
+  static constexpr int kSoftScale = 8;  // the drift and soft-change copies are this much smaller
   LumaContrastParams params_;
-  YccPlanes now_;
-  cv::Mat previous_;    // CV_32F: the previous frame's luma
-  cv::Mat background_;  // CV_32F, frame size
-  cv::Mat diff_;        // CV_32F: current frame minus background, drift and shadows removed
-  cv::Mat keep_mask_;   // CV_8U: where the background is updated
+  cv::Mat grey_, previous_;  // CV_8U: this frame's luma and the previous frame's
+  cv::Mat background_;       // CV_32F, frame size
+  cv::Mat soft_now_, soft_background_;  // CV_32F, kSoftScale smaller
+  cv::Mat soft_change_;      // CV_32F, kSoftScale smaller: the soft part of the difference, removed
+  float offset_ = 0;         // the whole frame's drift against the background, luma
+  cv::Mat keep_mask_, soft_keep_mask_;  // CV_8U: where the background is updated
 };
 
 }  // namespace bouncefit
