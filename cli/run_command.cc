@@ -261,7 +261,8 @@ void RunOneClip(RunOptions o) {
         peaks.push_back(m);
         if (fit) fit->OnPeak(m);
       } else if (e.kind == DetectorEvent::Kind::kImpact) {
-        publish_impact(sound.Seen(SecondsSince(e.impact.utime, out.stream_start()), out.stream_start()));
+        publish_impact(sound.Seen(SecondsSince(e.impact.utime, out.stream_start()), out.stream_start(),
+                                  {e.impact.sequence, e.impact.index}));
         publish_heard_peaks();
       } else if (e.kind == DetectorEvent::Kind::kSequenceEnd) {
         console.Info("drop ended (" + e.reason + ")");

@@ -146,11 +146,18 @@ std::vector<impact_t> RunSound::EndLive(int64_t t0_utime) {
   return out;
 }
 
-impact_t RunSound::Seen(double t_s, int64_t t0_utime) {
-  seen_t_s_.push_back(t_s);
+impact_t RunSound::Seen(double t_s, int64_t t0_utime, std::pair<int, int> key) {
   impact_t m;
   m.utime = Utime(t_s, t0_utime);
-  m.index = next_index_++;
+  const auto it = seen_keys_.find(key);
+  if (it != seen_keys_.end()) {
+    seen_t_s_[it->second.first] = t_s;
+    m.index = it->second.second;
+  } else {
+    seen_t_s_.push_back(t_s);
+    m.index = next_index_++;
+    seen_keys_[key] = {seen_t_s_.size() - 1, m.index};
+  }
   m.source = "video";
   m.strength = 0;
   m.confidence = 0;

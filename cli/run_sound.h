@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -45,8 +46,10 @@ class RunSound {
   std::vector<impact_t> AdvanceTo(double t_s, int64_t t0_utime);
   // A microphone: stops listening; the impacts still pending.
   std::vector<impact_t> EndLive(int64_t t0_utime);
-  // A seen impact as a message.
-  impact_t Seen(double t_s, int64_t t0_utime);
+  // A seen impact as a message. `key` is the detector's (sequence, impact index): an impact
+  // the detector revises (one it saw twice, merged) replaces the earlier one and goes out
+  // again with the same message index.
+  impact_t Seen(double t_s, int64_t t0_utime, std::pair<int, int> key);
   // The published peaks whose arc was heard from end to end (both impacts, the sound
   // checked against the picture so far), each once: BOUNCE_PEAK again for the same bounce,
   // with the flight-time height as height_m and flight_height_m (utime: now).
@@ -79,6 +82,7 @@ class RunSound {
   BallPreset ball_;
   std::vector<AudioImpact> heard_;
   std::vector<double> seen_t_s_;               // seen impacts so far (video clock)
+  std::map<std::pair<int, int>, std::pair<size_t, int>> seen_keys_;  // key -> (in seen_t_s_, message index)
   std::set<std::pair<int, int>> heard_peaks_;  // (sequence, bounce) already re-sent
   FusionResult fused_;
   bool finished_ = false, ended_ = false;

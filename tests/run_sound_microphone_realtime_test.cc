@@ -101,5 +101,21 @@ TEST(RunSoundMicrophone, MissingDeviceIsAOneLineError) {
   }
 }
 
+// The picture may revise an impact it sent (two frames at the floor first taken for two
+// impacts, then merged): the revision goes out with the index of the impact it replaces.
+TEST(RunSoundSeen, AnImpactTheDetectorRevisesKeepsItsMessageIndex) {
+  cli::RunSound sound("", ResolveBallPreset("pingpong"));
+  const impact_t first = sound.Seen(1.0, 0, {0, 1});
+  const impact_t second = sound.Seen(1.4, 0, {0, 2});
+  const impact_t revised = sound.Seen(1.03, 0, {0, 1});
+  EXPECT_NE(first.index, second.index);
+  EXPECT_EQ(revised.index, first.index);
+  EXPECT_EQ(revised.utime, 1030000);
+  EXPECT_EQ(revised.source, "video");
+  const impact_t next_drop = sound.Seen(3.0, 0, {1, 1});  // the same impact number, another drop
+  EXPECT_NE(next_drop.index, first.index);
+  EXPECT_NE(next_drop.index, second.index);
+}
+
 }  // namespace
 }  // namespace bouncefit
