@@ -487,7 +487,9 @@ TEST(BounceDetector, APingPongDropAt24FpsWithLongExposureIsFollowedBounceByBounc
         o.seed = seed;
         o.hold_s = 0.3 + seed * 0.0037;  // the release at a different phase of the frames
         const auto clip = testing::MakeSimClip(o);
-        BounceDetector d{BounceDetectorConfig{}};
+        BounceDetectorConfig config;
+        config.calibration.ball_diameter_m = 0.04;  // as `run --ball pingpong` gives it
+        BounceDetector d{config};
         const auto peaks = testing::RunDetector(d, clip.obs);
         const double t4 = 4 / o.fps;  // apexes of flights shorter than 4 frames are not required
         const auto s = testing::ScorePeaks(testing::TruthOf(clip), peaks, 9.81 * t4 * t4 / 8);
