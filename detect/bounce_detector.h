@@ -199,6 +199,9 @@ class BounceDetector {
   // dropped and its impact withdrawn, so that one impact, timed anew, joins the arcs either
   // side (its event goes out again with the same index).
   bool StraddlesItsImpact(const Arc& cur) const;
+  // The impact that began the current arc, as the last calibration placed it (null: the
+  // drop's first arc, or that impact not fitted).
+  const FlightImpact* ImpactBeforeCurrentArc() const;
   void ForgetStraddlingArc();
   bool NearTheFloor(const Arc& cur) const;
   // The noise an arc's own samples show about its fit, px per coordinate (0: too few).

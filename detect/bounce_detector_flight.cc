@@ -228,12 +228,11 @@ bool BounceDetector::AdoptOffArcSamples(Arc& cur) {
   // that is for the impact to confirm, not for this arc to swallow.
   if (trial.samples.front().t > cur.samples.back().t) return false;
   // ... and so is an arc that left the floor well after the impact that began this one.
-  const size_t idx = arcs_.size() - 1;
-  if (idx >= 1 && idx - 1 < calibration_.impacts.size() && calibration_.impacts[idx - 1].ok &&
-      calibration_.calibration.has_floor) {
+  const FlightImpact* began = ImpactBeforeCurrentArc();
+  if (began && calibration_.calibration.has_floor) {
     const double rise = calibration_.calibration.floor_centre_px() - trial.fit.u_apex;
     const double left_floor = trial.fit.t_apex - std::sqrt(2 * std::max(0.0, rise) / g.gravity_px);
-    if (left_floor > calibration_.impacts[idx - 1].t + 1.5 * frame_dt_) return false;
+    if (left_floor > began->t + 1.5 * frame_dt_) return false;
   }
   cur = std::move(trial);
   pending_off_.clear();
@@ -267,18 +266,24 @@ bool BounceDetector::NearTheFloor(const Arc& cur) const {
   return low < 0.6 * apex;
 }
 
+const FlightImpact* BounceDetector::ImpactBeforeCurrentArc() const {
+  if (arcs_.size() < 2) return nullptr;
+  const size_t j = arcs_.size() - 2;  // impacts[j] lies between arcs j and j + 1
+  if (j >= calibration_.impacts.size() || !calibration_.impacts[j].ok) return nullptr;
+  return &calibration_.impacts[j];
+}
+
 bool BounceDetector::StraddlesItsImpact(const Arc& cur) const {
-  if (!calibrated_ || !calibration_.calibration.has_floor || arcs_.size() < 2 ||
-      cur.samples.size() > 2 || pending_up_.size() < 2)
+  const FlightImpact* began = ImpactBeforeCurrentArc();
+  if (!calibrated_ || !calibration_.calibration.has_floor || !began || cur.samples.size() > 2 ||
+      pending_up_.size() < 2)
     return false;
-  const size_t idx = arcs_.size() - 1;
-  if (idx - 1 >= calibration_.impacts.size() || !calibration_.impacts[idx - 1].ok) return false;
-  const int bounce = static_cast<int>(idx) + first_bounce_;
+  const int bounce = static_cast<int>(arcs_.size() - 1) + first_bounce_;
   if (std::any_of(peaks_.begin(), peaks_.end(), [&](const BouncePeak& p) { return p.bounce == bounce; }))
     return false;
   // The highest the arc can have flown: a flight from its impact to the first rising sample.
   const double g = calibration_.flight.globals.gravity_px;
-  const double t_max = pending_up_.front().t - calibration_.impacts[idx - 1].t;
+  const double t_max = pending_up_.front().t - began->t;
   const double cur_max = g * t_max * t_max / 8;
   // The rebound after it, from its first two samples under the same gravity.
   const Sample& p = pending_up_[0];
@@ -325,9 +330,9 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
   arcs_.push_back(next);
   Recalibrate(s.utime, ev);
   const size_t idx = arcs_.size() - 1;
-  if (calibrated_ && idx - 1 < calibration_.impacts.size() &&
-      calibration_.impacts[idx - 1].ok && calibration_.calibration.valid()) {
-    const FlightImpact& imp = calibration_.impacts[idx - 1];
+  const FlightImpact* began = ImpactBeforeCurrentArc();
+  if (calibrated_ && began && calibration_.calibration.valid()) {
+    const FlightImpact& imp = *began;
     BounceImpact bi;
     bi.sequence = sequence_;
     bi.index = static_cast<int>(idx) + first_bounce_;
