@@ -31,6 +31,13 @@ double DragPerM(const BallPreset& b) {
   return 0.5 * 1.2 * b.drag_coefficient * area / b.mass_kg;
 }
 
+// The fusion's config for a ball: its air drag, as `run` gives it.
+ImpactFusionConfig ConfigFor(const std::string& ball) {
+  ImpactFusionConfig c;
+  c.drag_per_m = DragPerM(ResolveBallPreset(ball));
+  return c;
+}
+
 std::vector<AudioImpact> Heard(const std::vector<double>& times, double offset) {
   std::vector<AudioImpact> out;
   for (double t : times) out.push_back({t + offset, 0.1, 30, 1});
@@ -66,8 +73,7 @@ TEST(ImpactFusion, OffsetPairsHeardOnlyTrainAndStraySoundsRejected) {
   auto heard = Heard(r.impact_times_s, 0.03);
   heard.push_back({0.2, 0.3, 30, 1});
   heard.push_back({r.impact_times_s.back() + 0.7, 0.3, 30, 1});
-  ImpactFusionConfig c;
-  c.drag_per_m = DragPerM(ResolveBallPreset("pingpong"));
+  const ImpactFusionConfig c = ConfigFor("pingpong");
   const FusionResult f = FuseImpacts(heard, seen, r.impact_times_s.back() + 1, c);
   ASSERT_TRUE(f.sound_used) << f.verdict;
   EXPECT_NEAR(f.offset_s, 0.03, 0.011);
@@ -101,9 +107,8 @@ TEST(ImpactFusion, ASeenImpactNearAHeardOneIsThatImpact) {
   seen[12] += 0.042;
   seen.push_back(t[4] - 0.024);  // the arc before impact 4 split near its end
   std::sort(seen.begin(), seen.end());
-  ImpactFusionConfig c;
+  ImpactFusionConfig c = ConfigFor("pingpong");
   c.frame_period_s = 1 / 24.0;
-  c.drag_per_m = DragPerM(ResolveBallPreset("pingpong"));
   const FusionResult f = FuseImpacts(Heard(t, -0.04), seen, t.back() + 1, c);
   ASSERT_TRUE(f.sound_used) << f.verdict;
   ASSERT_EQ(f.merged_seen.size(), 1u);
@@ -131,8 +136,7 @@ TEST(ImpactFusion, BouncesHeardBeforeThePictureFoundTheBallAreKept) {
   auto heard = Heard(r.impact_times_s, 0.013);
   heard.push_back({r.apex_times_s[0] - 0.3, 0.3, 30, 1});
   heard.push_back({r.apex_times_s[0] + 0.1, 0.2, 30, 1});
-  ImpactFusionConfig c;
-  c.drag_per_m = DragPerM(ResolveBallPreset("tennis"));
+  const ImpactFusionConfig c = ConfigFor("tennis");
   const FusionResult f = FuseImpacts(heard, seen, r.impact_times_s.back() + 1, c);
   ASSERT_TRUE(f.sound_used) << f.verdict;
   EXPECT_EQ(f.rejected_sounds, 2);
@@ -160,8 +164,7 @@ TEST(ImpactFusion, BouncesHeardBeforeThePictureFoundTheBallAreKeptWhenItMissesTh
   for (int i = 3; i < 9; ++i)
     if (i != 4) seen.push_back(r.impact_times_s[i] + 0.004);
   const auto heard = Heard(r.impact_times_s, 0.013);
-  ImpactFusionConfig c;
-  c.drag_per_m = DragPerM(ResolveBallPreset("tennis"));
+  const ImpactFusionConfig c = ConfigFor("tennis");
   const FusionResult f = FuseImpacts(heard, seen, r.impact_times_s.back() + 1, c);
   ASSERT_TRUE(f.sound_used) << f.verdict;
   EXPECT_EQ(f.rejected_sounds, 0);
@@ -226,8 +229,7 @@ TEST(HeardPeaks, ASplitArcKeepsTheApexNearestTheHeardOne) {
   const PointMassDropResult r = Drop("pingpong", 1.0);
   ASSERT_GE(r.impact_times_s.size(), 6u);
   std::vector<double> seen(r.impact_times_s.begin(), r.impact_times_s.begin() + 6);
-  ImpactFusionConfig c;
-  c.drag_per_m = DragPerM(ResolveBallPreset("pingpong"));
+  const ImpactFusionConfig c = ConfigFor("pingpong");
   const FusionResult f = FuseImpacts(Heard(seen, 0.03), seen, seen.back() + 0.5, c);
   ASSERT_TRUE(f.sound_used) << f.verdict;
   ASSERT_EQ(f.flights.size(), 5u);
