@@ -6,6 +6,9 @@
 #include <numbers>
 #include <random>
 
+#include "capture/frame.h"
+#include "synth/synth_scene.h"
+#include "track/ball_finder.h"
 #include "track/circle_fit.h"
 #include "track/color_model.h"
 #include "track/mask_components.h"
@@ -116,6 +119,43 @@ TEST(ColorModel, AWashedOutColourMatchesTheBodysStrongerSameHue) {
   EXPECT_TRUE(matches(washed, 115, 157, 76));
   const ColorModel orange = ColorModel::FromBgr(20, 120, 250, {});
   EXPECT_FALSE(matches(orange, 0, 60, 250));    // a deeper red-orange is not taken in
+}
+
+
+// A lock that holds only feeds frames to the finder's history (BallFinder::Remember); the
+// finder called again later must compare the same frames and find the same ball as one that
+// searched every frame (the history converted lazily, buffers reused).
+TEST(BallFinder, FramesOnlyRememberedGiveTheSameCandidatesAsFramesSearched) {
+  SynthSceneConfig sc;
+  sc.width = 320, sc.height = 240, sc.floor_y_px = 220;
+  const SynthScene scene(sc);
+  BallFinder every(BallFinderParams{}, ColorModelParams{}), some(BallFinderParams{}, ColorModelParams{});
+  const cv::Rect roi(0, 0, sc.width, sc.height);
+  int compared = 0, found = 0;
+  for (int i = 0; i < 40; ++i) {
+    const double t = i / 60.0;
+    BallShape ball;
+    ball.x = 100 + 60 * t, ball.y = 30 + 0.5 * 900 * t * t, ball.a = ball.b = 9;
+    Frame f;
+    scene.Render({ball}, &f.image);
+    f.utime = static_cast<int64_t>(std::llround(t * 1e6));
+    const std::vector<BallCandidate> a = every.Find(f, roi);
+    if (i % 7 < 4) {  // four frames of each seven only remembered
+      some.Remember(f, roi);
+      continue;
+    }
+    const std::vector<BallCandidate> b = some.Find(f, roi);
+    ++compared;
+    ASSERT_EQ(a.size(), b.size()) << "frame " << i;
+    for (size_t k = 0; k < a.size(); ++k) {
+      EXPECT_EQ(a[k].x, b[k].x) << "frame " << i;
+      EXPECT_EQ(a[k].y, b[k].y) << "frame " << i;
+      EXPECT_EQ(a[k].r, b[k].r) << "frame " << i;
+    }
+    if (!a.empty() && std::hypot(a[0].x - ball.x, a[0].y - ball.y) < 4) ++found;
+  }
+  EXPECT_EQ(compared, 16);
+  EXPECT_GE(found, 12) << "the ball itself is found where the finder searched";
 }
 
 }  // namespace

@@ -25,16 +25,15 @@ double MedianOf(std::vector<float>& v) {
   return *mid;
 }
 
-// |dY| + |dCr| + |dCb| of two CV_8UC3 images, saturated to 255.
-cv::Mat ChangeOf(const cv::Mat& a, const cv::Mat& b) {
-  cv::Mat d3, d(a.size(), CV_8U);
+// |dY| + |dCr| + |dCb| of two CV_8UC3 images, saturated to 255, into `d` (`d3`: scratch).
+void ChangeOf(const cv::Mat& a, const cv::Mat& b, cv::Mat& d3, cv::Mat& d) {
+  d.create(a.size(), CV_8U);
   cv::absdiff(a, b, d3);
   for (int j = 0; j < d3.rows; ++j) {
     const uint8_t* p = d3.ptr<uint8_t>(j);
     uint8_t* q = d.ptr<uint8_t>(j);
     for (int i = 0; i < d3.cols; ++i, p += 3) q[i] = static_cast<uint8_t>(std::min(255, p[0] + p[1] + p[2]));
   }
-  return d;
 }
 
 struct Stats {
@@ -178,27 +177,50 @@ std::string BallCandidate::Why() const {
   return buf;
 }
 
-std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
-  std::vector<BallCandidate> out;
+BallFinder::Work& BallFinder::Push(const Frame& frame, cv::Rect roi) {
   if (roi != roi_) history_.clear(), roi_ = roi;
   shrink_ = 1;
   while (static_cast<double>(roi.area()) / (shrink_ * shrink_) > params_.max_work_pixels && shrink_ < 16)
     shrink_ *= 2;
-  cv::Mat bgr;
-  if (frame.format == PixelFormat::kYuyv)
-    cv::cvtColor(frame.image(roi), bgr, cv::COLOR_YUV2BGR_YUYV);
-  else
-    bgr = frame.image(roi);
   Work w;
+  if (history_.size() >= kHistory) {
+    // Reuse the oldest frame's buffers: fresh ones of this size cost page faults each time.
+    w.raw = std::move(history_.front().raw);
+    w.spare = std::move(history_.front().ycc);
+    history_.pop_front();
+  }
   w.t = static_cast<double>(frame.utime) * 1e-6;
-  cv::Mat small;
-  if (shrink_ > 1)
-    cv::resize(bgr, small, cv::Size(roi.width / shrink_, roi.height / shrink_), 0, 0, cv::INTER_AREA);
-  else
-    cv::GaussianBlur(bgr, small, cv::Size(3, 3), 0.8);
-  cv::cvtColor(small, w.ycc, cv::COLOR_BGR2YCrCb);
+  w.format = frame.format;
   history_.push_back(std::move(w));
-  if (history_.size() > 17) history_.pop_front();
+  return history_.back();
+}
+
+void BallFinder::Remember(const Frame& frame, cv::Rect roi) {
+  // A copy (the source may reuse the frame's memory), shrunk and converted only if a Find
+  // compares it: most frames of a holding lock never are.
+  frame.image(roi).copyTo(Push(frame, roi).raw);
+}
+
+const cv::Mat& BallFinder::Ycc(Work& w) {
+  if (w.ycc.empty()) ToYcc(w.raw, w.format, &w.spare), w.ycc = std::move(w.spare);
+  return w.ycc;
+}
+
+void BallFinder::ToYcc(const cv::Mat& image, PixelFormat format, cv::Mat* ycc) {
+  cv::Mat bgr = image;
+  if (format == PixelFormat::kYuyv) cv::cvtColor(image, bgr_, cv::COLOR_YUV2BGR_YUYV), bgr = bgr_;
+  if (shrink_ > 1)
+    cv::resize(bgr, small_, cv::Size(image.cols / shrink_, image.rows / shrink_), 0, 0, cv::INTER_AREA);
+  else
+    cv::GaussianBlur(bgr, small_, cv::Size(3, 3), 0.8);
+  cv::cvtColor(small_, *ycc, cv::COLOR_BGR2YCrCb);
+}
+
+std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
+  std::vector<BallCandidate> out;
+  Work& now = Push(frame, roi);
+  ToYcc(frame.image(roi), frame.format, &now.spare);
+  now.ycc = std::move(now.spare);
 
   // C = now, B = at least lag_s before it, A = at least lag_s before B.
   const int nc = static_cast<int>(history_.size()) - 1;
@@ -207,10 +229,13 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
   const int lag = nc - nb;
   const int na = nb - lag;
   if (na < 0) return out;
-  const cv::Mat& A = history_[na].ycc;
-  const cv::Mat& B = history_[nb].ycc;
-  const cv::Mat& C = history_[nc].ycc;
-  const cv::Mat dba = ChangeOf(B, A), dbc = ChangeOf(B, C);
+  const cv::Mat& A = Ycc(history_[na]);
+  const cv::Mat& B = Ycc(history_[nb]);
+  const cv::Mat& C = Ycc(history_[nc]);
+  ChangeOf(B, A, d3_, dba_);
+  ChangeOf(B, C, d3_, dbc_);
+  const cv::Mat& dba = dba_;
+  const cv::Mat& dbc = dbc_;
 
   // Noise sets the threshold: most of the frame is still, so the median change is noise.
   std::vector<float> sample;
@@ -226,8 +251,10 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
   cv::Rect moved_box;
   const int n = MaskComponents(moved, &box_labels, &stats, &centroids, &moved_box);
   if (n <= 1) return out;
-  cv::Mat labels = cv::Mat::zeros(moved.size(), CV_32S);  // in work pixels, as read below
-  box_labels.copyTo(labels(moved_box));
+  labels_.create(moved.size(), CV_32S);  // in work pixels, as read below
+  labels_.setTo(0);
+  box_labels.copyTo(labels_(moved_box));
+  const cv::Mat& labels = labels_;
   const int W = B.cols, H = B.rows;
   const double min_r = params_.min_radius_px;
   std::vector<int> order;

@@ -48,18 +48,29 @@ class BallFinder {
   // Feeds one frame (capture order) and returns the candidates it shows, best first;
   // `roi` in frame pixels. The first frames only fill the history.
   std::vector<BallCandidate> Find(const Frame& frame, cv::Rect roi);
+  // Feeds one frame to the history only (what Find does first): for frames whose candidates
+  // would not be looked at, so that a later Find still compares frames lag_s apart.
+  void Remember(const Frame& frame, cv::Rect roi);
   void Reset() { history_.clear(); }
 
  private:
   struct Work {
-    cv::Mat ycc;  // CV_8UC3 Y, Cr, Cb at reduced resolution
-    double t;
+    cv::Mat raw;  // the frame's region of interest, as delivered
+    PixelFormat format = PixelFormat::kBgr24;
+    cv::Mat ycc;  // CV_8UC3 Y, Cr, Cb at reduced resolution, once a Find needed it
+    cv::Mat spare;  // a buffer to compute ycc into
+    double t = 0;
   };
+  static constexpr size_t kHistory = 17;  // frames kept: two lags of up to 8 frames, and now
+  Work& Push(const Frame& frame, cv::Rect roi);  // a new newest entry, its images empty
+  const cv::Mat& Ycc(Work& w);                   // w's, converted from w.raw the first time
+  void ToYcc(const cv::Mat& image, PixelFormat format, cv::Mat* ycc);
   BallFinderParams params_;
   ColorModelParams color_;
   std::deque<Work> history_;
   cv::Rect roi_;
   int shrink_ = 1;
+  cv::Mat bgr_, small_, d3_, dba_, dbc_, labels_;  // scratch, kept to spare the allocations
 };
 
 }  // namespace bouncefit

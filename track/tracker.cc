@@ -226,7 +226,6 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
     if (choices_ > 1) how_ += Fmt(" (choice %.0f)", static_cast<double>(choices_), 0);
     return;
   }
-  const std::vector<BallCandidate> found = finder_.Find(frame, roi_);
   const double here_x = obs.found ? obs.cx : last_cx_, here_y = obs.found ? obs.cy : last_cy_;
   const double here_r = std::max(radius_, chosen_.r);
   std::string drop;
@@ -235,6 +234,13 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   else if (t - last_found_t_ > config_.auto_drop_lost_s)
     drop = Fmt("not seen for %.1f s", t - last_found_t_, 0);
   const bool still = obs.found && arc_.RecentTravel(0.2) < 0.5 * here_r;
+  // A lock that holds, moves and has its colour looks at no candidate below: the finder only
+  // keeps its history then (the search is most of the tracking time until a lock confirms).
+  if (drop.empty() && !still && !(obs.found && chosen_.by_luma)) {
+    finder_.Remember(frame, roi_);
+    return;
+  }
+  const std::vector<BallCandidate> found = finder_.Find(frame, roi_);
   for (const BallCandidate& c : found) {
     const bool same = std::hypot(c.x - here_x, c.y - here_y) < 3 * std::max(here_r, c.r);
     if (same && obs.found && chosen_.by_luma && !c.by_luma) {
