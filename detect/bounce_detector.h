@@ -202,6 +202,8 @@ class BounceDetector {
   // The impact that began the current arc, as the last calibration placed it (null: the
   // drop's first arc, or that impact not fitted).
   const FlightImpact* ImpactBeforeCurrentArc() const;
+  // A fitted impact of this sequence in metres and stream time, numbered `index`.
+  BounceImpact ToBounceImpact(const FlightImpact& imp, int index) const;
   void ForgetStraddlingArc();
   bool NearTheFloor(const Arc& cur) const;
   // The noise an arc's own samples show about its fit, px per coordinate (0: too few).

@@ -332,14 +332,7 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
   const size_t idx = arcs_.size() - 1;
   const FlightImpact* began = ImpactBeforeCurrentArc();
   if (calibrated_ && began && calibration_.calibration.valid()) {
-    const FlightImpact& imp = *began;
-    BounceImpact bi;
-    bi.sequence = sequence_;
-    bi.index = static_cast<int>(idx) + first_bounce_;
-    bi.utime = ToUtime(imp.t);
-    bi.speed_in_mps = imp.speed_in / calibration_.calibration.px_per_m;
-    bi.speed_out_mps = imp.speed_out / calibration_.calibration.px_per_m;
-    bi.restitution = imp.speed_in > 0 ? imp.speed_out / imp.speed_in : 0;
+    const BounceImpact bi = ToBounceImpact(*began, static_cast<int>(idx) + first_bounce_);
     impacts_.push_back(bi);
     DetectorEvent e;
     e.kind = DetectorEvent::Kind::kImpact;

@@ -104,14 +104,7 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
     for (size_t j = 0; j < calibration_.impacts.size() && j + 1 < arcs_.size(); ++j) {
       const FlightImpact& imp = calibration_.impacts[j];
       if (!imp.ok || !calibration_.calibration.valid()) continue;
-      BounceImpact bi;
-      bi.sequence = sequence_;
-      bi.index = static_cast<int>(j + 1) + first_bounce_;
-      bi.utime = ToUtime(imp.t);
-      bi.speed_in_mps = imp.speed_in / calibration_.calibration.px_per_m;
-      bi.speed_out_mps = imp.speed_out / calibration_.calibration.px_per_m;
-      bi.restitution = imp.speed_in > 0 ? imp.speed_out / imp.speed_in : 0;
-      sum.impacts.push_back(bi);
+      sum.impacts.push_back(ToBounceImpact(imp, static_cast<int>(j + 1) + first_bounce_));
     }
     const Calibration& cal = calibration_.calibration;
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -167,6 +160,17 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
   rest_samples_.clear();
   rest_moves_ = 0;
   phase_ = reason == "rest" ? Phase::kRest : Phase::kWaiting;
+}
+
+BounceImpact BounceDetector::ToBounceImpact(const FlightImpact& imp, int index) const {
+  BounceImpact bi;
+  bi.sequence = sequence_;
+  bi.index = index;
+  bi.utime = ToUtime(imp.t);
+  bi.speed_in_mps = imp.speed_in / calibration_.calibration.px_per_m;
+  bi.speed_out_mps = imp.speed_out / calibration_.calibration.px_per_m;
+  bi.restitution = imp.speed_in > 0 ? imp.speed_out / imp.speed_in : 0;
+  return bi;
 }
 
 }  // namespace bouncefit
