@@ -8,6 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "track/ball_extent.h"
+
 namespace bouncefit {
 
 namespace {
@@ -88,9 +90,14 @@ BallObservation Tracker::Track(const Frame& frame) {
   const double t = static_cast<double>(frame.utime) * 1e-6;
   bool ok = false;
   double px, py, speed;
+  max_extent_px_ = 0;
+  if (last_frame_t_ > 0 && t > last_frame_t_) frame_dt_s_ = t - last_frame_t_;
+  last_frame_t_ = t;
   if (lost_ <= 2 && predictor_.Predict(t, &px, &py, &speed)) {
     const double dt = std::clamp(t - last_t_, 1e-3, 0.1);
     const double motion = speed * dt;
+    const double frame_dt = frame_dt_s_ > 0 ? frame_dt_s_ : dt;
+    max_extent_px_ = radius_ > 0 ? MaxBallExtentPx(radius_, speed, frame_dt) : 0;
     const cv::Point2f pred(static_cast<float>(px), static_cast<float>(py));
     // In flight the parabola predicts to a pixel: a tight window first. A bounce or a kick
     // breaks the prediction: then a window wide enough for any reversal of the motion.
@@ -297,6 +304,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
     if (radius_ > 0 && !b.touches_edge &&
         std::abs(r - radius_) > config_.radius_change * radius_ + 1.5)
       continue;
+    if (radius_ > 0 && !BoxCanBeBall(b.box.width, b.box.height, radius_, max_extent_px_)) continue;
     // Brightness mode: a blob that moves beats one that does not (the ghost of a ball held
     // still, left in the background model); a ball at rest is still followed.
     const bool moved = luma_ && luma_->MovedFraction(b.box) >= 0.15;
