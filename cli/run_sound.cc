@@ -261,12 +261,28 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
                      [&](const FusedImpact& i) { return i.t_s < t && i.t_s >= t - 2 * fall_s; }))
       releases.push_back(t);
   }
-  const auto impacts_before = [&](double t) {
-    double since = -1e300;
+  const auto counted_before = [&](double t, double* since) {
+    *since = -1e300;
     for (double r : releases)
-      if (r <= t) since = std::max(since, r);
+      if (r <= t) *since = std::max(*since, r);
     return static_cast<int>(std::count_if(fused_.impacts.begin(), fused_.impacts.end(),
-                                          [&](const FusedImpact& i) { return i.t_s > since && i.t_s < t; }));
+                                          [&](const FusedImpact& i) { return i.t_s > *since && i.t_s < t; }));
+  };
+  // The picture came in on a bounce whose impact nobody heard or saw (the detector numbered
+  // its arc from that impact): those impacts count before the first release too.
+  int unseen = 0;
+  if (!peaks.empty()) {
+    const auto first = std::min_element(peaks.begin(), peaks.end(), [](const bounce_peak_t& a, const bounce_peak_t& b) {
+      return a.apex_utime < b.apex_utime;
+    });
+    double since = 0;
+    const int counted = counted_before(SecondsSince(first->apex_utime, t0), &since);
+    if (since == -1e300) unseen = std::max(0, first->bounce - counted);
+  }
+  const auto impacts_before = [&](double t) {
+    double since = 0;
+    const int counted = counted_before(t, &since);
+    return counted + (since == -1e300 ? unseen : 0);
   };
   std::vector<std::pair<double, std::string>> rows;  // apex time, line
   std::vector<bool> arc_seen(fused_.flights.size(), false);

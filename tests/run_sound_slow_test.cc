@@ -359,5 +359,24 @@ TEST(RunSound, ABounceHeardBeforeThePictureFoundTheBallNumbersTheRest) {
   }
 }
 
+// The clip begins on the ball rising from an impact before it (neither heard nor seen): with
+// the sound used, rows are numbered by the impacts since the release, and the one the picture
+// came in after counts too: bounce 1 is the first apex, not a "release".
+TEST(RunSound, AClipThatBeginsMidBounceNumbersItsFirstApexOne) {
+  const auto dir = ScratchDir("midbounce");
+  const SynthTruth t = Synth(dir, "--sound --fps 60 --ball tennis --start-after-release 0.6");
+  const auto rows = ReadCsv(RunClip(dir / "clip.avi", "--ball tennis", dir / "run") / "peaks.csv");
+  const auto summary = nlohmann::json::parse(std::ifstream(dir / "run" / "summary.json"));
+  ASSERT_TRUE(summary["sound"]["used"].get<bool>()) << summary["sound"]["verdict"];
+  ASSERT_GE(rows.size(), 4u);
+  for (size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_EQ(rows[k].at("bounce"), std::to_string(k + 1)) << "row " << k;
+    // The truth lists the apexes in the clip: the first rebound first.
+    if (k < t.apex_heights_m.size() && t.apex_heights_m[k] >= 0.05)
+      EXPECT_NEAR(Num(rows[k], "height_m"), t.apex_heights_m[k], std::max(0.002, 0.01 * t.apex_heights_m[k]))
+          << "row " << k;
+  }
+}
+
 }  // namespace
 }  // namespace bouncefit
