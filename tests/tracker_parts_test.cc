@@ -159,16 +159,21 @@ TEST(BallFinder, FramesOnlyRememberedGiveTheSameCandidatesAsFramesSearched) {
   EXPECT_GE(found, 12) << "the ball itself is found where the finder searched";
 }
 
-// Boxes measured on real clips. A 20 fps ping-pong clip (ball radius 6 px): the ball merged
-// with a strip of floor at its impact (165 x 17 px, falling at 36 px a frame), then the strip
-// alone (37 x 6 px) that the lock slid off with for 1.4 s: neither is the ball. What is:
-// the same ball smeared by its fall (12 x 26 px), a tennis ball of radius 15 px at rest
-// merged with its shadow (57 x 35 px), a basketball of radius 39 px smeared at 24 fps.
+// Boxes measured on real clips. Two 20 fps ping-pong clips (ball radius 6 and 9 px): the
+// ball merged with a strip of floor at its impact (165 x 17 px, falling at 36 px a frame),
+// then the strip alone (37 x 6 px; 28 x 6 and 35 x 5 px) that the lock slid off with for
+// 0.8-1.4 s; the shared football clip (radius 36 px): a 136 x 6 px patch of floor it sat on
+// for three frames after the first impact. None is the ball. What is: a ball smeared by its
+// fall (12 x 26 px), a tennis ball of radius 15 px at rest merged with its shadow (57 x 35
+// px), a basketball of radius 39 px smeared at 24 fps.
 TEST(BallExtent, StripsAreNotTheBallSmearsAndShadowsAre) {
   const double fall = MaxBallExtentPx(6, 36 * 20, 0.05), rest = MaxBallExtentPx(6, 0, 0.05);
   EXPECT_FALSE(BoxCanBeBall(165, 17, 6, fall));
   EXPECT_FALSE(BoxCanBeBall(37, 6, 6, rest));
   EXPECT_FALSE(BoxCanBeBall(37, 6, 6, 0)) << "thin and long whatever the speed";
+  EXPECT_FALSE(BoxCanBeBall(28, 6, 9, MaxBallExtentPx(9, 55 * 20, 0.05)));
+  EXPECT_FALSE(BoxCanBeBall(35, 5, 9, MaxBallExtentPx(9, 0, 0.05)));
+  EXPECT_FALSE(BoxCanBeBall(136, 6, 36, MaxBallExtentPx(36, 0, 0.05)));
   EXPECT_TRUE(BoxCanBeBall(12, 26, 6, fall));
   EXPECT_TRUE(BoxCanBeBall(14, 14, 6, rest));
   EXPECT_TRUE(BoxCanBeBall(57, 35, 15, MaxBallExtentPx(15, 0, 0.05)));

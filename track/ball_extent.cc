@@ -11,7 +11,7 @@ double MaxBallExtentPx(double radius_px, double speed_px_s, double frame_period_
 bool BoxCanBeBall(int width, int height, double radius_px, double max_extent_px) {
   const int long_side = std::max(width, height), short_side = std::min(width, height);
   if (max_extent_px > 0 && long_side > max_extent_px) return false;
-  return !(short_side < 1.2 * radius_px && long_side > 4 * radius_px);
+  return !(short_side < 1.2 * radius_px && long_side > 3 * radius_px);
 }
 
 }  // namespace bouncefit

@@ -12,7 +12,9 @@ namespace bouncefit {
 double MaxBallExtentPx(double radius_px, double speed_px_s, double frame_period_s);
 
 // Whether a box width x height px can hold the ball of radius_px (max_extent_px <= 0: the
-// speed is unknown, only the shape is checked). A box the search window cuts is at least as
+// speed is unknown, only the shape is checked): not when thinner than 0.6 of the ball's
+// diameter and longer than 1.5 of it (a ball cut by an edge is thin but short; smeared, long
+// but as wide as itself). A box the search window cuts is at least as
 // long as it shows, so the same test holds for it.
 bool BoxCanBeBall(int width, int height, double radius_px, double max_extent_px);
 
