@@ -27,6 +27,7 @@ struct DetectOptions {
   double ball_diameter_m = 0;
   double px_per_m = 0;
   double time_scale = 0;
+  bool retime_frames = false;
   double drop_height_m = 0;
   double exit_after_idle_s = 0;
   bool quiet = false;
@@ -96,6 +97,7 @@ void RunDetect(const DetectOptions& o) {
   cfg.detector.calibration.px_per_m = o.px_per_m;
   cfg.detector.calibration.drop_height_m = o.drop_height_m;
   cfg.detector.time_scale = o.time_scale;
+  cfg.retiming.apply = o.retime_frames;
   std::string error;
   if (!cfg.detector.IsValid(&error)) throw std::invalid_argument(error);
 
@@ -156,6 +158,9 @@ void AddDetectCommand(CLI::App& app) {
                   "real seconds per second of the boxes' timestamps (0.25: a 4x slow-motion "
                   "file; default: as recorded)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--retime-frames", o->retime_frames,
+                "boxes stamped at a lower rate than their pictures were taken (some dropped): "
+                "re-time each to the rate the ball's flight shows");
   cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
                   "exit when no box came for this many seconds (0: run until Ctrl-C)");
   cmd->add_flag("--quiet", o->quiet, "print only peaks and the summary");

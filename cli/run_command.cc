@@ -197,6 +197,7 @@ void RunOneClip(RunOptions o) {
   dc.detector.calibration.px_per_m = o.px_per_m;
   dc.detector.calibration.drop_height_m = o.drop_height_m;
   dc.detector.time_scale = o.time_scale;
+  dc.retiming.apply = o.retime_frames;
   const ContainerClock container = is_file ? ReadContainerClock(clip) : ContainerClock{};
   dc.detector.capture_slowdown_hint = container.SlowDown();
   DetectNode detect(&bus, dc);
@@ -286,7 +287,10 @@ void RunOneClip(RunOptions o) {
     }
     now_utime = frame.utime;
     out.OnBox(ToBallBox(obs));
-    handle_events(detect.OnObservation(obs));
+    const bool retiming_known = detect.retiming().decided;
+    const auto events = detect.OnObservation(obs);
+    if (!retiming_known && detect.retiming().retimed) console.Info("clock: " + detect.retiming().verdict);
+    handle_events(events);
     const auto heard = sound.AdvanceTo(SecondsSince(frame.utime, out.stream_start()), out.stream_start());
     for (const auto& m : heard) publish_impact(m);
     if (!heard.empty()) publish_heard_peaks();
@@ -376,7 +380,8 @@ void RunOneClip(RunOptions o) {
   summary["clock"] = {{"time_scale", detect.detector().time_scale()},
                       {"container_capture_fps", container.capture_fps},
                       {"container_stored_fps", container.stored_fps},
-                      {"report", clock_report.text}};
+                      {"report", clock_report.text},
+                      {"frame_times", detect.retiming().verdict}};
   nlohmann::json jpeaks = nlohmann::json::array();
   for (const auto& p : peaks) jpeaks.push_back(ToJson(p, out.stream_start()));
   summary["peaks"] = jpeaks;
@@ -479,6 +484,10 @@ void AddRunCommand(CLI::App& app) {
                   "file; default: as recorded unless the container's capture rate and the "
                   "ball's size agree it is slowed)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--retime-frames", o->retime_frames,
+                "the file's pictures were taken at a higher rate than its stamps say (some "
+                "dropped: a 24 fps capture saved at 20 fps): read each at the time it was "
+                "taken, when the ball's flight shows the rate (the run suggests it)");
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(CLI::NonNegativeNumber);
   AddBusFlags(cmd, &o->lcm_url, &o->channels);

@@ -204,6 +204,40 @@ TEST(RealClipsMustShow, TennisDoorWood20fps) {
                   "dropped, stamps up to 1/24 s off: docs/ACCURACY.md), so its arcs do not fit "
                   "their times: 1 of 3-5 rebounds seen"});
 }
+// The tennis clip's pictures were taken at 24 fps and stamped at 20 (one in six dropped): the
+// run says so, and with --retime-frames reads them at their own times and sees its rebounds.
+TEST(RealClips, TennisDoorFramesRetimedToTheirCaptureRate) {
+  const auto clip = RealClip("tennis_door_wood_20fps.mp4");
+  if (clip.empty()) GTEST_SKIP() << "real clips not found (../shared/real-clips)";
+  const fs::path dir = testing::ScratchDir("real_clip_tennis_door_retimed");
+  nlohmann::json summary[2];
+  for (int apply = 0; apply < 2; ++apply) {
+    const fs::path out = dir / (apply ? "retimed" : "stamped");
+    std::string log;
+    const int rc = RunCommand(BouncefitExe() + " run " + clip.string() + " --ball tennis --out " + out.string() +
+                                  " --speed 0 --no-fit --lcm-url memq://" + (apply ? " --retime-frames" : ""),
+                              &log);
+    ASSERT_EQ(rc, 0) << log;
+    summary[apply] = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  }
+  const std::string suggested = summary[0]["clock"]["frame_times"].get<std::string>();
+  EXPECT_NE(suggested.find("taken at 24 fps"), std::string::npos) << suggested;
+  EXPECT_NE(suggested.find("--retime-frames"), std::string::npos) << suggested;
+  const std::string applied = summary[1]["clock"]["frame_times"].get<std::string>();
+  EXPECT_NE(applied.find("frames re-timed: taken at 24 fps"), std::string::npos) << applied;
+  const auto rs = Rebounds(summary[1]);
+  std::string table;
+  for (const auto& r : rs)
+    table += "  bounce " + std::to_string(r.bounce) + ": " + std::to_string(r.height_m) + " m, flight-time " +
+             std::to_string(r.flight_m) + " m\n";
+  std::printf("tennis_door re-timed: %zu rebounds (a person counts 3-5; 1 as stamped)\n%s", rs.size(), table.c_str());
+  EXPECT_GE(rs.size(), 3u) << table;
+  EXPECT_LE(rs.size(), 5u) << table;
+  // Heights against the flight time are not asserted: 3-27% apart today (docs/ACCURACY.md).
+  for (size_t k = 1; k < rs.size(); ++k)
+    EXPECT_LT(rs[k].height_m, rs[k - 1].height_m) << "apexes must fall\n" << table;
+}
+
 TEST(RealClipsMustShow, PingpongWhiteBlackcloth24fps) {
   ExpectMustShow({"pingpong_white_blackcloth_24fps.mov", "pingpong", 4, 10});
 }

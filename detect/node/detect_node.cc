@@ -49,7 +49,8 @@ bounce_peak_t ToBouncePeakMsg(const BouncePeak& p) {
 DetectNode::DetectNode(LcmBus* bus, DetectNodeConfig config)
     : bus_(bus),
       config_(std::move(config)),
-      detector_(std::make_unique<BounceDetector>(config_.detector)) {}
+      detector_(std::make_unique<BounceDetector>(config_.detector)),
+      retimer_(config_.retiming) {}
 
 void DetectNode::Subscribe() {
   if (!bus_) throw std::logic_error("detect node: no bus to subscribe to");
@@ -71,24 +72,35 @@ std::vector<DetectorEvent> DetectNode::OnObservation(const BallObservation& obs)
     events = detector_->Finish();
     for (const auto& s : detector_->Summaries()) earlier_summaries_.push_back(s);
     detector_ = std::make_unique<BounceDetector>(config_.detector);
+    retimer_ = FrameRetimer(config_.retiming);
     ++stats_.stream_restarts;
   }
   have_box_ = true;
   last_utime_ = obs.utime;
   const int64_t t0 = SteadyMicros();
-  try {
-    auto more = detector_->Push(obs);
-    events.insert(events.end(), more.begin(), more.end());
-  } catch (const std::exception&) {
-    ++stats_.rejected;
-  }
+  PushToDetector(retimer_.Push(obs), &events);
   stats_.detect_s += (SteadyMicros() - t0) * 1e-6;
   Publish(events);
   return events;
 }
 
+void DetectNode::PushToDetector(const std::vector<BallObservation>& released,
+                                std::vector<DetectorEvent>* events) {
+  for (const auto& o : released) {
+    try {
+      auto more = detector_->Push(o);
+      events->insert(events->end(), more.begin(), more.end());
+    } catch (const std::exception&) {
+      ++stats_.rejected;
+    }
+  }
+}
+
 std::vector<DetectorEvent> DetectNode::Finish() {
-  auto events = detector_->Finish();
+  std::vector<DetectorEvent> events;
+  PushToDetector(retimer_.Flush(), &events);
+  auto more = detector_->Finish();
+  events.insert(events.end(), more.begin(), more.end());
   Publish(events);
   return events;
 }

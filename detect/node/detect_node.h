@@ -14,6 +14,7 @@
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/calibration_t.hpp"
 #include "detect/bounce_detector.h"
+#include "detect/frame_retiming.h"
 #include "msgs/channels.h"
 #include "track/ball_observation.h"
 #include "track/node/ball_box_msg.h"
@@ -25,6 +26,7 @@ class LcmBus;
 struct DetectNodeConfig {
   Channels channels;
   BounceDetectorConfig detector;
+  FrameRetimingConfig retiming;
 };
 
 struct DetectStats {
@@ -65,16 +67,20 @@ class DetectNode {
 
   void set_event_handler(EventFn fn) { on_event_ = std::move(fn); }
   const BounceDetector& detector() const { return *detector_; }
+  // Whether the frames' stamps were re-timed to the rate they were taken at (detect/frame_retiming.h).
+  const Retiming& retiming() const { return retimer_.retiming(); }
   const DetectStats& stats() const { return stats_; }
   // Summaries of every drop ended so far, across stream restarts.
   std::vector<SequenceSummary> Summaries() const;
 
  private:
   void Publish(const std::vector<DetectorEvent>& events);
+  void PushToDetector(const std::vector<BallObservation>& released, std::vector<DetectorEvent>* events);
 
   LcmBus* bus_;
   DetectNodeConfig config_;
   std::unique_ptr<BounceDetector> detector_;
+  FrameRetimer retimer_;
   std::vector<SequenceSummary> earlier_summaries_;
   EventFn on_event_;
   DetectStats stats_;
