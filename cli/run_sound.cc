@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "detect/bounce_detector.h"
 #include "detect/heard_peaks.h"
 #include "msgs/msg_json.h"
 
@@ -312,11 +313,16 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
   // Bounces heard but not seen: with the sound checked, every heard arc no seen apex is on;
   // a heard train alone, those before the picture found the ball and after the last bounce
   // it saw (too small to see).
+  // A hop shorter than the picture can show (BounceDetectorConfig::min_flight_frames frames:
+  // 3.4 cm at 24 fps) is not listed as a bounce: the detector ends a drop there, and a person
+  // watching does not see one. Its impacts stay in impacts.csv.
+  const double min_flight_s = BounceDetectorConfig{}.min_flight_frames * frame_period_s_;
   for (size_t k = 0; k < fused_.flights.size(); ++k) {
     const HeardFlight& fl = fused_.flights[k];
     if (arc_seen[k]) continue;
     if (!fused_.sound_used && (!fl.heard_only || (fl.apex_t_s > first_t && fl.apex_t_s <= last_t)))
       continue;
+    if (fl.flight_s < min_flight_s) continue;
     const int bounce = fused_.sound_used ? impacts_before(fl.apex_t_s)
                        : fl.apex_t_s < first_t ? fl.from + 1
                                                : ++last_bounce;

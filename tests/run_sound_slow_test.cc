@@ -378,5 +378,30 @@ TEST(RunSound, AClipThatBeginsMidBounceNumbersItsFirstApexOne) {
   }
 }
 
+// At 30 fps a hop shorter than 4 frames (2.2 cm) is below what the picture shows: the detector
+// ends the drop there, and the bounces heard after it, as short, are impacts (impacts.csv), not
+// rows of peaks.csv; every bounce the picture resolves is a row.
+TEST(RunSound, HopsHeardShorterThanThePictureResolvesAreImpactsNotBounces) {
+  const auto dir = ScratchDir("short_hops");
+  const SynthTruth t = Synth(dir, "--sound --fps 30 --ball tennis");
+  const auto out = RunClip(dir / "clip.avi", "--ball tennis", dir / "run");
+  const auto rows = ReadCsv(out / "peaks.csv");
+  const auto impacts = ReadCsv(out / "impacts.csv");
+  const double min_m = 9.81 * std::pow(4 / 30.0, 2) / 8;
+  double last_row_t = 0;
+  for (const auto& r : rows) {
+    last_row_t = std::max(last_row_t, Num(r, "t_s"));
+    if (r.at("heard") == "heard only") EXPECT_GE(Num(r, "height_m"), min_m) << "row " << r.at("bounce");
+  }
+  int resolvable = 0;
+  for (size_t k = 1; k < t.apex_heights_m.size(); ++k) resolvable += t.apex_heights_m[k] >= min_m;
+  int rebounds = 0;
+  for (const auto& r : rows) rebounds += std::stoi(r.at("bounce")) >= 1;
+  EXPECT_EQ(rebounds, resolvable);
+  int heard_later = 0;
+  for (const auto& i : impacts) heard_later += i.at("source") == "audio" && Num(i, "t_s") > last_row_t;
+  EXPECT_GE(heard_later, 2) << "the short hops' impacts are still listed";
+}
+
 }  // namespace
 }  // namespace bouncefit
