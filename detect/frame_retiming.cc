@@ -4,9 +4,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "detect/detector_stats.h"
+
 namespace bouncefit {
 
 namespace {
+
+using detector_stats::Median;
 
 // Round rates first (see the choice below).
 constexpr double kSourceFps[] = {24, 25, 30, 48, 50, 60, 90, 100, 120, 23.976, 29.97, 59.94, 119.88};
@@ -19,12 +23,6 @@ double ThirdDifference(const double t[4], const double y[4]) {
   for (int k = 0; k < 3; ++k) d1[k] = (y[k + 1] - y[k]) / (t[k + 1] - t[k]);
   for (int k = 0; k < 2; ++k) d2[k] = (d1[k + 1] - d1[k]) / (t[k + 2] - t[k]);
   return std::abs((d2[1] - d2[0]) / (t[3] - t[0]));
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-  return v[v.size() / 2];
 }
 
 double Tick(double t, double f, double c) { return std::floor(t * f + c + 1e-9) / f; }
@@ -52,13 +50,12 @@ std::vector<BallObservation> FrameRetimer::Push(const BallObservation& obs) {
   } else {
     recent_.clear();
   }
-  if (windows_.empty() || !config_.apply) {  // not moving yet, or only reporting: nothing held
-    if (static_cast<int>(windows_.size()) >= config_.min_windows) Decide(true);
-    return {obs};
-  }
-  held_.push_back(obs);
+  // Not moving yet, or only reporting: nothing is held.
+  const bool hold = config_.apply && !windows_.empty();
+  if (hold) held_.push_back(obs);
   if (static_cast<int>(windows_.size()) >= config_.min_windows) Decide(true);
   else if (static_cast<int>(held_.size()) >= config_.max_held) Decide(false);
+  if (!hold) return {obs};
   return retiming_.decided ? Release() : std::vector<BallObservation>{};
 }
 
@@ -105,12 +102,12 @@ void FrameRetimer::Decide(bool enough) {
       if (m < best * (round ? 1.0 : 0.9)) best = m, best_f = f, best_c = 0.1 * k;
     }
   }
-  char line[240];
+  retiming_.median_retimed = best;
+  char line[320];
   if (best_f > 0 && best * config_.min_gain < retiming_.median_as_stamped) {
     retiming_.retimed = true;
     retiming_.source_fps = best_f;
     retiming_.phase = best_c;
-    retiming_.median_retimed = best;
     std::snprintf(line, sizeof line,
                   "%s: taken at %.4g fps and stamped at %.4g fps (pictures dropped); the ball's "
                   "flight fits the %.4g fps times %.1fx better (%d windows)%s",
@@ -118,7 +115,6 @@ void FrameRetimer::Decide(bool enough) {
                   best_f, stamped_fps, best_f, retiming_.median_as_stamped / best, retiming_.windows,
                   config_.apply ? "" : ": --retime-frames to read them at the times they were taken");
   } else {
-    retiming_.median_retimed = best;
     std::snprintf(line, sizeof line, "frame times as stamped (no faster source rate fits the flight %gx better; the best: %.1fx)",
                   config_.min_gain, best > 0 && best < 1e300 ? retiming_.median_as_stamped / best : 1.0);
   }
