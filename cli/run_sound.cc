@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -262,12 +263,16 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
                      [&](const FusedImpact& i) { return i.t_s < t && i.t_s >= t - 2 * fall_s; }))
       releases.push_back(t);
   }
-  const auto counted_before = [&](double t, double* since) {
-    *since = -1e300;
+  constexpr double kNoRelease = -std::numeric_limits<double>::infinity();
+  const auto release_before = [&](double t) {
+    double since = kNoRelease;
     for (double r : releases)
-      if (r <= t) *since = std::max(*since, r);
+      if (r <= t) since = std::max(since, r);
+    return since;
+  };
+  const auto impacts_between = [&](double since, double t) {
     return static_cast<int>(std::count_if(fused_.impacts.begin(), fused_.impacts.end(),
-                                          [&](const FusedImpact& i) { return i.t_s > *since && i.t_s < t; }));
+                                          [&](const FusedImpact& i) { return i.t_s > since && i.t_s < t; }));
   };
   // The picture came in on a bounce whose impact nobody heard or saw (the detector numbered
   // its arc from that impact): those impacts count before the first release too.
@@ -276,14 +281,12 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
     const auto first = std::min_element(peaks.begin(), peaks.end(), [](const bounce_peak_t& a, const bounce_peak_t& b) {
       return a.apex_utime < b.apex_utime;
     });
-    double since = 0;
-    const int counted = counted_before(SecondsSince(first->apex_utime, t0), &since);
-    if (since == -1e300) unseen = std::max(0, first->bounce - counted);
+    const double t = SecondsSince(first->apex_utime, t0);
+    if (release_before(t) == kNoRelease) unseen = std::max(0, first->bounce - impacts_between(kNoRelease, t));
   }
   const auto impacts_before = [&](double t) {
-    double since = 0;
-    const int counted = counted_before(t, &since);
-    return counted + (since == -1e300 ? unseen : 0);
+    const double since = release_before(t);
+    return impacts_between(since, t) + (since == kNoRelease ? unseen : 0);
   };
   std::vector<std::pair<double, std::string>> rows;  // apex time, line
   std::vector<bool> arc_seen(fused_.flights.size(), false);
