@@ -91,7 +91,7 @@ BallObservation Tracker::Track(const Frame& frame) {
   bool ok = false;
   double px, py, speed;
   max_extent_px_ = 0;
-  if (last_frame_t_ > 0 && t > last_frame_t_) frame_dt_s_ = t - last_frame_t_;
+  if (last_frame_t_ >= 0 && t > last_frame_t_) frame_dt_s_ = t - last_frame_t_;
   last_frame_t_ = t;
   if (lost_ <= 2 && predictor_.Predict(t, &px, &py, &speed)) {
     const double dt = std::clamp(t - last_t_, 1e-3, 0.1);

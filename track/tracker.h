@@ -129,7 +129,7 @@ class Tracker {
   // The longest box side the ball can show this frame (track/ball_extent.h; 0: no
   // prediction, not checked).
   double max_extent_px_ = 0;
-  double last_frame_t_ = 0, frame_dt_s_ = 0;  // the frame period, s, from the last two frames
+  double last_frame_t_ = -1, frame_dt_s_ = 0;  // the frame period, s, from the last two frames (-1: none yet)
   int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;
   std::vector<Remembered> distractors_;
   std::vector<Blob> last_candidates_;
