@@ -352,5 +352,58 @@ TEST(Tracker, AStripSlidingAlongTheFloorAtTheImpactIsNotTheBall) {
   EXPECT_GE(found, frames_after_lock * 3 / 4) << "the ball itself is followed";
 }
 
+// The automatic lock first falls on a decoy of the ball's colour that slid in and stopped;
+// the ball is held still, then dropped. While the lock stands still the finder looks for a
+// better candidate only every auto_review_s (every frame once it has seen one): the switch to
+// the falling ball may come that much later than with a search on every frame, no more.
+TEST(Tracker, AStillLockIsReviewedOftenEnoughToSwitchToTheDroppedBall) {
+  SynthSceneConfig sc;
+  sc.width = 320, sc.height = 480, sc.floor_y_px = 440;
+  const SynthScene scene(sc);
+  const double fps = 60, r = 10, g_px = 2500, drop_t = 0.6;  // px, px/s^2, s
+  auto frame_at = [&](int i) {
+    const double t = i / fps;
+    BallShape ball, decoy;
+    ball.x = 230, ball.y = 80, ball.a = ball.b = r;
+    if (t > drop_t) ball.y += std::min(0.5 * g_px * (t - drop_t) * (t - drop_t), sc.floor_y_px - r - 80);
+    decoy.x = 40 + 240 * std::min(t, 0.3), decoy.y = 300, decoy.a = decoy.b = r;
+    Frame f;
+    cv::Mat with_decoy;
+    scene.Render({ball}, &f.image);
+    scene.Render({decoy}, &with_decoy);
+    cv::Mat diff;
+    cv::absdiff(with_decoy, scene.background(), diff);
+    cv::cvtColor(diff, diff, cv::COLOR_BGR2GRAY);
+    with_decoy.copyTo(f.image, diff > 0);
+    f.utime = static_cast<int64_t>(std::llround(t * 1e6));
+    f.index = i;
+    return f;
+  };
+  // The first frame after the drop at which the lock is on the ball, and the description.
+  auto run = [&](double review_s, std::string* how) {
+    TrackerConfig config;
+    config.auto_review_s = review_s;
+    Tracker tracker(config);
+    int first = -1;
+    for (int i = 0; i < 72; ++i) {
+      const Frame f = frame_at(i);
+      const BallObservation o = tracker.Track(f);
+      if (first < 0 && f.utime * 1e-6 > drop_t && o.found && std::abs(o.cx - 230) < r) first = i;
+    }
+    *how = tracker.Describe();
+    return first;
+  };
+  std::string how_every, how_review;
+  const int every = run(0, &how_every);
+  const int reviewed = run(0.05, &how_review);
+  std::printf("on the ball from frame %d searching every frame, %d every 0.05 s (drop at frame %.0f)\n  %s\n",
+              every, reviewed, drop_t * fps, how_review.c_str());
+  ASSERT_GE(every, 0) << how_every;
+  ASSERT_GE(reviewed, 0) << how_review;
+  EXPECT_NE(how_review.find("dropped or replaced"), std::string::npos) << "the decoy was locked first: " << how_review;
+  EXPECT_NE(how_review.find("ballistic"), std::string::npos) << how_review;
+  EXPECT_LE(reviewed - every, static_cast<int>(std::ceil(0.05 * fps))) << how_review;
+}
+
 }  // namespace
 }  // namespace bouncefit

@@ -45,6 +45,7 @@ bool TrackerConfig::IsValid(std::string* error) const {
   if (adapt_rate < 0 || adapt_rate > 1) return fail("adapt rate must be 0-1");
   if (finder.max_work_pixels < 1000) return fail("finder work size must be >= 1000 pixels");
   if (finder.lag_s < 0) return fail("finder lag must be >= 0 s");
+  if (!(auto_review_s >= 0)) return fail("review interval must be >= 0 s");
   if (luma.polarity < -1 || luma.polarity > 1) return fail("luma polarity must be -1, 0 or +1");
   if (luma.min_contrast_luma <= 0 || luma.clamp_luma <= luma.min_contrast_luma)
     return fail("luma contrast limits must satisfy 0 < min < clamp");
@@ -192,6 +193,7 @@ bool Tracker::Rejected(const BallCandidate& c, double t) const {
 void Tracker::Adopt(const BallCandidate& c) {
   chosen_ = c;
   auto_ = true;
+  last_review_t_ = -1e9;  // a new choice is reviewed at once (pingpong_white: a wrong one)
   last_found_t_ = c.t;
   has_seed_ = true;
   arc_.Reset();
@@ -243,10 +245,16 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   const bool still = obs.found && arc_.RecentTravel(0.2) < 0.5 * here_r;
   // A lock that holds, moves and has its colour looks at no candidate below: the finder only
   // keeps its history then (the search is most of the tracking time until a lock confirms).
-  if (drop.empty() && !still && !(obs.found && chosen_.by_luma)) {
+  // One that follows brightness looks every frame (the same ball may show a colour of its
+  // own, and the sooner the better); one that stands still (a ball held before the drop, or
+  // a decoy while the ball is held), every auto_review_s.
+  const bool by_luma = obs.found && chosen_.by_luma;
+  const bool due = t - last_review_t_ >= config_.auto_review_s;
+  if (drop.empty() && !by_luma && (!still || !due)) {
     finder_.Remember(frame, roi_);
     return;
   }
+  last_review_t_ = t;
   const std::vector<BallCandidate> found = finder_.Find(frame, roi_);
   for (const BallCandidate& c : found) {
     const bool same = std::hypot(c.x - here_x, c.y - here_y) < 3 * std::max(here_r, c.r);

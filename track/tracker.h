@@ -70,6 +70,11 @@ struct TrackerConfig {
   double auto_drop_moving_s = 1.2;
   double auto_drop_lost_s = 1.0;
   double auto_reject_s = 3;
+  // While an unconfirmed lock stands still (a ball held before the drop), the finder looks
+  // for a better candidate at most this often (it only keeps the frames between): a switch
+  // from a still decoy to the dropped ball waits at most this long. A new choice is
+  // reviewed at once. s.
+  double auto_review_s = 0.05;
 
   // False with a one-line reason if a value is out of range.
   bool IsValid(std::string* error) const;
@@ -138,6 +143,7 @@ class Tracker {
   bool auto_ = false;            // automatic choice, not yet confirmed by a ballistic arc
   BallCandidate chosen_;         // the automatic choice in force
   double last_found_t_ = 0;      // s
+  double last_review_t_ = -1e9;  // s: when the finder last looked for a better candidate
   bool has_seed_ = false;        // where the chosen candidate was seen, to find it first
   bool lookalikes_pending_ = false;
   bool forget_ball_ = false;      // brightness mode chosen this frame: ball out of the background
