@@ -24,12 +24,35 @@ void BounceDetector::TryEmitApex(double t, int64_t utime, bool have_sample,
   if (t < arc.fit.t_apex + margin) return;
   Recalibrate(utime, ev);
   if (!arcs_[idx].fit_ok || t < arcs_[idx].fit.t_apex + margin) return;
+  // Rest is judged on the floor line: on the floor under the arc the shared football clip
+  // shows two more hops (8 and 6 cm, beyond the 4-8 a person counts).
   const double h = calibration_.calibration.floor_centre_px() - arcs_[idx].fit.u_apex;
   if (h < MinApexPx()) {
     EndSequence("rest", ev);
     return;
   }
   EmitPeak(idx, utime, ev);
+}
+
+double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
+  // The impacts known (imps[i] between arcs i and i + 1): a line through their contact
+  // heights against time, least squares, at the apex; their mean when there are fewer than
+  // three, the calibration's floor line when there are none. Live (`both` false) only impacts
+  // before this apex count, except the release arc's closing one.
+  const auto& imps = calibration_.impacts;
+  const double t_apex = j < arcs_.size() ? arcs_[j].fit.t_apex : 0;
+  double n = 0, st = 0, su = 0, stt = 0, stu = 0;
+  for (size_t i = 0; i < imps.size() && i < arcs_.size(); ++i) {
+    if (!imps[i].ok) continue;
+    if (!both && i >= j && !(j == 0 && i == 0)) continue;
+    const double t = imps[i].t - t_apex;
+    n += 1, st += t, su += imps[i].u, stt += t * t, stu += t * imps[i].u;
+  }
+  if (n == 0) return calibration_.calibration.floor_centre_px();
+  const double var = stt / n - (st / n) * (st / n);
+  if (n < 3 || var < 1e-6) return su / n;  // two impacts' slope is mostly their noise (basketball)
+  const double slope = (stu / n - (st / n) * (su / n)) / var;
+  return su / n - slope * st / n;  // the line at t_apex (t measured from it)
 }
 
 void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& ev) {
@@ -47,7 +70,8 @@ void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent
   p.sequence = sequence_;
   p.bounce = static_cast<int>(j) + first_bounce_;
   p.apex_utime = ToUtime(arc.fit.t_apex);
-  p.height_px = cal.floor_centre_px() - arc.fit.u_apex;
+  const double floor_px = FloorUnderArcPx(j, false);
+  p.height_px = floor_px - arc.fit.u_apex;
   // The release arc's apex is its fitted vertex (seen held, or extrapolated from the fall).
   if (config_.use_arc_apex && !arc.release) {
     // Heights above the floor with the drag's departure from a parabola removed.
@@ -58,7 +82,7 @@ void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent
       if (std::abs(tau) > config_.arc_apex_window_s) continue;
       const double drag = FlightDrop(g.gravity_px, g.drag_per_px, tau) - 0.5 * g.gravity_px * tau * tau;
       ts.push_back(q.t);
-      hs.push_back(cal.floor_centre_px() - Down(q) + drag);
+      hs.push_back(floor_px - Down(q) + drag);
     }
     const ArcApex a = FitArcApex(ts, hs);
     if (a.ok && ts.size() >= 5 && std::abs(a.t - arc.fit.t_apex) < frame_dt_) {
@@ -114,7 +138,7 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
       impact_t.push_back(calibration_.impacts[j].ok ? calibration_.impacts[j].t : nan);
     for (size_t j = 0; j < arcs_.size(); ++j) {
       sum.final_height_m.push_back(
-          metres && arcs_[j].fit_ok ? (cal.floor_centre_px() - arcs_[j].fit.u_apex) / cal.px_per_m
+          metres && arcs_[j].fit_ok ? (FloorUnderArcPx(j, true) - arcs_[j].fit.u_apex) / cal.px_per_m
                                     : nan);
       double fh = nan;
       if (j >= 1 && j < impact_t.size()) {
