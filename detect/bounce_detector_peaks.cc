@@ -11,6 +11,7 @@
 namespace bouncefit {
 
 using detector_stats::LineDrift;
+using detector_stats::LineSlope;
 using detector_stats::Median;
 
 void BounceDetector::TryEmitApex(double t, int64_t utime, bool have_sample,
@@ -41,18 +42,20 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
   // before this apex count, except the release arc's closing one.
   const auto& imps = calibration_.impacts;
   const double t_apex = j < arcs_.size() ? arcs_[j].fit.t_apex : 0;
-  double n = 0, st = 0, su = 0, stt = 0, stu = 0;
+  std::vector<double> ts, us;  // times from the apex: the line there is mean_u - slope * mean_t
   for (size_t i = 0; i < imps.size() && i < arcs_.size(); ++i) {
     if (!imps[i].ok) continue;
     if (!both && i >= j && !(j == 0 && i == 0)) continue;
-    const double t = imps[i].t - t_apex;
-    n += 1, st += t, su += imps[i].u, stt += t * t, stu += t * imps[i].u;
+    ts.push_back(imps[i].t - t_apex);
+    us.push_back(imps[i].u);
   }
-  if (n == 0) return calibration_.calibration.floor_centre_px();
-  const double var = stt / n - (st / n) * (st / n);
-  if (n < 3 || var < 1e-6) return su / n;  // two impacts' slope is mostly their noise (basketball)
-  const double slope = (stu / n - (st / n) * (su / n)) / var;
-  return su / n - slope * st / n;  // the line at t_apex (t measured from it)
+  if (ts.empty()) return calibration_.calibration.floor_centre_px();
+  const double n = static_cast<double>(ts.size());
+  double mean_t = 0, mean_u = 0;
+  for (size_t i = 0; i < ts.size(); ++i) mean_t += ts[i] / n, mean_u += us[i] / n;
+  // Two impacts' slope is mostly their noise (basketball): their mean then.
+  const double slope = ts.size() < 3 ? 0 : LineSlope(ts, us);
+  return mean_u - slope * mean_t;  // the line at t_apex
 }
 
 void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& ev) {

@@ -354,8 +354,8 @@ TEST(Tracker, AStripSlidingAlongTheFloorAtTheImpactIsNotTheBall) {
 
 // The automatic lock first falls on a decoy of the ball's colour that slid in and stopped;
 // the ball is held still, then dropped. While the lock stands still the finder looks for a
-// better candidate only every auto_review_s (every frame once it has seen one): the switch to
-// the falling ball may come that much later than with a search on every frame, no more.
+// better candidate only every auto_review_s: the switch to the falling ball may come that
+// much later than with a search on every frame, no more.
 TEST(Tracker, AStillLockIsReviewedOftenEnoughToSwitchToTheDroppedBall) {
   SynthSceneConfig sc;
   sc.width = 320, sc.height = 480, sc.floor_y_px = 440;
