@@ -95,6 +95,11 @@ void ReportClock(const Calibration& c, const ContainerClock& container, ClockRep
            Fixed(container.stored_fps, 2) + " fps)";
     r += "; times and heights use real time; gravity's scale is " + Fixed(q, 2) +
          "x the ball size's";
+  } else if (c.method == "ball-diameter" && c.free_fall_px_per_m > 0) {
+    // Too uncertain to say anything about the clock: no slow motion to suggest.
+    r = "clock: as recorded; the free fall is not measured (its scale " + Fixed(c.free_fall_px_per_m, 0) +
+        " +- " + Fixed(c.free_fall_sigma, 0) + " px/m): heights use the ball's size, " +
+        Fixed(c.px_per_m, 0) + " px/m";
   } else {
     r = "clock: as recorded; gravity's scale is " + Fixed(q, 2) + "x the ball size's";
     if (std::abs(std::log(q)) > std::log(1.3))

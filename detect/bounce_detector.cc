@@ -74,7 +74,12 @@ double BounceDetector::MinApexPx() const {
   double flight = 0;
   if (calibrated_) {
     const double t = config_.min_flight_frames * frame_dt_;
-    flight = calibration_.flight.globals.gravity_px * t * t / 8;
+    const Calibration& cal = calibration_.calibration;
+    // Gravity in pixels: the free fall's, or the scale's when the free fall measured nothing.
+    const double g_px = cal.FreeFallMeasured(config_.calibration.max_free_fall_rel_sigma)
+                            ? calibration_.flight.globals.gravity_px
+                            : cal.px_per_m * config_.calibration.g_mps2;
+    flight = g_px * t * t / 8;
   }
   return std::max({config_.min_apex_px, 5 * sigma_, flight});
 }

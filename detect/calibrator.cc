@@ -67,6 +67,7 @@ bool CalibratorConfig::IsValid(std::string* error) const {
     return fail("give either a px per metre scale or a drop height, not both");
   if (max_arcs < 1) return fail("max arcs must be >= 1");
   if (min_arc_samples < 3) return fail("min arc samples must be >= 3");
+  if (!(max_free_fall_rel_sigma > 0)) return fail("max free-fall relative sigma must be > 0");
   return true;
 }
 
@@ -192,6 +193,7 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
       cal.rms_px = global.rms_px;
       cal.px_per_m = cal.free_fall_px_per_m;
       cal.px_per_m_sigma = global.gravity_sigma / config_.g_mps2;
+      cal.free_fall_sigma = cal.px_per_m_sigma;
       cal.method = "free-fall";
     }
   }
@@ -246,7 +248,8 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
         cal.px_per_m_sigma = std::hypot(su0, cal.floor_sigma_px) / config_.drop_height_m;
       }
     }
-  } else if (!(cal.px_per_m > 0) && config_.ball_diameter_m > 0 && in.radius_px > 0) {
+  } else if ((!(cal.px_per_m > 0) || !cal.FreeFallMeasured(config_.max_free_fall_rel_sigma)) &&
+             config_.ball_diameter_m > 0 && in.radius_px > 0) {
     cal.px_per_m = 2 * in.radius_px / config_.ball_diameter_m;
     cal.px_per_m_sigma = 0.05 * cal.px_per_m;  // edge blur and threshold: a few percent
     cal.method = "ball-diameter";

@@ -34,6 +34,7 @@ struct Calibration {
   double gravity_px = 0;       // fitted G, px/s^2
   double drag_per_px = 0;      // fitted quadratic drag k, 1/px (drag acceleration k v^2)
   double free_fall_px_per_m = 0;  // G / g, whatever the method
+  double free_fall_sigma = 0;     // its standard uncertainty, px/m
   double radius_px = 0;        // ball radius used to turn centres into ball bottoms
   double diameter_ratio = 0;   // measured / given ball diameter (0: no diameter given)
   double rms_px = 0;           // residual of the free-flight fit, px per coordinate
@@ -43,6 +44,10 @@ struct Calibration {
   double gravity_over_size = 0;
 
   bool valid() const { return px_per_m > 0; }
+  // The free fall gave a scale known to within max_rel_sigma of itself.
+  bool FreeFallMeasured(double max_rel_sigma) const {
+    return free_fall_px_per_m > 0 && free_fall_sigma <= max_rel_sigma * free_fall_px_per_m;
+  }
   // Ball-centre coordinate along true down at contact (floor_px - radius_px).
   double floor_centre_px() const { return floor_px - radius_px; }
 };
@@ -55,6 +60,10 @@ struct CalibratorConfig {
   bool fit_drag = true;        // false: no air drag in the free-flight model
   int max_arcs = 8;            // the first arcs of a drop carry the information
   int min_arc_samples = 4;     // shorter arcs do not enter the scale fit
+  // A free-fall scale less certain than this (standard uncertainty over the scale) measures
+  // nothing: arcs of a few smeared samples, or a lock on something else. The ball's size,
+  // when given, is the scale then.
+  double max_free_fall_rel_sigma = 0.25;
 
   // Ceres style: false with a one-line reason.
   bool IsValid(std::string* error) const;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <numbers>
 
 #include "tests/detect_sim.h"
@@ -128,6 +129,37 @@ TEST(Calibrator, UserScaleDropHeightAndDiameterCrossCheck) {
   EXPECT_NEAR(rc.calibration.diameter_ratio, 1.0, 0.01);
   diam.ball_diameter_m = 0.10;  // the wrong ball: the cross-check says so
   EXPECT_LT(Calibrator{diam}.Calibrate(in).calibration.diameter_ratio, 0.8);
+}
+
+// Hops at 24 fps, each a few samples, measured 45 px off (a 180 px ball smeared by its
+// motion, or a lock that is partly on something else): the free fall's scale is then known
+// to no better than a factor, and the ball's given size is the scale. The same hops measured
+// to 0.2 px keep the free fall.
+TEST(Calibrator, AFreeFallThatMeasuresNothingGivesWayToTheBallSize) {
+  testing::SimOptions o;
+  o.ball = "pingpong";
+  o.drop_m = 0.08;
+  o.fps = 24;
+  o.px_per_m = 3400;
+  o.floor_y = 1300, o.height = 1400, o.x0 = 380, o.width = 760;
+  CalibratorConfig config;
+  config.ball_diameter_m = 0.04;
+  o.noise_px = 0.2;
+  const auto clean = Calibrator{config}.Calibrate(ArcsOf(testing::MakeSimClip(o), 3));
+  o.noise_px = 45;
+  const auto c = testing::MakeSimClip(o);
+  const auto noisy = Calibrator{config}.Calibrate(ArcsOf(c, 3));
+  std::printf("free fall %.0f +- %.0f px/m measured to 0.2 px, %.0f +- %.0f to 45 px; used: %s %.0f px/m (truth %.0f)\n",
+              clean.calibration.free_fall_px_per_m, clean.calibration.free_fall_sigma,
+              noisy.calibration.free_fall_px_per_m, noisy.calibration.free_fall_sigma,
+              noisy.calibration.method.c_str(), noisy.calibration.px_per_m, o.px_per_m);
+  ASSERT_TRUE(clean.ok && noisy.ok) << clean.problem << noisy.problem;
+  EXPECT_EQ(clean.calibration.method, "free-fall");
+  EXPECT_NEAR(clean.calibration.px_per_m, o.px_per_m, 0.03 * o.px_per_m);
+  EXPECT_GT(noisy.calibration.free_fall_sigma, config.max_free_fall_rel_sigma * noisy.calibration.free_fall_px_per_m);
+  EXPECT_EQ(noisy.calibration.method, "ball-diameter");
+  EXPECT_NEAR(noisy.calibration.px_per_m, 2 * c.radius_px / 0.04, 1e-9);
+  EXPECT_NEAR(noisy.calibration.px_per_m, o.px_per_m, 0.05 * o.px_per_m);
 }
 
 TEST(Calibrator, TooLittleFlightIsNotACalibration) {
