@@ -219,7 +219,7 @@ void Tracker::Adopt(const BallCandidate& c) {
 void Tracker::RememberLookalikes(const Frame& frame) {
   Planes(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
   cv::Mat mask;
-  for (const Blob& b : SegmentBlobs(wide_, color_, config_.segment, &mask)) {
+  for (const Blob& b : SegmentBlobs(wide_, color_, SegmentParamsFor(chosen_.r), &mask)) {
     const double r = EquivalentRadius(b);
     if (std::hypot(b.centroid.x - chosen_.x, b.centroid.y - chosen_.y) < 2 * (r + chosen_.r)) continue;
     if (distractors_.size() < 32) distractors_.push_back({b.centroid, static_cast<float>(r), true});
@@ -284,6 +284,20 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   how_ = "automatic: dropped the lock at " + Fmt("%.0f,%.0f", here_x, here_y) + " (" + drop + "); waiting for another";
 }
 
+double Tracker::FollowedRadius() const {
+  if (radius_ > 0) return radius_;
+  return color_.valid() && auto_ ? chosen_.r : 0;  // just chosen: the finder's size
+}
+
+SegmenterParams Tracker::SegmentParamsFor(double radius_px) const {
+  // A close-up ball (radius 85 px and more: 2.6 radii, smeared by its motion) outgrows the
+  // configured box limit: the limit grows with the ball followed.
+  SegmenterParams p = config_.segment;
+  if (2.6 * radius_px > p.max_box_px)
+    p.max_box_px = std::max(p.max_box_px, std::max(max_extent_px_, MaxBallExtentPx(radius_px, 0, 0)));
+  return p;
+}
+
 bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
                         BallObservation* obs) {
   const int hw = static_cast<int>(std::ceil(half));
@@ -292,7 +306,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
                                  2 * hw + 1) & roi_;
   if (rect.width < 4 || rect.height < 4) return false;
   Planes(frame, rect, 1, config_.blur_sigma_px, &planes_);
-  std::vector<Blob> blobs = SegmentBlobs(planes_, color_, config_.segment, &mask_);
+  std::vector<Blob> blobs = SegmentBlobs(planes_, color_, SegmentParamsFor(FollowedRadius()), &mask_);
   const Blob* best = nullptr;
   double best_d = 0;
   bool best_moved = false;
@@ -328,7 +342,7 @@ bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
   ++acquisitions_;
   Planes(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
   cv::Mat wide_mask;
-  std::vector<Blob> blobs = SegmentBlobs(wide_, color_, config_.segment, &wide_mask);
+  std::vector<Blob> blobs = SegmentBlobs(wide_, color_, SegmentParamsFor(FollowedRadius()), &wide_mask);
   const double tol = color_.tolerance();
   double px = 0, py = 0;
   const bool have_pred = lost_ <= config_.lost_frames_keep && predictor_.Predict(
@@ -386,7 +400,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs)
   double r0 = EquivalentRadius(blob);
   if (blob.touches_edge && radius_ > 0) r0 = radius_;
   const double cx = blob.centroid.x, cy = blob.centroid.y;
-  const double reach = r0 + std::clamp(0.6 * r0, 4.0, 10.0) + 3;
+  const double reach = r0 + std::clamp(0.6 * r0, 4.0, std::max(10.0, 0.1 * r0)) + 3;  // FindBallCentre's rays
   const cv::Rect need = cv::Rect(static_cast<int>(std::floor(cx - reach)) - 1,
                                  static_cast<int>(std::floor(cy - reach)) - 1,
                                  static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
