@@ -188,7 +188,7 @@ void RunOneClip(RunOptions o) {
 
   std::unique_ptr<RunSound> sound_owner =
       !o.audio_device.empty()
-          ? std::make_unique<RunSound>(AlsaMicrophoneConfig{.device = o.audio_device}, ball)
+          ? std::make_unique<RunSound>(AlsaMicrophoneConfig{.device = o.audio_device, .config_text = {}}, ball)
           : std::make_unique<RunSound>(is_file && !o.no_audio ? clip : "", ball);
   RunSound& sound = *sound_owner;
   auto publish_impact = [&](const impact_t& m) {

@@ -292,14 +292,19 @@ TEST(BounceDetector, ABallComingTowardsTheCameraIsMeasuredAboveTheFloorUnderIt) 
   const auto& truth = clip.truth.apex_heights_m;
   // Live, the first two rebounds know one and two impacts: the drift is not measured yet (a
   // line needs three). From the third on the impacts before the apex show it.
-  for (const auto& p : peaks)
-    if (p.bounce >= 3 && static_cast<size_t>(p.bounce) < truth.size())
+  for (const auto& p : peaks) {
+    if (p.bounce >= 3 && static_cast<size_t>(p.bounce) < truth.size()) {
       EXPECT_NEAR(p.height_m, truth[p.bounce], std::max(0.002, 0.01 * truth[p.bounce])) << p.bounce;
+    }
+  }
   // Once the drop has ended, every apex from all the impacts around it.
   ASSERT_GE(d.Summaries().size(), 1u);
   const auto& final_h = d.Summaries()[0].final_height_m;
-  for (size_t k = 1; k < final_h.size() && k < truth.size(); ++k)
-    if (truth[k] >= 0.01) EXPECT_NEAR(final_h[k], truth[k], std::max(0.002, 0.01 * truth[k])) << k;
+  for (size_t k = 1; k < final_h.size() && k < truth.size(); ++k) {
+    if (truth[k] >= 0.01) {
+      EXPECT_NEAR(final_h[k], truth[k], std::max(0.002, 0.01 * truth[k])) << k;
+    }
+  }
 }
 
 TEST(BounceDetector, TimeGoingBackwardsIsAnError) {
