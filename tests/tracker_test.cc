@@ -352,15 +352,18 @@ TEST(Tracker, AStripSlidingAlongTheFloorAtTheImpactIsNotTheBall) {
   EXPECT_GE(found, frames_after_lock * 3 / 4) << "the ball itself is followed";
 }
 
-// A phone (4K) held close to an orange ping-pong ball, 24 fps, chosen automatically: the ball
-// is 230 px across (smeared to 400 px by its motion), larger than the configured box limit
-// (220 px), which grows with the ball followed, and with a rim ramp wider than the rim fit
-// looked across (9-10 px: it grows with the ball too). Without both the ball was never
-// refined and the lock went to a strip of its colour sliding down the frame's right border.
-TEST(Tracker, ACloseUpBallLargerThanTheBoxLimitIsFollowed) {
+// A phone (4K) held close to a ping-pong ball, 24 fps, chosen automatically: the ball is 230 px
+// across (smeared to 400 px by its motion), dropped 14 cm before a dark wall onto a wooden
+// floor, a strip of its colour sliding down the frame's right border. Returns the frames after
+// the drop, those where it was found, found off the ball, and found on the strip.
+struct CloseUpScore {
+  int in_view = 0, found = 0, far = 0, on_strip = 0;
+  std::string how;
+};
+CloseUpScore TrackCloseUpDrop(const Bgr& ball_bgr) {
   SynthSceneConfig sc;
   sc.width = 720, sc.height = 1400, sc.floor_y_px = 1320;
-  sc.wall_bgr = {70, 45, 35}, sc.floor_bgr = {60, 105, 160}, sc.ball_bgr = {20, 120, 250};
+  sc.wall_bgr = {70, 45, 35}, sc.floor_bgr = {60, 105, 160}, sc.ball_bgr = ball_bgr;
   const SynthScene scene(sc);
   // A 40 mm ball 230 px across: 5750 px/m.
   const double fps = 24, r = 115, g_px = 56400, e = 0.85, h0 = 800, hold_s = 0.3;  // px, px/s^2, s
@@ -375,10 +378,9 @@ TEST(Tracker, ACloseUpBallLargerThanTheBoxLimitIsFollowed) {
     }
     return 0.0;
   };
-  TrackerConfig config;
-  ASSERT_LT(config.segment.max_box_px, 2 * r) << "the ball must not fit the configured limit";
-  Tracker tracker(config);
-  int in_view = 0, found = 0, far = 0, on_strip = 0;
+  Tracker tracker(TrackerConfig{});
+  CloseUpScore score;
+  auto& [in_view, found, far, on_strip, how] = score;
   for (int i = 0; i < 40; ++i) {
     const double t = i / fps;
     std::vector<BallShape> subs;  // a phone's exposure: half the frame period
@@ -390,7 +392,7 @@ TEST(Tracker, ACloseUpBallLargerThanTheBoxLimitIsFollowed) {
     Frame f;
     scene.Render(subs, &f.image);
     const cv::Rect strip(sc.width - 9, 100 + 6 * i, 9, 50);
-    cv::rectangle(f.image, strip, cv::Scalar(20, 120, 250), cv::FILLED);
+    cv::rectangle(f.image, strip, cv::Scalar(ball_bgr[0], ball_bgr[1], ball_bgr[2]), cv::FILLED);
     f.utime = static_cast<int64_t>(std::llround(t * 1e6));
     f.index = i;
     const BallObservation o = tracker.Track(f);
@@ -408,15 +410,38 @@ TEST(Tracker, ACloseUpBallLargerThanTheBoxLimitIsFollowed) {
     for (int k = -100; k <= 100; ++k) near_impact = near_impact || height(t + k / 100.0 / fps) < 5;
     if (!near_impact && std::hypot(o.cx - 360, o.cy - truth_y) > 0.1 * r + 0.5 * smear) {
       ++far;
-      ADD_FAILURE() << "frame " << i << " (t " << t << " s): found at " << o.cx << "," << o.cy << " r " << o.radius_px
-                    << ", the ball is at 360," << truth_y;
+      std::printf("frame %d (t %.3f s): found at %.1f,%.1f r %.1f, the ball is at 360,%.1f\n", i, t, o.cx, o.cy,
+                  o.radius_px, truth_y);
     }
   }
-  const std::string how = tracker.Describe();
+  how = tracker.Describe();
   std::printf("found in %d of %d frames after the drop, %d off the ball, %d on the strip\n  %s\n", found, in_view, far,
               on_strip, how.c_str());
-  EXPECT_GE(found, in_view * 9 / 10) << how;
-  EXPECT_EQ(on_strip, 0);
+  return score;
+}
+
+// In colour: larger than the configured box limit (220 px), which grows with the ball followed,
+// and with a rim ramp wider than the rim fit looked across (9-10 px: it grows with the ball
+// too). Without both the ball was never refined and the lock went to the strip.
+TEST(Tracker, ACloseUpBallLargerThanTheBoxLimitIsFollowed) {
+  ASSERT_LT(TrackerConfig{}.segment.max_box_px, 230) << "the ball must not fit the configured limit";
+  const CloseUpScore s = TrackCloseUpDrop({20, 120, 250});
+  EXPECT_GE(s.found, s.in_view * 9 / 10) << s.how;
+  EXPECT_EQ(s.far, 0);
+  EXPECT_EQ(s.on_strip, 0);
+}
+
+// A white ball, followed in brightness: changes of light softer than 32 px are removed from
+// the contrast, and that took the inside of a 230 px ball too (a ring was left: 17 of 30
+// frames found, 25 px off). For a close-up ball only changes wider than 2.5 radii are.
+TEST(Tracker, ACloseUpWhiteBallIsFollowedByItsBrightness) {
+  const CloseUpScore s = TrackCloseUpDrop({235, 235, 235});
+  EXPECT_NE(s.how.find("brighter than its surroundings"), std::string::npos) << s.how;
+  EXPECT_GE(s.found, s.in_view * 9 / 10) << s.how;
+  // One frame after a bounce the first, tight window cuts the ball and the cut blob's centroid
+  // is taken (26 px off): docs/ACCURACY.md "Close-up balls", not fixed.
+  EXPECT_LE(s.far, 1);
+  EXPECT_EQ(s.on_strip, 0);
 }
 
 // The automatic lock first falls on a decoy of the ball's colour that slid in and stopped;

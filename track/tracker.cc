@@ -83,7 +83,7 @@ BallObservation Tracker::Track(const Frame& frame) {
     return obs;
   }
   if (luma_) {
-    luma_->SetFrame(frame);
+    luma_->SetFrame(frame, FollowedRadius());
     // Chosen just now: the ball is in the first background; take it out.
     if (forget_ball_) luma_->ForgetBall(chosen_.x, chosen_.y, chosen_.r), forget_ball_ = false;
   }
