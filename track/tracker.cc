@@ -284,6 +284,11 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   how_ = "automatic: dropped the lock at " + Fmt("%.0f,%.0f", here_x, here_y) + " (" + drop + "); waiting for another";
 }
 
+bool Tracker::CutByRoiBorder(const cv::Rect2f& box) const {
+  return box.x <= roi_.x || box.y <= roi_.y || box.x + box.width >= roi_.br().x ||
+         box.y + box.height >= roi_.br().y;
+}
+
 double Tracker::FollowedRadius() const {
   if (radius_ > 0) return radius_;
   return color_.valid() && auto_ ? chosen_.r : 0;  // just chosen: the finder's size
@@ -326,6 +331,9 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
     if (radius_ > 0 && !b.touches_edge &&
         std::abs(r - radius_) > config_.radius_change * radius_ + 1.5)
       continue;
+    // Nothing followed yet (a colour or brightness given): a blob the frame's border cuts
+    // cannot be told from the arm or the lamp it is (its size and shape are not all there).
+    if (b.touches_edge && FollowedRadius() <= 0 && CutByRoiBorder(b.box)) continue;
     if (radius_ > 0 && !BoxCanBeBall(b.box.width, b.box.height, radius_, max_extent_px_)) continue;
     // Brightness mode: a blob that moves beats one that does not (the ghost of a ball held
     // still, left in the background model); a ball at rest is still followed.

@@ -113,6 +113,7 @@ class Tracker {
   // Remembers every blob of the chosen colour away from the ball: still things of its hue.
   void RememberLookalikes(const Frame& frame);
   bool Rejected(const BallCandidate& c, double t) const;
+  bool CutByRoiBorder(const cv::Rect2f& box) const;
   double FollowedRadius() const;                    // radius_, or the finder's just after a choice
   SegmenterParams SegmentParamsFor(double radius_px) const;
   bool TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
