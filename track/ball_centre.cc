@@ -39,7 +39,7 @@ int CastRays(const Sampler& sm, const ColorModel& color, double cx, double cy, d
   const double kStep = std::clamp(r / 24, 0.5, 1.0);
   // The rim's blur ramp grows with the picture (a close-up on a 4K phone): so does the span.
   const double r_in = std::max(0.3 * r, r - std::clamp(0.4 * r, 2.5, std::max(9.0, 0.1 * r)));
-  const double r_hi = r + std::clamp(0.6 * r, 4.0, std::max(10.0, 0.1 * r));
+  const double r_hi = r + RimRayOvershootPx(r);
   const int n = static_cast<int>(std::ceil((r_hi - r_in) / kStep)) + 1;
   std::vector<float> yuv(static_cast<size_t>(3 * n));
   std::vector<double> a(static_cast<size_t>(n));

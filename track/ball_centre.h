@@ -4,6 +4,7 @@
 // own background), and the rim is where coverage crosses 1/2 (unbiased under blur, motion
 // blur and the dark shaded bottom); then a robust circle fit. Rays leaving the region (ball partly out of view or of the ROI) are
 // dropped.
+#include <algorithm>
 #include <vector>
 
 #include "track/circle_fit.h"
@@ -28,6 +29,10 @@ struct BallCentre {
   double rms = 0;               // pixels
   bool cut = false;             // some rays left the region
 };
+
+// How far past a ball of radius r (px) FindBallCentre's rays reach: its rim's blur ramp, which
+// grows with the picture (a close-up on a 4K phone). The planes given it must cover this.
+inline double RimRayOvershootPx(double r) { return std::clamp(0.6 * r, 4.0, std::max(10.0, 0.1 * r)); }
 
 // `planes` must be full resolution (step 1) and cover the ball with a margin; (cx, cy, r) is
 // the rough guess in frame pixels; radius_prior <= 0 means none.

@@ -311,7 +311,8 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
                                  2 * hw + 1) & roi_;
   if (rect.width < 4 || rect.height < 4) return false;
   Planes(frame, rect, 1, config_.blur_sigma_px, &planes_);
-  std::vector<Blob> blobs = SegmentBlobs(planes_, color_, SegmentParamsFor(FollowedRadius()), &mask_);
+  const double followed_r = FollowedRadius();
+  std::vector<Blob> blobs = SegmentBlobs(planes_, color_, SegmentParamsFor(followed_r), &mask_);
   const Blob* best = nullptr;
   double best_d = 0;
   bool best_moved = false;
@@ -333,7 +334,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
       continue;
     // Nothing followed yet (a colour or brightness given): a blob the frame's border cuts
     // cannot be told from the arm or the lamp it is (its size and shape are not all there).
-    if (b.touches_edge && FollowedRadius() <= 0 && CutByRoiBorder(b.box)) continue;
+    if (b.touches_edge && followed_r <= 0 && CutByRoiBorder(b.box)) continue;
     if (radius_ > 0 && !BoxCanBeBall(b.box.width, b.box.height, radius_, max_extent_px_)) continue;
     // Brightness mode: a blob that moves beats one that does not (the ghost of a ball held
     // still, left in the background model); a ball at rest is still followed.
@@ -408,7 +409,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs)
   double r0 = EquivalentRadius(blob);
   if (blob.touches_edge && radius_ > 0) r0 = radius_;
   const double cx = blob.centroid.x, cy = blob.centroid.y;
-  const double reach = r0 + std::clamp(0.6 * r0, 4.0, std::max(10.0, 0.1 * r0)) + 3;  // FindBallCentre's rays
+  const double reach = r0 + RimRayOvershootPx(r0) + 3;
   const cv::Rect need = cv::Rect(static_cast<int>(std::floor(cx - reach)) - 1,
                                  static_cast<int>(std::floor(cy - reach)) - 1,
                                  static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
