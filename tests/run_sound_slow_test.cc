@@ -192,7 +192,7 @@ TEST(RunSound, LivePeaksCarryTheHeardHeightsAtThirtyFps) {
     const double emitted = j["emitted_t_s"].get<double>(), end = j["impact_after_t_s"].get<double>();
     EXPECT_GE(emitted, end - 0.001) << "bounce " << b;
     EXPECT_LT(emitted, 4.4) << "bounce " << b;
-    if (b >= 3) EXPECT_LT(emitted, end + 0.2) << "bounce " << b;
+    if (b >= 3) { EXPECT_LT(emitted, end + 0.2) << "bounce " << b; }
   }
 }
 
@@ -289,7 +289,9 @@ TEST(RunSound, PhoneClipsEveryHeardBounceInOrder) {
     std::string file, ball;
     size_t min_rows;  // the README's count (low end), or above where the sound hears more
   };
-  for (const Case& c : {Case{"pingpong_white_blackcloth_24fps.mov", "pingpong", 8},
+  // The white clip's eighth hop, heard, lasts 3.8 frames (0.030 m by its flight time): shorter
+  // than the 4 frames the picture resolves, it is an impact, not a row.
+  for (const Case& c : {Case{"pingpong_white_blackcloth_24fps.mov", "pingpong", 7},
                         Case{"basketball_tile_ochre_24fps.mp4", "basketball", 6},
                         Case{"tennis_door_wood_20fps.mp4", "tennis", 3},
                         Case{"football_door_wood_20fps.mp4", "football", 7}}) {
@@ -306,7 +308,7 @@ TEST(RunSound, PhoneClipsEveryHeardBounceInOrder) {
     for (const auto& r : impacts)
       if (r.at("source") != "video") last_heard_s = Num(r, "t_s");
     for (const auto& r : impacts) {
-      if (Num(r, "t_s") < last_heard_s) EXPECT_NE(r.at("source"), "video") << r.at("t_s");
+      if (Num(r, "t_s") < last_heard_s) { EXPECT_NE(r.at("source"), "video") << r.at("t_s"); }
     }
     // Live, an impact seen twice was first sent as two; the merged one replaced the first
     // (same message index): as many impacts seen live as in the final list.
@@ -372,9 +374,10 @@ TEST(RunSound, AClipThatBeginsMidBounceNumbersItsFirstApexOne) {
   for (size_t k = 0; k < rows.size(); ++k) {
     EXPECT_EQ(rows[k].at("bounce"), std::to_string(k + 1)) << "row " << k;
     // The truth lists the apexes in the clip: the first rebound first.
-    if (k < t.apex_heights_m.size() && t.apex_heights_m[k] >= 0.05)
+    if (k < t.apex_heights_m.size() && t.apex_heights_m[k] >= 0.05) {
       EXPECT_NEAR(Num(rows[k], "height_m"), t.apex_heights_m[k], std::max(0.002, 0.01 * t.apex_heights_m[k]))
           << "row " << k;
+    }
   }
 }
 
@@ -391,7 +394,7 @@ TEST(RunSound, HopsHeardShorterThanThePictureResolvesAreImpactsNotBounces) {
   double last_row_t = 0;
   for (const auto& r : rows) {
     last_row_t = std::max(last_row_t, Num(r, "t_s"));
-    if (r.at("heard") == "heard only") EXPECT_GE(Num(r, "height_m"), min_m) << "row " << r.at("bounce");
+    if (r.at("heard") == "heard only") { EXPECT_GE(Num(r, "height_m"), min_m) << "row " << r.at("bounce"); }
   }
   int resolvable = 0;
   for (size_t k = 1; k < t.apex_heights_m.size(); ++k) resolvable += t.apex_heights_m[k] >= min_m;
