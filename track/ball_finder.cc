@@ -327,13 +327,13 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
     // Where it is now: the same blob near there in the newest frame (it moved for `lag`
     // frames), else where it was.
     const SegBlob in_c = SegmentNear(C, in_b.centre, 4 * in_b.r + 4, is_ball, nullptr, 0);
-    const bool now = in_c.ok && std::abs(in_c.r - in_b.r) < 0.4 * in_b.r + 1;
-    const cv::Point2d at = now ? in_c.centre : in_b.centre;
+    const bool seen_now = in_c.ok && std::abs(in_c.r - in_b.r) < 0.4 * in_b.r + 1;
+    const cv::Point2d at = seen_now ? in_c.centre : in_b.centre;
     const double s = shrink_;
     c.x = roi.x + (at.x + 0.5) * s - 0.5;
     c.y = roi.y + (at.y + 0.5) * s - 0.5;
     c.r = in_b.r * s;
-    c.t = history_[now ? nc : nb].t;
+    c.t = history_[seen_now ? nc : nb].t;
     const double area = std::numbers::pi * in_b.r * in_b.r;
     const double contrast_norm = c.by_luma ? c.contrast / kLumaContrastUnit : c.contrast / kChromaContrastUnit;
     c.score = c.roundness * std::min(2.0, contrast_norm) * std::sqrt(area);

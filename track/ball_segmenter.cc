@@ -20,12 +20,7 @@ std::vector<Blob> SegmentBlobs(const YccPlanes& planes, const ColorModel& color,
     const float* pu = planes.u.ptr<float>(j);
     const float* pv = planes.v.ptr<float>(j);
     float* pd = dist.ptr<float>(j);
-    uint8_t* pm = mask->ptr<uint8_t>(j);
-    const float tol = static_cast<float>(color.tolerance());
-    for (int i = 0; i < w; ++i) {
-      pd[i] = color.Distance(py[i], pu[i], pv[i]);
-      pm[i] = pd[i] <= tol ? 255 : 0;
-    }
+    color.DistanceRow(py, pu, pv, w, pd, mask->ptr<uint8_t>(j));
   }
   cv::Mat labels, stats, centroids;
   cv::Rect box;  // of the matching pixels; labels are the box's

@@ -28,6 +28,17 @@ ColorModel ColorModel::FromYuv(double y, double u, double v, ColorModelParams pa
   return ColorModel(u / d, v / d, params);
 }
 
+void ColorModel::DistanceRow(const float* y, const float* u, const float* v, int n, float* out,
+                             uint8_t* match) const {
+  const DistanceTerms terms = Terms();
+  const float tol = ftol_;
+  for (int i = 0; i < n; ++i) {
+    const float d = terms.Of(y[i], u[i], v[i]);
+    out[i] = d;
+    match[i] = static_cast<uint8_t>(d <= tol ? 255 : 0);
+  }
+}
+
 void ColorModel::Update() {
   const double mag = std::hypot(nu_, nv_);
   tol_ = std::max(params_.tolerance_rel * mag, params_.tolerance_min);

@@ -4,6 +4,10 @@
 // changing light, while white, grey and black surfaces sit near n = 0.
 #include <opencv2/core.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
 #include <string>
 
 namespace bouncefit {
@@ -44,18 +48,13 @@ class ColorModel {
   // Normalised chroma distance of one pixel (y, u, v as in YccPlanes) to the ball colour;
   // +inf for pixels darker than min_luma.
   // Distance to the segment from the colour out to `saturation_reach` times it.
-  float Distance(float y, float u, float v) const {
-    if (y < min_luma_) return 1e9f;
-    const float inv = 1.0f / (y > luma_floor_ ? y : luma_floor_);
-    float a = u * inv - fnu_, b = v * inv - fnv_;
-    const float along = a * fdu_ + b * fdv_;
-    if (along > 0 && y >= 2 * luma_floor_) {
-      const float t = along < freach_ ? along : freach_;
-      a -= t * fdu_, b -= t * fdv_;
-    }
-    return std::sqrt(a * a + b * b);
-  }
+  float Distance(float y, float u, float v) const { return Terms().Of(y, u, v); }
   bool Matches(float y, float u, float v) const { return Distance(y, u, v) <= ftol_; }
+  // Distance() of n pixels at once, into `out`, and the match mask (255 where the distance is
+  // within tolerance, else 0): the same arithmetic without branches, so that the compiler
+  // computes several pixels per instruction (the window's segmentation is most of tracking).
+  void DistanceRow(const float* y, const float* u, const float* v, int n, float* out,
+                   uint8_t* match) const;
 
   // Shortens the saturation reach so that a colour (the ball's surroundings) does not match:
   // an orange ball before an ochre wall must not take in the wall's stronger orange.
@@ -70,6 +69,23 @@ class ColorModel {
   std::string ToString() const;
 
  private:
+  // The constants of Distance, copied out of the model: a loop over pixels that holds them in
+  // locals keeps them apart from what it stores (the compiler then vectorizes it).
+  struct DistanceTerms {
+    float nu, nv, du, dv, reach, floor, dark;
+    // Without branches (the same values as with them), so that a loop of it vectorizes.
+    float Of(float y, float u, float v) const {
+      const float inv = 1.0f / std::max(y, floor);
+      float a = u * inv - nu, b = v * inv - nv;
+      const float along = a * du + b * dv;
+      const bool reaches = (along > 0) & (y >= 2 * floor);
+      const float t = reaches ? std::min(along, reach) : 0.0f;
+      a -= t * du, b -= t * dv;
+      const float root = std::sqrt(a * a + b * b);
+      return y < dark ? 1e9f : root;
+    }
+  };
+  DistanceTerms Terms() const { return {fnu_, fnv_, fdu_, fdv_, freach_, luma_floor_, min_luma_}; }
   void Update();
   bool valid_ = false;
   double nu_ = 0, nv_ = 0, tol_ = 0, du_ = 0, dv_ = 0;
