@@ -25,7 +25,7 @@ ColorModel LumaContrast::BallModel(const LumaContrastParams& params, ColorModelP
   return ColorModel(c / kContrastLuma, 0, color);
 }
 
-void LumaContrast::SetFrame(const Frame& frame, double ball_radius_px) {
+void LumaContrast::SetFrame(const Frame& frame, double closeup_radius_px) {
   std::swap(previous_, grey_);
   // Luma only (the same BT.601 weights as ExtractYcc), through OpenCV's vectorised paths.
   CheckFrameFormat(frame);
@@ -58,8 +58,7 @@ void LumaContrast::SetFrame(const Frame& frame, double ball_radius_px) {
     // A Gaussian leaves the inside of a disc of radius r only if it is several r wide: at 32 px
     // a ball of radius 115 px would keep only its rim.
     double sigma = params_.highpass_sigma_px;
-    if (ball_radius_px >= params_.closeup_radius_px)
-      sigma = std::max(sigma, params_.closeup_highpass_radii * ball_radius_px);
+    if (closeup_radius_px > 0) sigma = std::max(sigma, params_.closeup_highpass_radii * closeup_radius_px);
     cv::GaussianBlur(soft_diff, soft_change_, cv::Size(), sigma / kSoftScale);
   } else {
     soft_change_.release();

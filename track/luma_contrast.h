@@ -30,8 +30,7 @@ struct LumaContrastParams {
   double clamp_luma = 40;         // differences beyond this count as this, 0-255 units
   double background_rate = 0.05;  // running-mean weight of each new frame, 0-1
   double highpass_sigma_px = 32;  // soft changes wider than this are removed (0: off), pixels
-  double closeup_radius_px = 85;  // a ball this large (or larger) ...
-  double closeup_highpass_radii = 2.5;  // ... has only changes wider than this many radii removed
+  double closeup_highpass_radii = 2.5;  // a close-up ball: only changes wider than this many radii removed
   double keep_out_radii = 1.8;     // not updated within this many ball radii (+4 px) of the ball
   double motion_luma = 12;        // frame-to-frame luma change that counts as motion, 0-255
 };
@@ -43,9 +42,10 @@ class LumaContrast {
   static ColorModel BallModel(const LumaContrastParams& params, ColorModelParams color);
 
   // Reads the frame's luma (whole frame, full resolution); starts the background on the
-  // first call. Call once per frame, before ContrastPlanes. `ball_radius_px` (0: not known)
-  // keeps a close-up ball's body from being taken for a soft change of light.
-  void SetFrame(const Frame& frame, double ball_radius_px = 0);
+  // first call. Call once per frame, before ContrastPlanes. `closeup_radius_px`: the radius of
+  // a close-up ball followed (0: none; the tracker decides what a close-up is), which keeps
+  // its body from being taken for a soft change of light.
+  void SetFrame(const Frame& frame, double closeup_radius_px = 0);
   // Contrast planes of `rect` of the current frame, decimated by `step` (1 or 2) and blurred
   // by `blur_sigma_px` (output pixels), in the layout of ExtractYcc.
   void ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px, YccPlanes* out) const;

@@ -83,7 +83,8 @@ BallObservation Tracker::Track(const Frame& frame) {
     return obs;
   }
   if (luma_) {
-    luma_->SetFrame(frame, FollowedRadius());
+    const double followed_r = FollowedRadius();
+    luma_->SetFrame(frame, IsCloseUp(followed_r) ? followed_r : 0);
     // Chosen just now: the ball is in the first background; take it out.
     if (forget_ball_) luma_->ForgetBall(chosen_.x, chosen_.y, chosen_.r), forget_ball_ = false;
   }
@@ -294,11 +295,15 @@ double Tracker::FollowedRadius() const {
   return color_.valid() && auto_ ? chosen_.r : 0;  // just chosen: the finder's size
 }
 
+bool Tracker::IsCloseUp(double radius_px) const {
+  // 2.6 radii: a ball's box once smeared by its motion.
+  return 2.6 * radius_px > config_.segment.max_box_px;
+}
+
 SegmenterParams Tracker::SegmentParamsFor(double radius_px) const {
-  // A close-up ball (radius 85 px and more: 2.6 radii, smeared by its motion) outgrows the
-  // configured box limit: the limit grows with the ball followed.
+  // A close-up ball outgrows the configured box limit: the limit grows with the ball followed.
   SegmenterParams p = config_.segment;
-  if (2.6 * radius_px > p.max_box_px)
+  if (IsCloseUp(radius_px))
     p.max_box_px = std::max(p.max_box_px, std::max(max_extent_px_, MaxBallExtentPx(radius_px, 0, 0)));
   return p;
 }

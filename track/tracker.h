@@ -115,6 +115,10 @@ class Tracker {
   bool Rejected(const BallCandidate& c, double t) const;
   bool CutByRoiBorder(const cv::Rect2f& box) const;
   double FollowedRadius() const;                    // radius_, or the finder's just after a choice
+  // A close-up ball: one whose smeared box outgrows the segmenter's box limit (radius 85 px
+  // and more with the default 220 px). Its box limit and, in brightness mode, the width of
+  // the light changes removed grow with it.
+  bool IsCloseUp(double radius_px) const;
   SegmenterParams SegmentParamsFor(double radius_px) const;
   bool TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
                  BallObservation* obs);
