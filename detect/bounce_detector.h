@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -245,6 +246,7 @@ class BounceDetector {
   std::vector<Sample> hold_;
   std::vector<Arc> arcs_;
   std::vector<Sample> pending_up_, pending_off_;
+  std::optional<Sample> last_far_;  // the previous sample, when it lay beyond the ball's reach
   int misses_ = 0;  // consecutive samples off the current arc
   std::vector<double> radii_;
   int sequence_ = -1;

@@ -137,6 +137,24 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   // (a smeared ball at 20-30 fps is located to pixels, not tenths) is followed with its scatter.
   if (!sigma_measured_) gate = std::max(gate, config_.gate_sigmas * ArcScatter(cur));
   const double ru = u - up, rw = w - wp;
+  // Farther from the arc than any rebound could have carried the ball since its last sample
+  // (twice its speed over the gap, four radii and ten gates), and where the last such
+  // detection was: something standing still elsewhere while the tracker has lost the ball (a
+  // lookalike where the ball was held). Not a sample, not a sign that the arc ended: the drop
+  // waits as if the ball were unseen. A far detection that moves may be the ball on a path the
+  // arc did not foresee (a release the hold hid): it is off the arc as before.
+  const double reach = 2 * std::abs(vp) * frame_dt_ * gap_frames + 4 * s.r + 10 * gate;
+  const bool far = std::hypot(ru, rw) > reach;
+  const bool still_far = far && last_far_ && std::hypot(s.x - last_far_->x, s.y - last_far_->y) <= s.r + gate;
+  last_far_.reset();
+  if (far) last_far_ = s;
+  if (still_far) {
+    last_seen_t_ = cur.samples.back().t;
+    for (const auto* pending : {&pending_off_, &pending_up_})
+      if (!pending->empty()) last_seen_t_ = std::max(last_seen_t_, pending->back().t);
+    TryEmitApex(s.t, s.utime, false, ev);
+    return;
+  }
   if (std::abs(ru) <= gate && std::abs(rw) <= 2 * gate) {
     cur.samples.push_back(s);
     pending_up_.clear();

@@ -193,6 +193,7 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
   arcs_.clear();
   pending_up_.clear();
   pending_off_.clear();
+  last_far_.reset();
   misses_ = 0;
   peaks_.clear();
   impacts_.clear();

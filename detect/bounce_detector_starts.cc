@@ -193,11 +193,11 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   if (before >= 1 && run.front().t - hold_[before - 1].t <= 3 * frame_dt_) {
     // Only a sample where the arc leads back to can be the hand it left (a detection far off
     // it, say of a hand elsewhere in the picture, tells nothing of where the ball came from).
-    const Sample& b = hold_[before - 1];
-    const double dt = b.t - run.back().t;
+    const Sample& hand = hold_[before - 1];
+    const double dt = hand.t - run.back().t;
     const double near = std::max(4 * thr, radii_.empty() ? 0.0 : 2 * Median(radii_));
-    const bool on_arc = std::abs(Down(b) - (c(0, 0) + c(1, 0) * dt + c(2, 0) * dt * dt)) <= near &&
-                        std::abs(Floor(b) - (c(0, 1) + c(1, 1) * dt + c(2, 1) * dt * dt)) <= near;
+    const bool on_arc = std::abs(Down(hand) - (c(0, 0) + c(1, 0) * dt + c(2, 0) * dt * dt)) <= near &&
+                        std::abs(Floor(hand) - (c(0, 1) + c(1, 1) * dt + c(2, 1) * dt * dt)) <= near;
     const bool falling_in = before >= 2 && Down(hold_[before - 1]) > Down(hold_[before - 2]) + thr;
     first_bounce = on_arc && !falling_in ? 0 : 1;
   }

@@ -128,6 +128,56 @@ TEST(BounceDetector, MissingFramesAndAnApexOutOfView) {
   EXPECT_LE(testing::MaxOf(s.latency_frames), 4.0) << s.report;
 }
 
+// The tracker loses a fast ball in its first fall and, for a while, reports something else
+// far across the picture (the shared slow-motion clip re-encoded: a red fixture by the
+// ceiling while the ball falls 1 300 px below): those samples are no rebound (nothing carries
+// the ball there between two frames), so they neither join the arc nor end the drop. Reported
+// from then on, they end the drop, with no rebound of theirs.
+TEST(BounceDetector, ADetectionFarFromTheArcWhileTheBallIsLostIsNotTheBall) {
+  SimOptions o;
+  o.ball = "tennis";
+  o.drop_m = 1.2;
+  o.fps = 60;
+  auto clip = MakeSimClip(o);
+  ASSERT_FALSE(clip.truth.impact_times_s.empty());
+  const int64_t t0 = clip.obs.front().utime;
+  const double fall_mid_s = 0.5 * (o.hold_s + clip.truth.impact_times_s[0]);
+  float held_x = 0, held_y = 0;
+  for (const auto& ob : clip.obs)
+    if (ob.found) { held_x = ob.cx, held_y = ob.cy; break; }
+  const float far_x = held_x + 1500, far_y = held_y - 1500;
+  int replaced = 0;
+  for (auto& ob : clip.obs) {
+    const double t = (ob.utime - t0) * 1e-6;
+    if (t < fall_mid_s || t > fall_mid_s + 0.2) continue;
+    // Lost for 4 frames, then 8 frames of the far detection.
+    if (t < fall_mid_s + 0.065) {
+      ob.found = false;
+    } else {
+      ob.found = true;
+      ob.cx = far_x, ob.cy = far_y;
+      ++replaced;
+    }
+  }
+  ASSERT_GE(replaced, 6);
+  BounceDetector d{BounceDetectorConfig{}};
+  const auto s = ScorePeaks(clip, RunDetector(d, clip.obs));
+  ExpectAllFound(s);
+  ASSERT_GE(d.Summaries().size(), 1u);
+  EXPECT_EQ(d.Summaries().size(), 1u) << "the drop broke in two";
+  EXPECT_NE(d.Summaries()[0].end_reason, "broken");
+
+  auto stuck = MakeSimClip(o);
+  for (auto& ob : stuck.obs)
+    if ((ob.utime - t0) * 1e-6 > fall_mid_s) ob.found = true, ob.cx = far_x, ob.cy = far_y;
+  BounceDetector d2{BounceDetectorConfig{}};
+  const auto stuck_peaks = RunDetector(d2, stuck.obs);
+  ASSERT_GE(d2.Summaries().size(), 1u);
+  // Ended once the ball could have got there (or unseen for lost_s), not kept in flight.
+  EXPECT_NE(d2.Summaries()[0].end_reason, "end of stream");
+  for (const auto& p : stuck_peaks) EXPECT_EQ(p.bounce, 0) << "a rebound of the far detection";
+}
+
 // A stream of two drops: the first clip; picked up, one second with no ball; then the
 // second clip (options `b`, its clock continuing the stream's), returned in *second.
 std::vector<BallObservation> ThenDropAgain(const testing::SimClip& first, SimOptions b,
