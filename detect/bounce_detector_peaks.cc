@@ -10,7 +10,8 @@
 
 namespace bouncefit {
 
-using detector_stats::LineDrift;
+using detector_stats::FitLine;
+using detector_stats::Line;
 using detector_stats::Median;
 
 void BounceDetector::TryEmitApex(double t, int64_t utime, bool have_sample,
@@ -46,7 +47,7 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
   // live apex").
   const auto& imps = calibration_.impacts;
   const double t_apex = j < arcs_.size() ? arcs_[j].fit.t_apex : 0;
-  std::vector<double> ts, us, ws;  // times from the apex: the line there is mean_u - slope * mean_t
+  std::vector<double> ts, us, ws;  // times from the apex, contact heights, weights
   for (size_t i = 0; i < imps.size() && i < arcs_.size(); ++i) {
     if (!imps[i].ok) continue;
     if (!both && i >= j && !(j == 0 && i == 0)) continue;
@@ -54,21 +55,12 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
     us.push_back(imps[i].u);
   }
   if (ts.empty()) return calibration_.calibration.floor_centre_px();
-  const bool recent_first = !both && j >= 1;
-  for (size_t i = 0; i < ts.size(); ++i)
-    ws.push_back(recent_first ? std::ldexp(1.0, -static_cast<int>(ts.size() - 1 - i)) : 1.0);
-  double sw = 0, mean_t = 0, mean_u = 0;
-  for (size_t i = 0; i < ts.size(); ++i) sw += ws[i], mean_t += ws[i] * ts[i], mean_u += ws[i] * us[i];
-  mean_t /= sw, mean_u /= sw;
+  if (!both && j >= 1)
+    for (size_t i = 0; i < ts.size(); ++i) ws.push_back(std::ldexp(1.0, -static_cast<int>(ts.size() - 1 - i)));
+  Line line = FitLine(ts, us, ws);
   // Two impacts' slope is mostly their noise (basketball): their mean then.
-  double slope = 0;
-  if (ts.size() >= 3) {
-    double stt = 0, stu = 0;
-    for (size_t i = 0; i < ts.size(); ++i)
-      stt += ws[i] * (ts[i] - mean_t) * (ts[i] - mean_t), stu += ws[i] * (ts[i] - mean_t) * (us[i] - mean_u);
-    if (stt > 0) slope = stu / stt;
-  }
-  return mean_u - slope * mean_t;  // the line at t_apex
+  if (ts.size() < 3) line.slope = 0;
+  return line.At(0);  // the line at t_apex
 }
 
 void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& ev) {

@@ -12,19 +12,34 @@ inline double Median(std::vector<double> v) {
   return *mid;
 }
 
+// A least-squares line through points (t, v), weighted (w empty: all alike): its weighted
+// means and slope (0 when t does not vary).
+struct Line {
+  double mean_t = 0, mean_v = 0, slope = 0;
+  double At(double t) const { return mean_v + slope * (t - mean_t); }
+};
+inline Line FitLine(const std::vector<double>& t, const std::vector<double>& v,
+                    const std::vector<double>& w = {}) {
+  Line line;
+  double sw = 0;
+  for (size_t i = 0; i < t.size(); ++i) {
+    const double wi = w.empty() ? 1.0 : w[i];
+    sw += wi, line.mean_t += wi * t[i], line.mean_v += wi * v[i];
+  }
+  if (!(sw > 0)) return line;
+  line.mean_t /= sw, line.mean_v /= sw;
+  double stt = 0, stv = 0;
+  for (size_t i = 0; i < t.size(); ++i) {
+    const double wi = w.empty() ? 1.0 : w[i], dt = t[i] - line.mean_t;
+    stt += wi * dt * dt, stv += wi * dt * (v[i] - line.mean_v);
+  }
+  if (stt > 0) line.slope = stv / stt;
+  return line;
+}
+
 // Slope of the least-squares line through (t, v); 0 when t does not vary.
 inline double LineSlope(const std::vector<double>& t, const std::vector<double>& v) {
-  const double n = static_cast<double>(t.size());
-  double st = 0, sv = 0, stt = 0, stv = 0;
-  for (size_t i = 0; i < t.size(); ++i) {
-    st += t[i];
-    sv += v[i];
-    stt += t[i] * t[i];
-    stv += t[i] * v[i];
-  }
-  const double den = n * stt - st * st;
-  if (!(den > 0)) return 0;
-  return (n * stv - st * sv) / den;
+  return FitLine(t, v).slope;
 }
 
 // How far a least-squares line through (t, v) moves from the first time to the last.
