@@ -122,6 +122,32 @@ TEST(ColorModel, AWashedOutColourMatchesTheBodysStrongerSameHue) {
   EXPECT_FALSE(matches(orange, 0, 60, 250));    // a deeper red-orange is not taken in
 }
 
+// An orange ball dropped before a brown wall (chroma/luma of a real clip: the ball's body
+// (-0.34, 0.35), the wall (-0.12, 0.17)), its colour first read from its smeared fall, between
+// the two: (-0.20, 0.32). Its tolerance, 0.45 of that chroma, reached the wall itself (0.17
+// away) and the ball's box grew to the window. Kept out, the wall stays beyond the tolerance
+// with a margin, also once the colour adapts towards it; the ball's body still matches.
+TEST(ColorModel, TheSurroundingsKeptOutStayBeyondTheTolerance) {
+  ColorModel read(-0.20, 0.32, {});
+  const double wall_u = -0.12, wall_v = 0.17, luma = 100;
+  auto matches = [&](const ColorModel& m, double nu, double nv) {
+    return m.Matches(static_cast<float>(luma), static_cast<float>(nu * luma), static_cast<float>(nv * luma));
+  };
+  const double wall_d = std::hypot(-0.20 - wall_u, 0.32 - wall_v);
+  EXPECT_GE(read.tolerance(), 0.98 * wall_d);  // on the edge: about half the wall's pixels match
+  read.KeepOut(wall_u, wall_v);
+  EXPECT_LE(read.tolerance(), 0.75 * wall_d + 1e-9);
+  EXPECT_FALSE(matches(read, wall_u, wall_v));
+  EXPECT_FALSE(matches(read, wall_u - 0.02, wall_v + 0.03));  // the wall's noise towards the ball
+  EXPECT_TRUE(matches(read, -0.34, 0.35));                    // the body, along the hue
+  EXPECT_TRUE(matches(read, -0.20, 0.32));
+  // Adapting towards the wall (a frame's ball blended with it) keeps the wall out.
+  const ColorModel anchor = read;
+  for (int k = 0; k < 20; ++k) read.AdaptTowards(wall_u, wall_v, 0.2, anchor, 0.08);
+  EXPECT_FALSE(matches(read, wall_u, wall_v));
+  EXPECT_LE(read.tolerance(), 0.75 * std::hypot(read.nu() - wall_u, read.nv() - wall_v) + 1e-9);
+}
+
 
 // A lock that holds only feeds frames to the finder's history (BallFinder::Remember); the
 // finder called again later must compare the same frames and find the same ball as one that

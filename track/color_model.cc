@@ -42,6 +42,9 @@ void ColorModel::DistanceRow(const float* y, const float* u, const float* v, int
 void ColorModel::Update() {
   const double mag = std::hypot(nu_, nv_);
   tol_ = std::max(params_.tolerance_rel * mag, params_.tolerance_min);
+  if (keep_out_)
+    tol_ = std::min(tol_, std::max(params_.tolerance_min,
+                                   params_.keep_out_share * std::hypot(nu_ - keep_out_nu_, nv_ - keep_out_nv_)));
   du_ = mag > 1e-9 ? nu_ / mag : 0;
   dv_ = mag > 1e-9 ? nv_ / mag : 0;
   fnu_ = static_cast<float>(nu_);
@@ -55,6 +58,8 @@ void ColorModel::Update() {
 }
 
 void ColorModel::KeepOut(double nu, double nv) {
+  keep_out_ = true, keep_out_nu_ = nu, keep_out_nv_ = nv;
+  Update();
   const double mag = std::hypot(nu_, nv_);
   if (mag <= 1e-9 || reach_end_ <= mag) return;
   const double along = nu * du_ + nv * dv_;

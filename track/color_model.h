@@ -27,6 +27,10 @@ struct ColorModelParams {
   double saturation_reach = 2.5;
   double washed_out = 0.5;
   double saturation_reach_max = 0.75;
+  // A colour told to keep out (KeepOut: the ball's surroundings) stays beyond the tolerance
+  // with a margin: the tolerance is at most this share of the distance to it (a pale orange
+  // ball before a brown wall: 0.45 of the ball's chroma would take in the wall).
+  double keep_out_share = 0.75;
 };
 
 class ColorModel {
@@ -56,8 +60,9 @@ class ColorModel {
   void DistanceRow(const float* y, const float* u, const float* v, int n, float* out,
                    uint8_t* match) const;
 
-  // Shortens the saturation reach so that a colour (the ball's surroundings) does not match:
-  // an orange ball before an ochre wall must not take in the wall's stronger orange.
+  // Keeps a colour (the ball's surroundings) from matching: shortens the saturation reach (an
+  // orange ball before an ochre wall must not take in the wall's stronger orange) and caps
+  // the tolerance (keep_out_share of the distance to it), wherever the colour adapts to.
   void KeepOut(double nu, double nv);
 
   // Moves the colour towards (nu, nv) by `rate` (0-1), staying within `max_drift` of `anchor`.
@@ -90,6 +95,8 @@ class ColorModel {
   bool valid_ = false;
   double nu_ = 0, nv_ = 0, tol_ = 0, du_ = 0, dv_ = 0;
   double reach_end_ = 0;  // chroma/luma the hue's segment reaches out to (set with the colour)
+  bool keep_out_ = false;
+  double keep_out_nu_ = 0, keep_out_nv_ = 0;
   float fnu_ = 0, fnv_ = 0, ftol_ = 0, min_luma_ = 0, luma_floor_ = 1;
   float fdu_ = 0, fdv_ = 0, freach_ = 0;  // unit hue direction; how far along it still matches
   ColorModelParams params_;
