@@ -45,12 +45,22 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
   // shared football clip's sixth rebound was 15% low); the recent contacts say where the
   // floor is now, the older ones still steady the line (docs/ACCURACY.md, "The floor under a
   // live apex").
+  //
+  // An impact more than a ball's diameter below the impacts before it is not a contact: two
+  // arcs that are not consecutive (a short hop between them unseen, 4 frames at 30 fps), each
+  // extrapolated past its own impact, cross well under the floor. It says nothing of it.
   const auto& imps = calibration_.impacts;
   const double t_apex = j < arcs_.size() ? arcs_[j].fit.t_apex : 0;
+  const double below_max = std::max(10.0, radii_.empty() ? 0.0 : 2 * Median(radii_));
   std::vector<double> ts, us, ws;  // times from the apex, contact heights, weights
   for (size_t i = 0; i < imps.size() && i < arcs_.size(); ++i) {
     if (!imps[i].ok) continue;
     if (!both && i >= j && !(j == 0 && i == 0)) continue;
+    if (!us.empty()) {
+      Line before = FitLine(ts, us, {});
+      if (ts.size() < 3) before.slope = 0;
+      if (imps[i].u - before.At(imps[i].t - t_apex) > below_max) continue;
+    }
     ts.push_back(imps[i].t - t_apex);
     us.push_back(imps[i].u);
   }
