@@ -171,7 +171,20 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   }
   const bool falling = vp > 0;
   ++misses_;
-  if (ru < -gate && falling && std::abs(rw) <= 2 * gate) {
+  // Along the floor a rebound keeps its course to within the gate and what its impact did to
+  // its speed there (friction, spin, a wall: up to all of it) since the last sample: the ball
+  // may have been unseen through the impact (a small ball smeared into a pale streak at
+  // 25 fps, lost for 9 frames, rebounding at a third of its speed along the floor).
+  double vw = 0;
+  if (cur.fit_ok) {
+    vw = cur.fit.vw;
+  } else if (cur.samples.size() >= 2) {
+    const Sample& a = cur.samples[cur.samples.size() - 2];
+    const Sample& b = cur.samples.back();
+    if (b.t > a.t) vw = (Floor(b) - Floor(a)) / (b.t - a.t);
+  }
+  const double along_gate = 2 * gate + std::abs(vw) * (s.t - cur.samples.back().t);
+  if (ru < -gate && falling && std::abs(rw) <= along_gate) {
     pending_up_.push_back(s);
     if (AdoptOffArcSamples(cur)) return;
     while (static_cast<int>(pending_up_.size()) >= config_.impact_confirm_samples) {
@@ -242,15 +255,17 @@ bool BounceDetector::AdoptOffArcSamples(Arc& cur) {
     if (kept == 0 || offset(trial, trial.samples.front()) < worst) return false;
     trial.samples.erase(trial.samples.begin());
   }
-  // Without any of the arc's own samples it is another arc (after an impact the arc missed):
-  // that is for the impact to confirm, not for this arc to swallow.
-  if (trial.samples.front().t > cur.samples.back().t) return false;
-  // ... and so is an arc that left the floor well after the impact that began this one.
+  // An arc that left the floor well after the impact that began this one is another arc
+  // (after an impact this arc missed): that is for the impact to confirm, not for this arc to
+  // swallow. One that left it then is this rebound, even without any of the arc's own samples
+  // (its first two, smeared rising from the floor at 25 fps, 25-35 px off it).
   const FlightImpact* began = ImpactBeforeCurrentArc();
   if (began && calibration_.calibration.has_floor) {
     const double rise = calibration_.calibration.floor_centre_px() - trial.fit.u_apex;
     const double left_floor = trial.fit.t_apex - std::sqrt(2 * std::max(0.0, rise) / g.gravity_px);
     if (left_floor > began->t + 1.5 * frame_dt_) return false;
+  } else if (trial.samples.front().t > cur.samples.back().t) {
+    return false;
   }
   cur = std::move(trial);
   pending_off_.clear();
