@@ -103,6 +103,15 @@ using testing::RunDetector;
 using testing::ScorePeaks;
 using testing::SimOptions;
 
+// The drop MakeSimClip renders for `o` (release, impacts, apexes), known before the clip.
+PointMassDropResult SimTruth(const SimOptions& o) {
+  PointMassDropConfig pc;
+  pc.ball = ResolveBallPreset(o.ball);
+  pc.drop_height_m = o.drop_m;
+  pc.hold_s = o.hold_s;
+  return SimulatePointMassDrop(pc);
+}
+
 void ExpectAllFound(const testing::PeakScore& s) {
   EXPECT_EQ(s.found_over_1cm, s.truth_over_1cm) << s.report;
   EXPECT_EQ(s.false_peaks, 0) << s.report;
@@ -115,11 +124,7 @@ TEST(BounceDetector, MissingFramesAndAnApexOutOfView) {
   o.drop_m = 1.5;
   o.missing_fraction = 0.1;
   // The first rebound apex is hidden (the ball left the top of the view).
-  PointMassDropConfig pc;
-  pc.ball = ResolveBallPreset(o.ball);
-  pc.drop_height_m = o.drop_m;
-  pc.hold_s = o.hold_s;
-  const double apex1 = SimulatePointMassDrop(pc).apex_times_s[1];
+  const double apex1 = SimTruth(o).apex_times_s[1];
   o.gaps = {{apex1 - 0.06, apex1 + 0.06}};
   const auto clip = MakeSimClip(o);
   BounceDetector d{BounceDetectorConfig{}};
@@ -192,11 +197,7 @@ TEST(BounceDetector, AnUnseenHopDoesNotMoveTheFloor) {
   o.px_per_m = 3000;
   o.noise_px = 0.5;
   o.height = 1300, o.floor_y = 1200;
-  PointMassDropConfig pc;
-  pc.ball = ResolveBallPreset(o.ball);
-  pc.drop_height_m = o.drop_m;
-  pc.hold_s = o.hold_s;
-  const auto truth = SimulatePointMassDrop(pc);
+  const auto truth = SimTruth(o);
   // The first hop shorter than 6 frames, hidden from just after its impact to just before
   // the next.
   size_t k = 0;
@@ -243,11 +244,7 @@ TEST(BounceDetector, AReboundUnseenThroughItsImpactAndSlowedAlongTheFloorIsTheNe
   o.fps = 25;
   o.launch_right_mps = 0.4;
   o.x0 = 150;
-  PointMassDropConfig pc;
-  pc.ball = ResolveBallPreset(o.ball);
-  pc.drop_height_m = o.drop_m;
-  pc.hold_s = o.hold_s;
-  const double impact = SimulatePointMassDrop(pc).impact_times_s[0];
+  const double impact = SimTruth(o).impact_times_s[0];
   o.gaps = {{impact - 4 / o.fps, impact + 5 / o.fps}};
   auto clip = MakeSimClip(o);
   const int64_t t0 = clip.obs.front().utime;
