@@ -93,6 +93,9 @@ void ReportClock(const Calibration& c, const ContainerClock& container, ClockRep
     if (container.capture_fps > 0)
       r += " (" + container.tag + " " + Fixed(container.capture_fps, 0) + " fps, stored at " +
            Fixed(container.stored_fps, 2) + " fps)";
+    else if (c.time_scale < 1)
+      r += " (the file does not say so; the free fall against the ball's size does, by more "
+           "than a ball of another preset would: --time-scale 1 to read it as recorded)";
     r += "; times and heights use real time; gravity's scale is " + Fixed(q, 2) +
          "x the ball size's";
   } else if (c.method == "ball-diameter" && c.free_fall_px_per_m > 0) {

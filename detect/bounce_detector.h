@@ -131,10 +131,15 @@ struct BounceDetectorConfig {
   // slowed (capture_slowdown_hint = capture fps / stored fps) and the ball's known size
   // confirms that factor: gravity measured on a timeline slowed s times is s^2 too small,
   // so the free-fall scale over the size scale is 1/s^2. A size that disagrees by any other
-  // factor (a ball of another size than given) changes nothing but the report.
+  // factor (a ball of another size than given) changes nothing but the report...
   double time_scale = 0;
   double capture_slowdown_hint = 1;
   double clock_tolerance = 0.3;  // the two scales agree within this fraction
+  // ... unless the container says nothing and the disagreement is a phone's slow motion that
+  // no ball given with the wrong preset explains: the presets' diameters span 6x (40 to
+  // 239 mm), a timeline slowed 4x disagrees 16x, 8x 64x (a slow-motion file re-encoded, its
+  // capture rate lost).
+  std::vector<double> untagged_slowdowns = {4, 8};
 
 
   bool IsValid(std::string* error) const;
@@ -190,7 +195,8 @@ class BounceDetector {
   void RefitArc(Arc& arc);
   bool AdoptOffArcSamples(Arc& cur);
   void Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev);
-  bool DecideClock();
+  // free_fall: the scale just measured rests on the free fall (not on the ball's size alone).
+  bool DecideClock(bool free_fall);
   void RescaleTime(double k);
   void ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev);
   // At 24 fps with a long exposure, the frames either side of an impact can both show the

@@ -37,7 +37,8 @@ void BounceDetector::Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev) 
           std::log(1.25))
     return;
   calibration_.calibration.gravity_over_size = res.calibration.gravity_over_size;
-  if (!clock_decided_ && arcs_.size() >= 2 && DecideClock()) {
+  if (!clock_decided_ && arcs_.size() >= 2 &&
+      DecideClock(res.calibration.FreeFallMeasured(config_.calibration.max_free_fall_rel_sigma))) {
     // The timeline is slowed: every time so far was stream time. Start again in real time.
     in.arcs = ArcData();
     in.previous_globals = nullptr;
@@ -71,17 +72,26 @@ void BounceDetector::Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev) 
   ev.push_back(e);
 }
 
-bool BounceDetector::DecideClock() {
+bool BounceDetector::DecideClock(bool free_fall) {
   const double q = calibration_.calibration.gravity_over_size;
   if (!(q > 0)) return false;
   const double tol = std::log1p(config_.clock_tolerance);
   const double hint = config_.capture_slowdown_hint;
-  // Only a slow-down the container announces, confirmed by the size, changes the clock.
+  // A slow-down the container announces, confirmed by the size, changes the clock.
   if (hint > 1.05 && std::abs(std::log(q * hint * hint)) < tol) {
     clock_decided_ = true;
     RescaleTime(1 / hint);
     return true;
   }
+  // Without the container's word, only on a measured free fall (a close-up ball's few smeared
+  // frames measure none, and their scale says anything).
+  if (hint <= 1.05 && free_fall)
+    for (double k : config_.untagged_slowdowns)
+      if (std::abs(std::log(q * k * k)) < tol) {
+        clock_decided_ = true;
+        RescaleTime(1 / k);
+        return true;
+      }
   // Agreement as recorded (or a size that fits no clock: reported, not acted on).
   clock_decided_ = std::abs(std::log(q)) < tol || arcs_.size() >= 3;
   return false;
