@@ -490,7 +490,8 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_option("--time-scale", o->time_scale,
                   "real seconds per second of the file's timeline (0.25: a 4x slow-motion "
                   "file; default: as recorded unless the container's capture rate and the "
-                  "ball's size agree it is slowed)")
+                  "ball's size agree it is slowed, or the free fall is 16x or 64x weaker than "
+                  "the size says: 4x or 8x slow motion that no wrong ball size explains)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--retime-frames", o->retime_frames,
                 "the file's pictures were taken at a higher rate than its stamps say (some "
