@@ -467,6 +467,9 @@ TEST(BounceDetector, TimeGoingBackwardsIsAnError) {
   BounceDetectorConfig bad;
   bad.gate_sigmas = -1;
   EXPECT_THROW(BounceDetector{bad}, std::invalid_argument);
+  BounceDetectorConfig no_slowdown;
+  no_slowdown.untagged_slowdowns = {4, 0.5};
+  EXPECT_THROW(BounceDetector{no_slowdown}, std::invalid_argument);
 }
 
 }  // namespace
