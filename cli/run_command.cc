@@ -81,8 +81,9 @@ struct ClockReport {
   double q = 0, time_scale = 0;
 };
 
-void ReportClock(const Calibration& c, const ContainerClock& container, ClockReport* last,
-                 RunConsole& console) {
+// forced: the time scale came from --time-scale, not from the file or the detector.
+void ReportClock(const Calibration& c, const ContainerClock& container, bool forced,
+                 ClockReport* last, RunConsole& console) {
   const double q = c.gravity_over_size;
   if (!(q > 0)) return;
   if (last->q > 0 && last->time_scale == c.time_scale && std::abs(q / last->q - 1) < 0.05) return;
@@ -93,7 +94,7 @@ void ReportClock(const Calibration& c, const ContainerClock& container, ClockRep
     if (container.capture_fps > 0)
       r += " (" + container.tag + " " + Fixed(container.capture_fps, 0) + " fps, stored at " +
            Fixed(container.stored_fps, 2) + " fps)";
-    else if (c.time_scale < 1)
+    else if (c.time_scale < 1 && !forced)
       r += " (the file does not say so; the free fall against the ball's size does, by more "
            "than a ball of another preset would: --time-scale 1 to read it as recorded)";
     r += "; times and heights use real time; gravity's scale is " + Fixed(q, 2) +
@@ -255,7 +256,7 @@ void RunOneClip(RunOptions o) {
   auto handle_events = [&](const std::vector<DetectorEvent>& events) {
     for (const auto& e : events) {
       if (e.kind == DetectorEvent::Kind::kCalibration) {
-        ReportClock(e.calibration, container, &clock_report, console);
+        ReportClock(e.calibration, container, o.time_scale > 0, &clock_report, console);
         const calibration_t m = ToCalibrationMsg(e.calibration);
         out.Log(o.channels.calibration, m);
         out.OnCalibration(m);

@@ -295,6 +295,7 @@ TEST(DetectClock, SlowMotionFromTheContainerConfirmedByTheBallSize) {
 
   const auto forced = run(plain, "--ball tennis --time-scale 0.25", "forced", &log);
   EXPECT_DOUBLE_EQ(forced["clock"]["time_scale"].get<double>(), 0.25) << log;
+  EXPECT_EQ(log.find("the file does not say so"), std::string::npos) << "the user said so\n" << log;
   expect_truth_heights(forced, log);
 
   // Read as recorded when told: it then says what a 4x slower timeline would explain.
