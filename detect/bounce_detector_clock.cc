@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace bouncefit {
 
@@ -77,21 +78,20 @@ bool BounceDetector::DecideClock(bool free_fall) {
   if (!(q > 0)) return false;
   const double tol = std::log1p(config_.clock_tolerance);
   const double hint = config_.capture_slowdown_hint;
-  // A slow-down the container announces, confirmed by the size, changes the clock.
-  if (hint > 1.05 && std::abs(std::log(q * hint * hint)) < tol) {
-    clock_decided_ = true;
-    RescaleTime(1 / hint);
-    return true;
-  }
-  // Without the container's word, only on a measured free fall (a close-up ball's few smeared
-  // frames measure none, and their scale says anything).
-  if (hint <= 1.05 && free_fall)
-    for (double k : config_.untagged_slowdowns)
-      if (std::abs(std::log(q * k * k)) < tol) {
-        clock_decided_ = true;
-        RescaleTime(1 / k);
-        return true;
-      }
+  // A slow-down the container announces, confirmed by the size, changes the clock; without
+  // the container's word, one no wrong ball size explains, on a measured free fall only (a
+  // close-up ball's few smeared frames measure none, and their scale says anything).
+  std::vector<double> slowdowns;
+  if (hint > 1.05)
+    slowdowns = {hint};
+  else if (free_fall)
+    slowdowns = config_.untagged_slowdowns;
+  for (double k : slowdowns)
+    if (std::abs(std::log(q * k * k)) < tol) {
+      clock_decided_ = true;
+      RescaleTime(1 / k);
+      return true;
+    }
   // Agreement as recorded (or a size that fits no clock: reported, not acted on).
   clock_decided_ = std::abs(std::log(q)) < tol || arcs_.size() >= 3;
   return false;
