@@ -38,6 +38,11 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
     if (!(k > 1) || !std::isfinite(k)) return fail("untagged slow-downs must be > 1");
   if (fall_start_samples < 4) return fail("a fall start needs >= 4 samples");
   if (arc_start_samples < 4) return fail("an arc start needs >= 4 samples");
+  if (!(straddle_frames >= 0) || !std::isfinite(straddle_frames))
+    return fail("straddle frames must be >= 0");
+  if (!(off_arc_radius_share >= 0) || !std::isfinite(off_arc_radius_share))
+    return fail("off-arc radius share must be >= 0");
+  if (max_late_drops < 0) return fail("max late drops must be >= 0");
   if (impact_confirm_samples < 1) return fail("impact confirmation needs >= 1 sample");
   if (bounce0_rising_samples < 1) return fail("bounce 0 needs >= 1 rising sample");
   return true;

@@ -116,6 +116,14 @@ struct BounceDetectorConfig {
   double unseen_release_max_s = 0.08;
   double lost_s = 1.0;          // the ball unseen this long ends the drop
   double hold_window_s = 0.25;  // hold samples kept in the release arc
+  // A young arc's first sample, off the arc its later samples make, is dropped: by the gate
+  // when taken within straddle_frames frame periods of the impact that began the arc (it may
+  // straddle it: an exposure of up to a frame, the impact's time as two young arcs place it);
+  // later, only when off by off_arc_radius_share of the ball's radius (a smeared streak, a box
+  // merged with a shadow), at most max_late_drops times per arc.
+  double straddle_frames = 2.5;
+  double off_arc_radius_share = 0.25;
+  int max_late_drops = 2;
   int impact_confirm_samples = 2;  // samples off the falling arc, upwards, that make an impact
   int bounce0_rising_samples = 8;  // rising samples after the first impact before bounce 0
                                    // (release seen held; otherwise see the top comment)
@@ -177,6 +185,7 @@ class BounceDetector {
     bool entered = false;  // the first arc of a drop, not from rest: thrown, or already
                            // in flight when first seen
     bool apex_emitted = false;
+    int late_drops = 0;  // first samples dropped later than straddle_frames after the impact
     bool fit_ok = false;
     FlightArcParams fit;
     double u_sigma = 0;

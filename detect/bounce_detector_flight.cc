@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace bouncefit {
@@ -103,14 +104,37 @@ void BounceDetector::RefitArc(Arc& arc) {
     return true;
   };
   // The first sample after an impact may straddle it (the exposure sees the ball fall and
-  // rise): while the arc is young, drop it if the others put it off the arc.
+  // rise): while the arc is young, drop it if the others put it off the arc. Only a sample
+  // within a frame or so of the impact can straddle it. A later one may be a smeared streak or
+  // a box merged with a shadow, a good part of the ball's radius off; a few pixels off may be
+  // the gravity of the short first arc the scale rests on (a throw moving away from the
+  // camera measured it 45% low), and dropping sample after sample for that kept a rebound's
+  // arc at three to five samples until the drop broke.
+  const FlightImpact* began = ImpactBeforeCurrentArc();
+  const double radius = radii_.empty() ? 0.0 : Median(radii_);
   if (!arc.release && arc.samples.size() >= 3 && arc.samples.size() <= 8) {
     FlightArcParams rest;
     if (fit(1, &rest, nullptr)) {
+      const Sample& front = arc.samples.front();
       double x, y;
-      FlightPosition(g, rest, false, arc.samples.front().t, &x, &y);
-      const double off = std::hypot(x - arc.samples.front().x, y - arc.samples.front().y);
-      if (off > Gate()) arc.samples.erase(arc.samples.begin());
+      FlightPosition(g, rest, false, front.t, &x, &y);
+      // Judged by two samples, along the floor the rest's course is a guess (two samples do
+      // not free the horizontal speed): only the height then (a ball that straddles its impact
+      // is off in height; one whose box merged with the floor's shadow, by a guess across).
+      const double off = arc.samples.size() == 3
+                             ? std::abs(AlongDown(x, y, g.roll_rad) - Down(front))
+                             : std::hypot(x - front.x, y - front.y);
+      const bool may_straddle =
+          !began || front.t <= began->t + config_.straddle_frames * frame_dt_;
+      const double limit =
+          may_straddle ? Gate()
+          : arc.late_drops < config_.max_late_drops
+              ? std::max(Gate(), config_.off_arc_radius_share * radius)
+              : std::numeric_limits<double>::infinity();
+      if (off > limit) {
+        arc.samples.erase(arc.samples.begin());
+        if (!may_straddle) ++arc.late_drops;
+      }
     }
   }
   arc.fit_ok = fit(0, &arc.fit, &arc.u_sigma);

@@ -278,6 +278,65 @@ TEST(BounceDetector, AReboundUnseenThroughItsImpactAndSlowedAlongTheFloorIsTheNe
   EXPECT_EQ(d.Summaries().size(), 1u) << "the drop broke at the unseen impact\n" << s.report;
 }
 
+// A ball thrown away from the camera enters the view falling and accelerates at 0.55 of
+// gravity over its 7 frames before an impact (a 30 fps clip of a tennis ball thrown across a
+// wooden floor measured 3 000 px/s^2 there, 5 600 on its rebounds; only that acceleration is
+// rendered here). The scale that short arc gives is the only one until a rebound arc grows:
+// each new rising sample, judged against it, must not push the arc's first ones out (before,
+// the rebound's arc stayed at three to five samples and the drop broke or ended "at rest").
+TEST(BounceDetector, AShortFirstArcThatMeasuresGravityLowDoesNotBreakTheRebounds) {
+  SimOptions o;
+  o.ball = "tennis";
+  o.drop_m = 1.5;
+  o.fps = 30;
+  o.px_per_m = 570;  // 38 px across
+  o.noise_px = 0.3;
+  o.launch_right_mps = 0.5;
+  o.floor_y = 900;
+  o.height = 960;
+  o.width = 1400;
+  o.x0 = 100;
+  o.hold_s = 0;
+  // It enters on the fall after its first rebound's apex (so the arc after the next impact
+  // is bounce 2, as the detector numbers an arc entered from out of view).
+  const double impact = SimTruth(o).impact_times_s[1];
+  o.begin_after_release_s = impact - 7.5 / o.fps;
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    o.seed = seed;
+    auto clip = MakeSimClip(o);
+    const double g_px = 9.81 * o.px_per_m, k = 0.55;
+    for (auto& ob : clip.obs) {
+      const double t = (ob.utime - clip.obs.front().utime) * 1e-6 + o.begin_after_release_s;
+      if (ob.found && t < impact)
+        ob.cy += static_cast<float>(0.5 * (k - 1) * g_px * (t - impact) * (t - impact));
+    }
+    BounceDetector d{BounceDetectorConfig{}};
+    const auto peaks = RunDetector(d, clip.obs);
+    // The arc it enters on is bounce 1 to the detector (it came from out of view), its apex
+    // unseen: the first apex in view is bounce 2.
+    auto truth = testing::TruthOf(clip);
+    truth.apex_t_s.insert(truth.apex_t_s.begin() + 1, -100);
+    truth.apex_h_m.insert(truth.apex_h_m.begin() + 1, 0);
+    const double t4 = 4 / o.fps;
+    const auto s = ScorePeaks(truth, peaks, 9.81 * t4 * t4 / 8);
+    std::printf("seed %u: %d of %d apexes over a 4-frame flight, %d false, %zu drop(s), max error %.1f mm\n%s",
+                seed, s.found_over_1cm, s.truth_over_1cm, s.false_peaks, d.Summaries().size(),
+                s.max_err_mm, s.report.c_str());
+    EXPECT_EQ(s.false_peaks, 0) << s.report;
+    EXPECT_EQ(s.found_over_1cm, s.truth_over_1cm) << s.report;
+    EXPECT_GE(s.truth_over_1cm, 5) << s.report;
+    EXPECT_EQ(d.Summaries().size(), 1u) << "the drop broke\n" << s.report;
+    // The first rebound is emitted on a scale still pulled by the entering arc (2-3% low) and
+    // a floor placed by it: +4-5% on these seeds; the rebounds after it within 5% too.
+    for (const auto& p : peaks) {
+      const auto b = static_cast<size_t>(p.bounce);
+      if (b < truth.apex_h_m.size() && truth.apex_h_m[b] > 0) {
+        EXPECT_NEAR(p.height_m, truth.apex_h_m[b], 0.06 * truth.apex_h_m[b]) << b << "\n" << s.report;
+      }
+    }
+  }
+}
+
 // A stream of two drops: the first clip; picked up, one second with no ball; then the
 // second clip (options `b`, its clock continuing the stream's), returned in *second.
 std::vector<BallObservation> ThenDropAgain(const testing::SimClip& first, SimOptions b,

@@ -209,10 +209,10 @@ TEST(RealClipsMustShow, BasketballTileOchre24fps) {
   ExpectMustShow({"basketball_tile_ochre_24fps.mp4", "basketball", 3, 6});
 }
 TEST(RealClipsMustShow, FootballDoorWood20fps) {
-  ExpectMustShow({"football_door_wood_20fps.mp4", "football", 4, 8, 1,
-                  "one drop, heights falling, rebounds 1-5 within 5% of their flight-time "
-                  "heights (the floor followed from impact to impact: the ball comes towards "
-                  "the camera, landing 25 px lower over 8 impacts); the sixth is 8% low"});
+  // The ball comes towards the camera, landing 25 px lower over 8 impacts: the floor under
+  // each apex is followed from impact to impact. Its sixth rebound was 8% low until a young
+  // arc stopped dropping its first samples for the few pixels a 20 fps arc's model is off.
+  ExpectMustShow({"football_door_wood_20fps.mp4", "football", 4, 8});
 }
 TEST(RealClipsMustShow, TennisDoorWood20fps) {
   ExpectMustShow({"tennis_door_wood_20fps.mp4", "tennis", 3, 5, 1,
