@@ -91,10 +91,33 @@ double BounceDetector::MinApexPx() const {
   return std::max({config_.min_apex_px, 5 * sigma_, flight});
 }
 
-double BounceDetector::UnseenReleaseMaxS() const {
+double BounceDetector::UnseenReleaseMaxS(double bend_slowdown) const {
   // Before the clock is decided a slowed file's seconds may be `slow-down` times too long.
-  const double slow = clock_decided_ ? 1.0 : config_.capture_slowdown_hint;
+  const double slow =
+      clock_decided_ ? 1.0 : std::max(config_.capture_slowdown_hint, bend_slowdown);
   return std::max(config_.unseen_release_max_s * slow, 2 * frame_dt_);
+}
+
+double BounceDetector::SlowdownOfBend(double accel_px) const {
+  if (!(calibrator_.config().ball_diameter_m > 0) || radii_.empty()) return 1;
+  const double size_px_per_m = 2 * Median(radii_) / calibrator_.config().ball_diameter_m;
+  const double g_px = calibrator_.config().g_mps2 * size_px_per_m;  // px/s^2, real time
+  // Free flight bends at g in the size's px/m: within 4x (a ball given with the wrong preset),
+  // on the file's clock or (clock undecided) on the container's slowed one, not 50x less.
+  auto within_4x = [&](double k) {
+    const double expected = g_px / (k * k);
+    return accel_px > expected / 4 && accel_px < expected * 4;
+  };
+  if (within_4x(1)) return 1;
+  if (clock_decided_) return 0;
+  const double hint = config_.capture_slowdown_hint;
+  if (hint > 1.05) return within_4x(hint) ? hint : 0;
+  // A file that does not say it is slowed may be a phone's slow motion all the same
+  // (DecideClock): bending at g / k^2 as closely as the clock's tolerance asks.
+  const double tol = std::log1p(config_.clock_tolerance);
+  for (double k : config_.untagged_slowdowns)
+    if (std::abs(std::log(accel_px * k * k / g_px)) < tol) return k;
+  return 0;
 }
 
 double BounceDetector::Down(const Sample& s) const {

@@ -238,7 +238,13 @@ class BounceDetector {
   // share of the ball's radius (BounceDetectorConfig::initial_noise_radius_share).
   double StartGate() const;
   double MinApexPx() const;
-  double UnseenReleaseMaxS() const;
+  // bend_slowdown: the slow-down a fall's bend says (SlowdownOfBend), while the clock is
+  // undecided.
+  double UnseenReleaseMaxS(double bend_slowdown = 1) const;
+  // The slow-down of the file's clock on which a start's bend (px/s^2 on the file's clock) is
+  // free flight for the ball's size: 1, the container's, or an untagged one; 0: none (a hand's
+  // curve). 1 when no size is given.
+  double SlowdownOfBend(double accel_px) const;
   double Down(const Sample& s) const;
   double Floor(const Sample& s) const;
   int64_t ToUtime(double t) const;
@@ -263,6 +269,7 @@ class BounceDetector {
   std::vector<Sample> pending_up_, pending_off_;
   std::optional<Sample> last_far_;  // the previous sample, when it lay beyond the ball's reach
   int misses_ = 0;  // consecutive samples off the current arc
+  bool rejudging_ = false;  // OnFlight judging a sample again after a refit of the scale
   std::vector<double> radii_;
   int sequence_ = -1;
   bool bounce0_emitted_ = false;

@@ -193,6 +193,23 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     TryEmitApex(s.t, s.utime, true, ev);
     return;
   }
+  // Off the arc past its fitted apex, the apex not out yet: the scale the arc is followed with
+  // may be what is off (a first fall's gravity from a few smeared frames, 12% high on a clip
+  // of a ball dropped on a table). Emitting the apex refits the scale with this arc's samples;
+  // then the sample is judged again.
+  if (!rejudging_ && calibrated_ && cur.fit_ok && !cur.apex_emitted && arcs_.size() >= 2 &&
+      s.t >= cur.fit.t_apex + config_.emit_after_apex_frames * frame_dt_) {
+    const double scale_before = scale_;
+    const int sequence_before = sequence_;
+    TryEmitApex(s.t, s.utime, false, ev);
+    if (phase_ != Phase::kFlight || sequence_ != sequence_before) return;
+    Sample again = s;
+    again.t *= scale_ / scale_before;  // the clock may have been decided by that refit
+    rejudging_ = true;
+    OnFlight(again, ev);
+    rejudging_ = false;
+    return;
+  }
   const bool falling = vp > 0;
   ++misses_;
   // Along the floor a rebound keeps its course to within the gate and what its impact did to

@@ -95,7 +95,7 @@ bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<Detector
   // Far from its vertex already: it came from out of view, not from a hand (see below;
   // twice the margin: five samples place the vertex roughly).
   const double t_vertex = fall.back().t - c(1) / (2 * c(2));
-  if (fall.front().t - t_vertex > 2 * UnseenReleaseMaxS()) return false;
+  if (fall.front().t - t_vertex > 2 * UnseenReleaseMaxS(SlowdownOfBend(2 * c(2)))) return false;
   // Seen rising into that vertex just before (a rebound, or a throw, entering the view): an
   // arc, not a fall from rest; ArcFromUnseenStart takes it with its rising branch.
   for (size_t i = hold_.size() - m, k = 0; i > 0 && k < 2; --i, ++k) {
@@ -157,20 +157,10 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   // The bend must show: the parabola's sag over the run beyond the gate.
   if (!(c(2, 0) * span * span / 4 > Gate())) return false;
   if (std::abs(c(2, 1)) > 0.35 * c(2, 0)) return false;
-  // A hand moves the ball along gentle curves too. With the ball's size known, free flight
-  // bends at g in the size's px/m (on the container's clock): within 4x (a ball given with
-  // the wrong preset), not 50x less.
-  if (calibrator_.config().ball_diameter_m > 0 && !radii_.empty()) {
-    const double size_px_per_m = 2 * Median(radii_) / calibrator_.config().ball_diameter_m;
-    const double g_px = calibrator_.config().g_mps2 * size_px_per_m;  // px/s^2, real time
-    // Our seconds are real ones, or (clock undecided) maybe `slowdown` times too long.
-    auto bends_at = [&](double slowdown) {
-      const double expected = g_px / (slowdown * slowdown);
-      return 2 * c(2, 0) > expected / 4 && 2 * c(2, 0) < expected * 4;
-    };
-    if (!bends_at(1) && !(!clock_decided_ && bends_at(config_.capture_slowdown_hint)))
-      return false;
-  }
+  // A hand moves the ball along gentle curves too: with the ball's size known, the bend must
+  // be free flight's on some clock the file may have (SlowdownOfBend).
+  const double slowdown = SlowdownOfBend(2 * c(2, 0));
+  if (!(slowdown > 0)) return false;
   const Eigen::MatrixXd r = a * c - b;
   const double rms_u = std::sqrt(r.col(0).squaredNorm() / static_cast<double>(m));
   const double rms_w = std::sqrt(r.col(1).squaredNorm() / static_cast<double>(m));
@@ -180,7 +170,7 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   arc.samples = run;
   // A fall that starts at its vertex is a release out of sight (bounce 0 is its vertex).
   const double t_vertex = run.back().t - c(1, 0) / (2 * c(2, 0));
-  if (t_vertex >= run.front().t - UnseenReleaseMaxS() &&
+  if (t_vertex >= run.front().t - UnseenReleaseMaxS(slowdown) &&
       t_vertex <= run.front().t + 0.5 * frame_dt_) {
     StartSequence(std::move(arc), s, ev);
     return true;
