@@ -72,8 +72,7 @@ double BounceDetector::Gate() const {
 
 double BounceDetector::StartGate() const {
   if (sigma_measured_) return Gate();
-  const double radius = radii_.empty() ? 0.0 : Median(radii_);
-  const double sigma = std::max(sigma_, config_.initial_noise_radius_share * radius);
+  const double sigma = std::max(sigma_, config_.initial_noise_radius_share * RadiusPx());
   return std::max(config_.min_gate_px, config_.gate_sigmas * sigma);
 }
 
@@ -98,9 +97,11 @@ double BounceDetector::UnseenReleaseMaxS(double bend_slowdown) const {
   return std::max(config_.unseen_release_max_s * slow, 2 * frame_dt_);
 }
 
+double BounceDetector::RadiusPx() const { return Median(radii_); }
+
 double BounceDetector::SlowdownOfBend(double accel_px) const {
   if (!(calibrator_.config().ball_diameter_m > 0) || radii_.empty()) return 1;
-  const double size_px_per_m = 2 * Median(radii_) / calibrator_.config().ball_diameter_m;
+  const double size_px_per_m = 2 * RadiusPx() / calibrator_.config().ball_diameter_m;
   const double g_px = calibrator_.config().g_mps2 * size_px_per_m;  // px/s^2, real time
   // Free flight bends at g in the size's px/m: within 4x (a ball given with the wrong preset),
   // on the file's clock or (clock undecided) on the container's slowed one, not 50x less.

@@ -237,6 +237,8 @@ class BounceDetector {
   // Gate() for the fit of an arc's first samples, before the noise is measured: at least a
   // share of the ball's radius (BounceDetectorConfig::initial_noise_radius_share).
   double StartGate() const;
+  // The ball's radius as seen so far (median of the recent detections), px; 0 before any.
+  double RadiusPx() const;
   double MinApexPx() const;
   // bend_slowdown: the slow-down a fall's bend says (SlowdownOfBend), while the clock is
   // undecided.

@@ -16,7 +16,7 @@ void BounceDetector::Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev) 
   CalibrationInput in;
   in.utime = utime;
   in.arcs = ArcData();
-  in.radius_px = Median(radii_);
+  in.radius_px = RadiusPx();
   std::vector<FlightArcParams> prev_arcs;
   bool all_fit = calibrated_;
   for (const auto& a : arcs_) {

@@ -111,7 +111,6 @@ void BounceDetector::RefitArc(Arc& arc) {
   // camera measured it 45% low), and dropping sample after sample for that kept a rebound's
   // arc at three to five samples until the drop broke.
   const FlightImpact* began = ImpactBeforeCurrentArc();
-  const double radius = radii_.empty() ? 0.0 : Median(radii_);
   if (!arc.release && arc.samples.size() >= 3 && arc.samples.size() <= 8) {
     FlightArcParams rest;
     if (fit(1, &rest, nullptr)) {
@@ -129,7 +128,7 @@ void BounceDetector::RefitArc(Arc& arc) {
       const double limit =
           may_straddle ? Gate()
           : arc.late_drops < config_.max_late_drops
-              ? std::max(Gate(), config_.off_arc_radius_share * radius)
+              ? std::max(Gate(), config_.off_arc_radius_share * RadiusPx())
               : std::numeric_limits<double>::infinity();
       if (off > limit) {
         arc.samples.erase(arc.samples.begin());

@@ -51,7 +51,7 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
   // extrapolated past its own impact, cross well under the floor. It says nothing of it.
   const auto& imps = calibration_.impacts;
   const double t_apex = j < arcs_.size() ? arcs_[j].fit.t_apex : 0;
-  const double below_max = std::max(10.0, radii_.empty() ? 0.0 : 2 * Median(radii_));
+  const double below_max = std::max(10.0, 2 * RadiusPx());
   std::vector<double> ts, us, ws;  // times from the apex, contact heights, weights
   for (size_t i = 0; i < imps.size() && i < arcs_.size(); ++i) {
     if (!imps[i].ok) continue;

@@ -185,7 +185,7 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
     // it, say of a hand elsewhere in the picture, tells nothing of where the ball came from).
     const Sample& hand = hold_[before - 1];
     const double dt = hand.t - run.back().t;
-    const double near = std::max(4 * thr, radii_.empty() ? 0.0 : 2 * Median(radii_));
+    const double near = std::max(4 * thr, 2 * RadiusPx());
     const bool on_arc = std::abs(Down(hand) - (c(0, 0) + c(1, 0) * dt + c(2, 0) * dt * dt)) <= near &&
                         std::abs(Floor(hand) - (c(0, 1) + c(1, 1) * dt + c(2, 1) * dt * dt)) <= near;
     const bool falling_in = before >= 2 && Down(hold_[before - 1]) > Down(hold_[before - 2]) + thr;
