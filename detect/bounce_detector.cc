@@ -115,10 +115,7 @@ double BounceDetector::SlowdownOfBend(double accel_px) const {
   if (hint > 1.05) return within_4x(hint) ? hint : 0;
   // A file that does not say it is slowed may be a phone's slow motion all the same
   // (DecideClock): bending at g / k^2 as closely as the clock's tolerance asks.
-  const double tol = std::log1p(config_.clock_tolerance);
-  for (double k : config_.untagged_slowdowns)
-    if (std::abs(std::log(accel_px * k * k / g_px)) < tol) return k;
-  return 0;
+  return SlowdownExplaining(accel_px / g_px, config_.untagged_slowdowns);
 }
 
 double BounceDetector::Down(const Sample& s) const {

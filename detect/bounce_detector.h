@@ -206,6 +206,10 @@ class BounceDetector {
   void Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev);
   // free_fall: the scale just measured rests on the free fall (not on the ball's size alone).
   bool DecideClock(bool free_fall);
+  // The slow-down among `slowdowns` that explains a free-fall scale q times the ball size's
+  // (a timeline slowed k times reads gravity k^2 too weak), within the clock's tolerance; 0:
+  // none.
+  double SlowdownExplaining(double q, const std::vector<double>& slowdowns) const;
   void RescaleTime(double k);
   void ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev);
   // At 24 fps with a long exposure, the frames either side of an impact can both show the

@@ -86,15 +86,21 @@ bool BounceDetector::DecideClock(bool free_fall) {
     slowdowns = {hint};
   else if (free_fall)
     slowdowns = config_.untagged_slowdowns;
-  for (double k : slowdowns)
-    if (std::abs(std::log(q * k * k)) < tol) {
-      clock_decided_ = true;
-      RescaleTime(1 / k);
-      return true;
-    }
+  if (const double k = SlowdownExplaining(q, slowdowns); k > 0) {
+    clock_decided_ = true;
+    RescaleTime(1 / k);
+    return true;
+  }
   // Agreement as recorded (or a size that fits no clock: reported, not acted on).
   clock_decided_ = std::abs(std::log(q)) < tol || arcs_.size() >= 3;
   return false;
+}
+
+double BounceDetector::SlowdownExplaining(double q, const std::vector<double>& slowdowns) const {
+  const double tol = std::log1p(config_.clock_tolerance);
+  for (double k : slowdowns)
+    if (std::abs(std::log(q * k * k)) < tol) return k;
+  return 0;
 }
 
 void BounceDetector::RescaleTime(double k) {
