@@ -529,6 +529,12 @@ TEST(BounceDetector, TimeGoingBackwardsIsAnError) {
   BounceDetectorConfig no_slowdown;
   no_slowdown.untagged_slowdowns = {4, 0.5};
   EXPECT_THROW(BounceDetector{no_slowdown}, std::invalid_argument);
+  BounceDetectorConfig no_straddle;
+  no_straddle.straddle_frames = -1;
+  EXPECT_THROW(BounceDetector{no_straddle}, std::invalid_argument);
+  BounceDetectorConfig no_drops;
+  no_drops.max_late_drops = -1;
+  EXPECT_THROW(BounceDetector{no_drops}, std::invalid_argument);
 }
 
 }  // namespace
