@@ -29,6 +29,15 @@ double ArcCheck::RecentTravel(double span_s) const {
   return hi - lo;
 }
 
+bool ArcCheck::PositionAt(double t, double* x, double* y) const {
+  for (auto it = samples_.rbegin(); it != samples_.rend(); ++it)
+    if (std::abs(it->t - t) < 1e-3) {
+      *x = it->x, *y = it->y;
+      return true;
+    }
+  return false;
+}
+
 bool ArcCheck::StretchIsArc() const {
   const int n = static_cast<int>(samples_.size());
   if (n < params_.min_samples) return false;

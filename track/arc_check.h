@@ -29,6 +29,8 @@ class ArcCheck {
   double moving_s() const { return moving_s_; }
   // Vertical travel over the last `span_s` seconds, px.
   double RecentTravel(double span_s) const;
+  // The position added at time t (s, to a millisecond); false when none was.
+  bool PositionAt(double t, double* x, double* y) const;
 
  private:
   struct Sample {

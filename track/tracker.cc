@@ -259,7 +259,7 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   const std::vector<BallCandidate> found = finder_.Find(frame, roi_);
   for (const BallCandidate& c : found) {
     const bool same = std::hypot(c.x - here_x, c.y - here_y) < 3 * std::max(here_r, c.r);
-    if (same && obs.found && chosen_.by_luma && !c.by_luma) {
+    if (obs.found && chosen_.by_luma && !c.by_luma && SameAsLock(c, here_x, here_y, here_r)) {
       // The same ball, now with a colour of its own against its surroundings: colour
       // segments it better than a background model.
       Adopt(c);
@@ -283,6 +283,16 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   predictor_.Reset();
   lost_ = 1 << 20;
   how_ = "automatic: dropped the lock at " + Fmt("%.0f,%.0f", here_x, here_y) + " (" + drop + "); waiting for another";
+}
+
+bool Tracker::SameAsLock(const BallCandidate& c, double here_x, double here_y, double here_r) const {
+  // Where the lock was when the finder saw the candidate (its middle frame, a lag before
+  // now, or the newest): a ball falling at 20 fps moves radii a frame, and a patch of colour
+  // three radii from where the lock is now may be six from where it was then.
+  double x = here_x, y = here_y;
+  arc_.PositionAt(c.t, &x, &y);
+  return std::hypot(c.x - x, c.y - y) < 3 * std::max(here_r, c.r) &&
+         std::abs(c.r - here_r) <= config_.radius_change * here_r + 1.5;
 }
 
 bool Tracker::CutByRoiBorder(const cv::Rect2f& box) const {

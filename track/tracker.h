@@ -113,6 +113,9 @@ class Tracker {
   // Remembers every blob of the chosen colour away from the ball: still things of its hue.
   void RememberLookalikes(const Frame& frame);
   bool Rejected(const BallCandidate& c, double t) const;
+  // A candidate of the finder is the locked object: near where the lock was at the
+  // candidate's time, and of its size.
+  bool SameAsLock(const BallCandidate& c, double here_x, double here_y, double here_r) const;
   bool CutByRoiBorder(const cv::Rect2f& box) const;
   double FollowedRadius() const;                    // radius_, or the finder's just after a choice
   // A close-up ball: one whose smeared box outgrows the segmenter's box limit (radius 85 px
