@@ -179,6 +179,8 @@ std::vector<DetectorEvent> BounceDetector::Push(const BallObservation& o) {
     radii_.push_back(s.r);
     if (radii_.size() > 301) radii_.erase(radii_.begin());
   }
+  seen_.push_back(s);
+  if (seen_.size() > 32) seen_.erase(seen_.begin());
   if (phase_ == Phase::kFlight && t - last_seen_t_ > config_.lost_s) EndSequence("lost", ev);
   last_seen_t_ = t;
   switch (phase_) {

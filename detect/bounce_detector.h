@@ -226,6 +226,16 @@ class BounceDetector {
   BounceImpact ToBounceImpact(const FlightImpact& imp, int index) const;
   void ForgetStraddlingArc();
   bool NearTheFloor(const Arc& cur) const;
+  // Whether the impact the rising samples pending_up_ would confirm is one the camera could
+  // not have missed had it happened: the contact, where the arc and that rebound meet (a trial
+  // fit, the state unchanged), lies farther beyond every sample seen within a frame of it than
+  // the ball travels from there at its modelled speed (at least half a frame's travel, for an
+  // exposure straddling the contact; plus the gate), and the rebound does not rise by more
+  // than the gate. A hand that moved the thing
+  // tracked up, down and stopped makes such a pair (a falling arc extrapolated past where the
+  // thing stopped, a "rebound" of jitter); a ball whose floor is out of view at the bottom of
+  // the picture rises again and is kept.
+  bool ImpactNotSeen() const;
   // The noise an arc's own samples show about its fit, px per coordinate (0: too few).
   double ArcScatter(const Arc& arc) const;
   void TryEmitApex(double t, int64_t utime, bool have_sample, std::vector<DetectorEvent>& ev);
@@ -277,6 +287,7 @@ class BounceDetector {
   int misses_ = 0;  // consecutive samples off the current arc
   bool rejudging_ = false;  // OnFlight judging a sample again after a refit of the scale
   std::vector<double> radii_;
+  std::vector<Sample> seen_;  // the last samples seen, whatever became of them (ImpactNotSeen)
   int sequence_ = -1;
   bool bounce0_emitted_ = false;
   int first_bounce_ = 0;  // bounce number of arc 0 in this sequence

@@ -112,6 +112,7 @@ void BounceDetector::RescaleTime(double k) {
   scale(pending_up_);
   scale(pending_off_);
   scale(rest_samples_);
+  scale(seen_);
   for (auto& a : arcs_) {
     scale(a.samples);
     a.fit.t_apex *= k;

@@ -232,6 +232,11 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
       // is not, the first one was a stray detection.
       if (pending_up_.size() == 1 || Down(pending_up_.back()) < Down(pending_up_.front())) {
         if (NearTheFloor(cur)) {
+          if (ImpactNotSeen()) {
+            // No impact: the front sample starts no rebound (the arc ends by its misses).
+            pending_up_.erase(pending_up_.begin());
+            continue;
+          }
           if (StraddlesItsImpact(cur)) ForgetStraddlingArc();
           ConfirmImpact(s, ev);
         } else {
@@ -337,6 +342,43 @@ bool BounceDetector::NearTheFloor(const Arc& cur) const {
   // so the lower of the two is in the lower part of the arc; near the apex both are high.
   const double low = floor - std::max(Down(cur.samples.back()), Down(pending_up_.front()));
   return low < 0.6 * apex;
+}
+
+bool BounceDetector::ImpactNotSeen() const {
+  if (pending_up_.size() < 2) return false;
+  const double gate = Gate();
+  if (Down(pending_up_.front()) - Down(pending_up_.back()) > gate) return false;  // it rises
+  // The contact, from a trial fit of the arcs with the rebound's samples as the next one.
+  CalibrationInput in;
+  in.utime = pending_up_.back().utime;
+  in.arcs = ArcData();
+  FlightArcData next;
+  for (const auto& q : pending_up_) next.samples.push_back({q.t, q.x, q.y});
+  in.arcs.push_back(std::move(next));
+  in.radius_px = RadiusPx();
+  FlightGlobals prev_globals;
+  if (calibrated_) {
+    prev_globals = calibration_.flight.globals;
+    in.previous_globals = &prev_globals;
+  }
+  const CalibrationResult res = calibrator_.Calibrate(in);
+  const size_t j = arcs_.size() - 1;  // the impact between the current arc and the rebound
+  if (!res.flight.ok || j >= res.impacts.size() || !res.impacts[j].ok) return false;
+  const FlightImpact& imp = res.impacts[j];
+  const double roll = res.flight.globals.roll_rad;
+  bool near = false;
+  for (const auto& q : seen_) {
+    const double dt = q.t - imp.t;
+    if (std::abs(dt) > frame_dt_) continue;
+    near = true;
+    // From a sample this close the ball reaches the contact within its speed there (its
+    // fastest on that branch) times the time between them, or half a frame: an exposure that
+    // straddles the contact shows the ball at most half a frame's travel above it.
+    const double speed = dt < 0 ? imp.speed_in : imp.speed_out;
+    const double reach = speed * std::max(std::abs(dt), 0.5 * frame_dt_) + gate;
+    if (imp.u - AlongDown(q.x, q.y, roll) <= reach) return false;
+  }
+  return near;  // seen near it, never near enough; unseen around it: the ball was lost there
 }
 
 const FlightImpact* BounceDetector::ImpactBeforeCurrentArc() const {
