@@ -20,6 +20,7 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
   if (!calibration.IsValid(error)) return false;
   if (!(emit_after_apex_frames >= 0)) return fail("emit after apex must be >= 0 frames");
   if (!(gate_sigmas > 0) || !(min_gate_px > 0)) return fail("gates must be > 0");
+  if (!(scale_gate_sigmas >= 0)) return fail("scale gate sigmas must be >= 0");
   if (!(noise_floor_px > 0) || !(initial_noise_px > 0)) return fail("noise must be > 0 px");
   if (!(initial_noise_radius_share >= 0 && initial_noise_radius_share < 0.5))
     return fail("initial noise share of the radius must be in [0, 0.5)");

@@ -93,6 +93,10 @@ struct BounceDetectorConfig {
   double emit_after_apex_frames = 1.0;  // emit this many frame periods after the fitted apex
   double gate_sigmas = 6;       // a sample this many noise sigmas off its arc is not on it
   double min_gate_px = 0.8;     // ... and at least this far
+  // ... and further by this many sigmas of the scale's uncertainty, carried to the sample: a
+  // first fall of a few smeared frames gives gravity to 7% (a phone's rolling shutter adds
+  // more), and an arc followed with it leaves its samples with the square of the time.
+  double scale_gate_sigmas = 3;
   double noise_floor_px = 0.05; // lower bound on the noise estimate
   double initial_noise_px = 0.3;  // until the first fit measures it
   // Whether the first samples make an arc: until then, the noise is taken as at least this
@@ -248,6 +252,9 @@ class BounceDetector {
   double FloorUnderArcPx(size_t j, bool both) const;
   void EndSequence(const std::string& reason, std::vector<DetectorEvent>& ev);
   double Gate() const;
+  // How far the arc's prediction at t may be off for the uncertainty of the scale it is
+  // followed with (BounceDetectorConfig::scale_gate_sigmas), px.
+  double ScaleGatePx(const Arc& arc, double t) const;
   // Gate() for the fit of an arc's first samples, before the noise is measured: at least a
   // share of the ball's radius (BounceDetectorConfig::initial_noise_radius_share).
   double StartGate() const;
@@ -291,6 +298,8 @@ class BounceDetector {
   int sequence_ = -1;
   bool bounce0_emitted_ = false;
   int first_bounce_ = 0;  // bounce number of arc 0 in this sequence
+  // An entered first arc: the lowest sample seen shortly before it (was it at the floor?).
+  std::optional<Sample> low_before_entered_;
   std::vector<BouncePeak> peaks_;       // this sequence
   std::vector<BounceImpact> impacts_;   // this sequence
   std::vector<Sample> rest_samples_;

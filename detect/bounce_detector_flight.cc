@@ -139,6 +139,24 @@ void BounceDetector::RefitArc(Arc& arc) {
   arc.fit_ok = fit(0, &arc.fit, &arc.u_sigma);
 }
 
+double BounceDetector::ScaleGatePx(const Arc& arc, double t) const {
+  // Only the first rebound is followed with the scale of a fall alone.
+  if (!calibrated_ || arc.samples.size() < 2 || arcs_.size() != 2 || arc.apex_emitted) return 0;
+  const Calibration& cal = calibration_.calibration;
+  if (cal.px_per_m <= 0) return 0;
+  // An arc fitted through its samples with a gravity off by dg departs from them by
+  // dg/2 ((t - tc)^2 - var(t_i)) at t (tc: their mean time, the fit absorbs the rest).
+  double tc = 0, tt = 0;
+  for (const auto& q : arc.samples) tc += q.t, tt += q.t * q.t;
+  const double n = static_cast<double>(arc.samples.size());
+  tc /= n;
+  const double var = std::max(0.0, tt / n - tc * tc);
+  const double reach = std::max(0.0, (t - tc) * (t - tc) - var);
+  const double dg = config_.scale_gate_sigmas * cal.px_per_m_sigma / cal.px_per_m *
+                    std::abs(calibration_.flight.globals.gravity_px);
+  return 0.5 * dg * reach;
+}
+
 void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   Arc& cur = arcs_.back();
   double up, wp, vp;
@@ -159,6 +177,7 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   // Until the drop's noise is measured, an arc whose own samples scatter more than assumed
   // (a smeared ball at 20-30 fps is located to pixels, not tenths) is followed with its scatter.
   if (!sigma_measured_) gate = std::max(gate, config_.gate_sigmas * ArcScatter(cur));
+  gate += ScaleGatePx(cur, s.t);
   const double ru = u - up, rw = w - wp;
   // Farther from the arc than any rebound could have carried the ball since its last sample
   // (twice its speed over the gap, four radii and ten gates), and where the last such
@@ -444,6 +463,14 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
   misses_ = 0;
   arcs_.push_back(next);
   Recalibrate(s.utime, ev);
+  // The drop's first arc was taken for a throw (the ball seen before it, where the arc leads
+  // back to). Seen down at the floor just before it, the ball came from an impact the arc's
+  // start did not show (its first samples, smeared, off it): its apex is bounce 1.
+  if (arcs_.size() == 2 && arcs_[0].entered && first_bounce_ == 0 && peaks_.empty() &&
+      low_before_entered_ && calibrated_ && calibration_.calibration.has_floor &&
+      calibration_.calibration.floor_centre_px() - Down(*low_before_entered_) <=
+          std::max(2 * RadiusPx(), 3 * Gate()))
+    first_bounce_ = 1;
   const size_t idx = arcs_.size() - 1;
   const FlightImpact* began = ImpactBeforeCurrentArc();
   if (calibrated_ && began && calibration_.calibration.valid()) {

@@ -114,6 +114,10 @@ bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<Detector
   return true;
 }
 
+// How long before an entered arc the samples may show the impact it came from, s (its first
+// samples after an impact at 20 fps, smeared, may not fit it: 0.2 s on the football).
+constexpr double kBeforeEnteredArcS = 0.3;
+
 bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEvent>& ev) {
   auto m = static_cast<size_t>(config_.arc_start_samples);
   if (hold_.size() < m) return false;
@@ -191,8 +195,14 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
     const bool falling_in = before >= 2 && Down(hold_[before - 1]) > Down(hold_[before - 2]) + thr;
     first_bounce = on_arc && !falling_in ? 0 : 1;
   }
+  // The lowest the ball was seen shortly before the arc: whether that was the floor is known
+  // at the first impact (ConfirmImpact).
+  std::optional<Sample> low;
+  for (size_t k = before; k > 0 && run.front().t - hold_[k - 1].t <= kBeforeEnteredArcS; --k)
+    if (!low || Down(hold_[k - 1]) > Down(*low)) low = hold_[k - 1];
   StartSequence(std::move(arc), s, ev);
   first_bounce_ = first_bounce;
+  low_before_entered_ = low;
   return true;
 }
 
@@ -205,6 +215,7 @@ bool BounceDetector::EnteredApexSeen() const {
 void BounceDetector::StartSequence(Arc release, const Sample& s, std::vector<DetectorEvent>& ev) {
   release.release = !release.entered;
   first_bounce_ = 0;
+  low_before_entered_.reset();
   hold_.clear();
   arcs_.clear();
   arcs_.push_back(std::move(release));

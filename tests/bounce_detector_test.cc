@@ -337,6 +337,77 @@ TEST(BounceDetector, AShortFirstArcThatMeasuresGravityLowDoesNotBreakTheRebounds
   }
 }
 
+// A ball released from a seen hold at 30 fps is seen for four frames of its fall (smeared,
+// then lost to the tracker until it rebounds), and those bend 16% more than gravity (a phone's
+// rolling shutter reads a fall down the picture late). The scale from that fall is 16% high,
+// known to some 7%; the first rebound, followed with it, leaves its arc within a few samples
+// unless the gate carries the scale's uncertainty (a cropped copy of the shared green-ball
+// clip lost its first rebound and broke its drop this way).
+TEST(BounceDetector, AFirstFallThatMeasuresGravityHighDoesNotBreakTheFirstRebound) {
+  SimOptions o;
+  o.ball = "tennis";
+  o.drop_m = 0.75;
+  o.fps = 30;
+  o.px_per_m = 1240;  // 83 px across
+  o.noise_px = 1.5;   // a smeared ball at 30 fps, located to a pixel or two
+  o.floor_y = 1040;
+  o.height = 1080;
+  o.width = 1920;
+  o.x0 = 980;
+  o.hold_s = 0.5;
+  const double impact = SimTruth(o).impact_times_s[0];
+  const auto clip_truth = MakeSimClip(o);  // the heights do not depend on the noise's seed
+  auto run = [&](unsigned seed, double scale_gate_sigmas, std::string* report) {
+    o.seed = seed;
+    auto clip = MakeSimClip(o);
+    const double g_px = 9.81 * o.px_per_m, k = 1.16;
+    for (auto& ob : clip.obs) {
+      const double ts = (ob.utime - clip.obs.front().utime) * 1e-6;  // stream time
+      const double t = ts - o.hold_s;                                     // from the release
+      if (!ob.found || t <= 0 || ts >= impact) continue;
+      if (t > 4.5 / o.fps) ob.found = false;
+      else ob.cy += static_cast<float>(0.5 * (k - 1) * g_px * t * t);
+    }
+    BounceDetectorConfig config;
+    config.scale_gate_sigmas = scale_gate_sigmas;
+    BounceDetector d{config};
+    const auto peaks = RunDetector(d, clip.obs);
+    const double t5 = 5 / o.fps;
+    const auto s = ScorePeaks(testing::TruthOf(clip), peaks, 9.81 * t5 * t5 / 8);
+    *report = s.report;
+    std::printf("seed %u, scale gate %.0f sigmas: %d of %d apexes over a 5-frame flight, %d false, %zu drop(s)\n%s",
+                seed, scale_gate_sigmas, s.found_over_1cm, s.truth_over_1cm, s.false_peaks,
+                d.Summaries().size(), s.report.c_str());
+    return std::make_tuple(s, d.Summaries().size(), peaks);
+  };
+  // Whole: one drop, every apex over a 5-frame flight, no false one.
+  auto whole = [](const auto& s, size_t drops) {
+    return drops == 1 && s.false_peaks == 0 && s.found_over_1cm == s.truth_over_1cm;
+  };
+  int whole_with = 0, whole_without = 0;
+  const auto truth = testing::TruthOf(clip_truth);
+  for (unsigned seed = 1; seed <= 6; ++seed) {
+    std::string report;
+    const auto [s, drops, peaks] = run(seed, BounceDetectorConfig{}.scale_gate_sigmas, &report);
+    EXPECT_EQ(s.false_peaks, 0) << report;
+    EXPECT_GE(s.truth_over_1cm, 4) << report;
+    whole_with += whole(s, drops);
+    // The first rebound, when emitted in this drop, on the fall's scale refitted with its own
+    // arc: within 5%.
+    for (const auto& p : peaks)
+      if (p.bounce == 1 && p.sequence == 0)
+        EXPECT_NEAR(p.height_m, truth.apex_h_m[1], 0.05 * truth.apex_h_m[1]) << report;
+    const auto [s0, drops0, peaks0] = run(seed, 0, &report);
+    whole_without += whole(s0, drops0);
+  }
+  // The scale's uncertainty the fit reports is its noise (4-5% here): a 16% bias at 3 sigmas
+  // still breaks the drop on half the seeds (docs/ACCURACY.md).
+  std::printf("whole drops over 6 seeds: %d with the scale's uncertainty in the gate, %d without\n",
+              whole_with, whole_without);
+  EXPECT_GT(whole_with, whole_without);
+  EXPECT_GE(whole_with, 3);
+}
+
 // A stream of two drops: the first clip; picked up, one second with no ball; then the
 // second clip (options `b`, its clock continuing the stream's), returned in *second.
 std::vector<BallObservation> ThenDropAgain(const testing::SimClip& first, SimOptions b,
@@ -535,6 +606,9 @@ TEST(BounceDetector, TimeGoingBackwardsIsAnError) {
   BounceDetectorConfig no_drops;
   no_drops.max_late_drops = -1;
   EXPECT_THROW(BounceDetector{no_drops}, std::invalid_argument);
+  BounceDetectorConfig no_scale_gate;
+  no_scale_gate.scale_gate_sigmas = -1;
+  EXPECT_THROW(BounceDetector{no_scale_gate}, std::invalid_argument);
 }
 
 }  // namespace
