@@ -292,7 +292,11 @@ bool Tracker::SameAsLock(const BallCandidate& c, double here_x, double here_y, d
   double x = here_x, y = here_y;
   arc_.PositionAt(c.t, &x, &y);
   return std::hypot(c.x - x, c.y - y) < 3 * std::max(here_r, c.r) &&
-         std::abs(c.r - here_r) <= config_.radius_change * here_r + 1.5;
+         SizeMatches(c.r, here_r);
+}
+
+bool Tracker::SizeMatches(double r, double ref_r) const {
+  return std::abs(r - ref_r) <= config_.radius_change * ref_r + 1.5;
 }
 
 bool Tracker::CutByRoiBorder(const cv::Rect2f& box) const {
@@ -345,7 +349,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
          (inner_bottom && b.box.y + b.box.height >= rect.br().y)))
       continue;
     if (radius_ > 0 && !b.touches_edge &&
-        std::abs(r - radius_) > config_.radius_change * radius_ + 1.5)
+        !SizeMatches(r, radius_))
       continue;
     // Nothing followed yet (a colour or brightness given): a blob the frame's border cuts
     // cannot be told from the arm or the lamp it is (its size and shape are not all there).
@@ -432,7 +436,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs)
   BallCentre bc = FindBallCentre(planes_, color_, cx, cy, r0, radius_, config_.centre);
   float score;
   if (bc.ok) {
-    if (radius_ > 0 && !bc.cut && std::abs(bc.r - radius_) > config_.radius_change * radius_ + 1.5)
+    if (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_))
       return false;
     score = static_cast<float>(bc.valid_rays * bc.inlier_fraction);
   } else if (blob.touches_edge) {

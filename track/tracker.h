@@ -116,6 +116,8 @@ class Tracker {
   // A candidate of the finder is the locked object: near where the lock was at the
   // candidate's time, and of its size.
   bool SameAsLock(const BallCandidate& c, double here_x, double here_y, double here_r) const;
+  // A radius r (px) is the ball's of radius ref_r: within radius_change of it, and 1.5 px.
+  bool SizeMatches(double r, double ref_r) const;
   bool CutByRoiBorder(const cv::Rect2f& box) const;
   double FollowedRadius() const;                    // radius_, or the finder's just after a choice
   // A close-up ball: one whose smeared box outgrows the segmenter's box limit (radius 85 px
