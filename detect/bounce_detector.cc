@@ -100,10 +100,15 @@ double BounceDetector::UnseenReleaseMaxS(double bend_slowdown) const {
 
 double BounceDetector::RadiusPx() const { return Median(radii_); }
 
-double BounceDetector::SlowdownOfBend(double accel_px) const {
-  if (!(calibrator_.config().ball_diameter_m > 0) || radii_.empty()) return 1;
+double BounceDetector::SizeGravityPx() const {
+  if (!(calibrator_.config().ball_diameter_m > 0) || radii_.empty()) return 0;
   const double size_px_per_m = 2 * RadiusPx() / calibrator_.config().ball_diameter_m;
-  const double g_px = calibrator_.config().g_mps2 * size_px_per_m;  // px/s^2, real time
+  return calibrator_.config().g_mps2 * size_px_per_m;
+}
+
+double BounceDetector::SlowdownOfBend(double accel_px) const {
+  const double g_px = SizeGravityPx();  // px/s^2, real time
+  if (!(g_px > 0)) return 1;
   // Free flight bends at g in the size's px/m: within 4x (a ball given with the wrong preset),
   // on the file's clock or (clock undecided) on the container's slowed one, not 50x less.
   auto within_4x = [&](double k) {

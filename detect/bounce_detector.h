@@ -28,6 +28,8 @@
 // is a fall from rest whose vertex is fitted, and the fall alone does not tell G from drag:
 // bounce 0 then waits for the scale the first rebound's rise pins, and goes out just before
 // the first rebound's apex (or at the end of the drop if that rebound is too low).
+#include <Eigen/Core>
+
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -268,6 +270,11 @@ class BounceDetector {
   // free flight for the ball's size: 1, the container's, or an untagged one; 0: none (a hand's
   // curve). 1 when no size is given.
   double SlowdownOfBend(double accel_px) const;
+  // Free fall at the ball's size, px/s^2 on the real clock (0: size not known).
+  double SizeGravityPx() const;
+  // Down(t) of the samples as c0 + c1 dt + c2 dt^2, dt from the last sample's time, and the
+  // fit's RMS residual (px) when asked.
+  Eigen::Vector3d DownParabola(const std::vector<Sample>& run, double* rms = nullptr) const;
   double Down(const Sample& s) const;
   double Floor(const Sample& s) const;
   int64_t ToUtime(double t) const;

@@ -78,19 +78,9 @@ bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<Detector
   }
   // ... by more than a hold's jitter, faster and faster, smoothly (a parabola, not a hand).
   if (Down(fall.back()) - Down(fall.front()) < 2 * thr) return false;
-  const auto rows = static_cast<Eigen::Index>(m);
-  Eigen::MatrixXd a(rows, 3);
-  Eigen::VectorXd b(rows);
-  for (Eigen::Index i = 0; i < rows; ++i) {
-    const double dt = fall[static_cast<size_t>(i)].t - fall.back().t;
-    a(i, 0) = 1;
-    a(i, 1) = dt;
-    a(i, 2) = dt * dt;
-    b(i) = Down(fall[static_cast<size_t>(i)]);
-  }
-  const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
+  double rms = 0;
+  const Eigen::Vector3d c = DownParabola(fall, &rms);
   if (!(c(2) > 0)) return false;
-  const double rms = std::sqrt((a * c - b).squaredNorm() / static_cast<double>(m));
   if (rms > StartGate()) return false;
   // Far from its vertex already: it came from out of view, not from a hand (see below;
   // twice the margin: five samples place the vertex roughly).
@@ -131,6 +121,23 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   auto step = [](const Sample& p, const Sample& q) { return std::hypot(q.x - p.x, q.y - p.y); };
   while (run.size() > 4 && step(run[0], run[1]) < 0.3 * thr && step(run[1], run[2]) < 0.3 * thr)
     run.erase(run.begin());
+  // The lowest sample of a V, fallen into and risen from, straddles an impact: it lies on the
+  // fall or on the rebound. On the wrong one it bends a young arc's fit (a ping-pong ball
+  // seen from mid-fall at 30 fps: gravity 38% high, the arc lost at its apex). Of the fits
+  // with and without it, the one that bends nearer free fall at the ball's size is kept
+  // (without it when the size is not known); a sample left out stays among those before the
+  // arc (the impact it came from).
+  const size_t first = hold_.size() - run.size();
+  if (first >= 1 && run.size() >= 5 && run[0].t - hold_[first - 1].t <= 3 * frame_dt_ &&
+      Down(hold_[first - 1]) < Down(run[0]) - thr && Down(run[1]) < Down(run[0]) - thr) {
+    const std::vector<Sample> after(run.begin() + 1, run.end());
+    const double with = 2 * DownParabola(run)(2), without = 2 * DownParabola(after)(2);
+    // On the clock the file may have (a slow-motion file bends at g / k^2).
+    const double k = without > 0 ? SlowdownOfBend(without) : 0;
+    const double g_px = k > 0 ? SizeGravityPx() / (k * k) : 0;
+    auto off = [&](double bend) { return bend > 0 ? std::abs(std::log(bend / g_px)) : 1e9; };
+    if (!(g_px > 0) || off(without) < off(with)) run = after;
+  }
   if (run.size() < static_cast<size_t>(config_.arc_start_samples)) return false;
   m = run.size();
   // Still at first, moving down at last: a release from a hold, which ReleasedFromHold
@@ -235,6 +242,22 @@ void BounceDetector::StartSequence(Arc release, const Sample& s, std::vector<Det
       bounce0_emitted_ = true;
     }
   }
+}
+
+Eigen::Vector3d BounceDetector::DownParabola(const std::vector<Sample>& run, double* rms) const {
+  const auto rows = static_cast<Eigen::Index>(run.size());
+  Eigen::MatrixXd a(rows, 3);
+  Eigen::VectorXd b(rows);
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    const double dt = run[static_cast<size_t>(i)].t - run.back().t;
+    a(i, 0) = 1;
+    a(i, 1) = dt;
+    a(i, 2) = dt * dt;
+    b(i) = Down(run[static_cast<size_t>(i)]);
+  }
+  const Eigen::Vector3d c = a.colPivHouseholderQr().solve(b);
+  if (rms) *rms = std::sqrt((a * c - b).squaredNorm() / static_cast<double>(rows));
+  return c;
 }
 
 }  // namespace bouncefit

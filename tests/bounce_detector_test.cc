@@ -102,15 +102,7 @@ using testing::MakeSimClip;
 using testing::RunDetector;
 using testing::ScorePeaks;
 using testing::SimOptions;
-
-// The drop MakeSimClip renders for `o` (release, impacts, apexes), known before the clip.
-PointMassDropResult SimTruth(const SimOptions& o) {
-  PointMassDropConfig pc;
-  pc.ball = ResolveBallPreset(o.ball);
-  pc.drop_height_m = o.drop_m;
-  pc.hold_s = o.hold_s;
-  return SimulatePointMassDrop(pc);
-}
+using testing::SimTruth;
 
 void ExpectAllFound(const testing::PeakScore& s) {
   EXPECT_EQ(s.found_over_1cm, s.truth_over_1cm) << s.report;

@@ -63,6 +63,15 @@ inline void SimImagePoint(const SimOptions& o, double height_bottom_m, double ra
   *y = cy - std::sin(r) * dx + std::cos(r) * dy;
 }
 
+// The drop MakeSimClip renders for `o` (release, impacts, apexes), known before the clip.
+inline PointMassDropResult SimTruth(const SimOptions& o) {
+  PointMassDropConfig pc;
+  pc.ball = ResolveBallPreset(o.ball);
+  pc.drop_height_m = o.drop_m;
+  pc.hold_s = o.hold_s;
+  return SimulatePointMassDrop(pc);
+}
+
 inline SimClip MakeSimClip(const SimOptions& o, int64_t frame_offset = 0) {
   SimClip clip;
   clip.options = o;
