@@ -213,11 +213,6 @@ TEST(BounceDetectorEntry, ABallFirstSeenMidFallKeepsItsFirstRebounds) {
   EXPECT_GE(whole, runs - 1);
 }
 
-}  // namespace
-}  // namespace bouncefit
-
-namespace bouncefit {
-namespace {
 
 TEST(BounceDetector, ReleaseAtTheFirstFrameWithoutAHold) {
   testing::SimOptions o;
@@ -232,11 +227,6 @@ TEST(BounceDetector, ReleaseAtTheFirstFrameWithoutAHold) {
   EXPECT_TRUE(s.within_tolerance) << s.report;
 }
 
-}  // namespace
-}  // namespace bouncefit
-
-namespace bouncefit {
-namespace {
 
 // `bouncefit run` without --color: the tracker locks on the ball only once it moves, a few
 // frames after the release, so the hold is never seen. The release arc is then a fall from
@@ -287,11 +277,6 @@ INSTANTIATE_TEST_SUITE_P(
       return i.param.ball + "_" + std::to_string(i.param.frames_missed) + "_frames_missed";
     });
 
-}  // namespace
-}  // namespace bouncefit
-
-namespace bouncefit {
-namespace {
 
 // Issue 13: no release needed. A throw (vertical and horizontal launch speed), a clip that
 // begins mid-bounce, from 25 to 240 fps, with the exposure half the frame period (1/60 s at
@@ -354,11 +339,6 @@ INSTANTIATE_TEST_SUITE_P(
                       Motion{"midbounce_25fps", "basketball", 1.5, 25, 0, 0.2, 0.9}),
     [](const ::testing::TestParamInfo<Motion>& i) { return i.param.name; });
 
-}  // namespace
-}  // namespace bouncefit
-
-namespace bouncefit {
-namespace {
 
 // A ball 120 px across filmed at 24 fps is located to a pixel or two (here 2 px), not to the
 // 0.3 px the detector assumes before its first fit: the first arc must start all the same
