@@ -213,7 +213,6 @@ TEST(BounceDetectorEntry, ABallFirstSeenMidFallKeepsItsFirstRebounds) {
   EXPECT_GE(whole, runs - 1);
 }
 
-
 TEST(BounceDetector, ReleaseAtTheFirstFrameWithoutAHold) {
   testing::SimOptions o;
   o.ball = "airball";
@@ -226,7 +225,6 @@ TEST(BounceDetector, ReleaseAtTheFirstFrameWithoutAHold) {
   EXPECT_EQ(s.false_peaks, 0) << s.report;
   EXPECT_TRUE(s.within_tolerance) << s.report;
 }
-
 
 // `bouncefit run` without --color: the tracker locks on the ball only once it moves, a few
 // frames after the release, so the hold is never seen. The release arc is then a fall from
@@ -276,7 +274,6 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<UnseenHold>& i) {
       return i.param.ball + "_" + std::to_string(i.param.frames_missed) + "_frames_missed";
     });
-
 
 // Issue 13: no release needed. A throw (vertical and horizontal launch speed), a clip that
 // begins mid-bounce, from 25 to 240 fps, with the exposure half the frame period (1/60 s at
@@ -338,7 +335,6 @@ INSTANTIATE_TEST_SUITE_P(
                       Motion{"midbounce_falling_120fps", "football", 1.0, 120, 0, 0, 1.1},
                       Motion{"midbounce_25fps", "basketball", 1.5, 25, 0, 0.2, 0.9}),
     [](const ::testing::TestParamInfo<Motion>& i) { return i.param.name; });
-
 
 // A ball 120 px across filmed at 24 fps is located to a pixel or two (here 2 px), not to the
 // 0.3 px the detector assumes before its first fit: the first arc must start all the same
