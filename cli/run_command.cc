@@ -99,6 +99,9 @@ void ReportClock(const Calibration& c, const ContainerClock& container, bool for
            "than a ball of another preset would: --time-scale 1 to read it as recorded)";
     r += "; times and heights use real time; gravity's scale is " + Fixed(q, 2) +
          "x the ball size's";
+    if (std::abs(std::log(q)) > std::log(1.3) && c.diameter_ratio > 0)
+      r += " (the ball measures " + Fixed(c.diameter_ratio, 2) +
+           "x the size given on the free fall's scale: another ball than the preset?)";
   } else if (c.method == "ball-diameter" && c.free_fall_px_per_m > 0) {
     // Too uncertain to say anything about the clock: no slow motion to suggest.
     r = "clock: as recorded; the free fall is not measured (its scale " + Fixed(c.free_fall_px_per_m, 0) +

@@ -35,6 +35,8 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
   if (!(capture_slowdown_hint > 0)) return fail("capture slow-down hint must be > 0");
   if (!(clock_tolerance > 0 && clock_tolerance < 1))
     return fail("clock tolerance must be in (0, 1)");
+  if (!(preset_size_error >= 1 + clock_tolerance) || !std::isfinite(preset_size_error))
+    return fail("preset size error must be >= 1 + clock tolerance");
   for (double k : untagged_slowdowns)
     if (!(k > 1) || !std::isfinite(k)) return fail("untagged slow-downs must be > 1");
   if (fall_start_samples < 4) return fail("a fall start needs >= 4 samples");

@@ -144,11 +144,15 @@ struct BounceDetectorConfig {
   // frames' timestamps. 0 = decide: as recorded, unless the container says the file is
   // slowed (capture_slowdown_hint = capture fps / stored fps) and the ball's known size
   // confirms that factor: gravity measured on a timeline slowed s times is s^2 too small,
-  // so the free-fall scale over the size scale is 1/s^2. A size that disagrees by any other
-  // factor (a ball of another size than given) changes nothing but the report...
+  // so the free-fall scale over the size scale is 1/s^2. The container's word needs less
+  // of the size than the size alone would: the slowed clock is taken when it explains the
+  // two scales better than the recorded one and within preset_size_error (a ball given as
+  // the nearest preset: a 5 cm ball as a tennis ball's 6.7). A size that disagrees by any
+  // other factor (a ball of another size than given) changes nothing but the report...
   double time_scale = 0;
   double capture_slowdown_hint = 1;
   double clock_tolerance = 0.3;  // the two scales agree within this fraction
+  double preset_size_error = 2;  // ... or within this factor, with the container's word
   // ... unless the container says nothing and the disagreement is a phone's slow motion that
   // no ball given with the wrong preset explains: the presets' diameters span 6x (40 to
   // 239 mm), a timeline slowed 4x disagrees 16x, 8x 64x (a slow-motion file re-encoded, its

@@ -86,7 +86,13 @@ bool BounceDetector::DecideClock(bool free_fall) {
     slowdowns = {hint};
   else if (free_fall)
     slowdowns = config_.untagged_slowdowns;
-  if (const double k = SlowdownExplaining(q, slowdowns); k > 0) {
+  double k = SlowdownExplaining(q, slowdowns);
+  // The container's word, and a size nearer its clock than the recorded one: a ball given
+  // as the nearest preset.
+  if (const double off = std::abs(std::log(q * hint * hint));
+      !(k > 0) && hint > 1.05 && off < std::log(config_.preset_size_error) && off < std::abs(std::log(q)))
+    k = hint;
+  if (k > 0) {
     clock_decided_ = true;
     RescaleTime(1 / k);
     return true;

@@ -222,7 +222,8 @@ TEST(DetectRealClips, TennisHeightsAgreeWithFlightTimes) {
 // file re-encoded) a 16x disagreement, more than any ball given with the wrong preset makes
 // (their diameters span 6x), is taken for 4x slow motion too, and the run says the file did
 // not, with the same heights; --time-scale forces either clock; a ball given with the wrong
-// size is never taken for slow motion.
+// size is never taken for slow motion, unless the container says so and the size is nearer
+// its clock than the recorded one, within 2x (a ball given as the nearest preset).
 TEST(DetectClock, SlowMotionFromTheContainerConfirmedByTheBallSize) {
   const auto dir = testing::ScratchDir("detect_clock");
   const auto clip = dir / "clip.avi";
@@ -302,6 +303,14 @@ TEST(DetectClock, SlowMotionFromTheContainerConfirmedByTheBallSize) {
   const auto small = run(plain, "--ball pingpong", "small_ball", &log);
   EXPECT_DOUBLE_EQ(small["clock"]["time_scale"].get<double>(), 1.0) << log;
   EXPECT_EQ(log.find("slow motion"), std::string::npos) << log;
+
+  // The same ball on the tagged file: the container says 4x and the size, 1.7x off, agrees
+  // with that clock far better than with the recorded one (27x). Real time, the heights from
+  // the free fall's scale (true), and the run says the ball is not the size given.
+  const auto nearest = run(tagged, "--ball pingpong", "nearest_preset", &log);
+  EXPECT_DOUBLE_EQ(nearest["clock"]["time_scale"].get<double>(), 0.25) << log;
+  EXPECT_NE(log.find("another ball than the preset"), std::string::npos) << log;
+  expect_truth_heights(nearest, log);
 
   // A basketball's size for a tennis ball: gravity and size disagree by no slow-down factor.
   const auto wrong = run(tagged, "--ball basketball", "wrong_ball", &log);
