@@ -228,6 +228,10 @@ void Run(CaptureOptions& o) {
   if (recorder) recorder->Close();
   if (log) log->Close();
   const CaptureStats& s = node.stats();
+  if (file && file->undecodable_frames() > 0)
+    std::printf("capture: warning: %s: %lld frames could not be decoded (damaged data) and "
+                "were skipped\n",
+                o.replay.c_str(), static_cast<long long>(file->undecodable_frames()));
   if (file && file->ended_short())
     std::printf("capture: warning: %s ended after %lld of the %lld frames it announces "
                 "(truncated or damaged?)\n",

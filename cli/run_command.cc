@@ -339,6 +339,10 @@ void RunOneClip(RunOptions o) {
     else
       console.Info("run: warning: " + read);
   }
+  if (file_source && file_source->undecodable_frames() > 0)
+    console.Info("run: warning: " + clip + ": " + std::to_string(file_source->undecodable_frames()) +
+                 " frames could not be decoded (damaged data) and were skipped; the stream went "
+                 "on after them, with a gap in the track");
   if (file_source && file_source->repeated_frames() > 0)
     console.Info("run: " + std::to_string(file_source->repeated_frames()) + " of " +
                  std::to_string(file_source->repeated_frames() + capture.stats().frames) +

@@ -96,18 +96,26 @@ void VideoFileSource::Open() {
   info_.frame_count = count > 0 ? static_cast<int64_t>(count) : -1;
   pass_first_us_ = -1;
   pass_frames_ = 0;
+  pass_undecodable_ = 0;
 }
 
 std::optional<Frame> VideoFileSource::Decode() {
   Frame frame;
   bool ok = false;
+  // A damaged stretch (a phone's file with bad bytes) fails one read per damaged packet, and
+  // the reads after it decode again: read on while the container announces more frames,
+  // and count the ones lost. At a true end every further read fails at once.
+  const int64_t budget = info_.frame_count > 0 ? info_.frame_count - pass_frames_ + 1 : 8;
+  int64_t failed = 0;
   try {
-    ok = capture_.read(frame.image);
+    while (!(ok = capture_.read(frame.image) && !frame.image.empty()) && failed < budget) ++failed;
   } catch (const cv::Exception& e) {
     throw std::runtime_error("video '" + config_.path + "': decoding failed after " +
                              std::to_string(delivered_) + " frames");
   }
-  if (!ok || frame.image.empty()) return std::nullopt;
+  if (!ok) return std::nullopt;
+  undecodable_ += failed;
+  pass_undecodable_ += failed;
   if (rotation_deg_ == 90) cv::rotate(frame.image, frame.image, cv::ROTATE_90_CLOCKWISE);
   if (rotation_deg_ == 180) cv::rotate(frame.image, frame.image, cv::ROTATE_180);
   if (rotation_deg_ == 270) cv::rotate(frame.image, frame.image, cv::ROTATE_90_COUNTERCLOCKWISE);
@@ -158,7 +166,7 @@ std::optional<Frame> VideoFileSource::Next() {
     }
   }
   if (!frame) {
-    ended_short_ = info_.frame_count > 0 && pass_frames_ < info_.frame_count * 0.95 - 1;
+    ended_short_ = info_.frame_count > 0 && pass_frames_ + pass_undecodable_ < info_.frame_count * 0.95 - 1;
     return std::nullopt;
   }
   ++decoded_;

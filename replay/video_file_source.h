@@ -46,6 +46,9 @@ class VideoFileSource final : public FrameSource {
   // Frames whose container time did not increase and was replaced by previous + one
   // nominal interval.
   int64_t repaired_times() const { return repaired_; }
+  // Frames that could not be decoded (damaged data) and were skipped, the stream going on
+  // after them: their time is a gap between the frames delivered.
+  int64_t undecodable_frames() const { return undecodable_; }
   int64_t dropped_frames() const override { return dropped_; }
   // Pictures skipped as repeats of the one before (not delivered, not dropped).
   int64_t repeated_frames() const { return repeats_.repeats(); }
@@ -77,6 +80,7 @@ class VideoFileSource final : public FrameSource {
   };
   std::vector<Recorded> recorded_;  // from FILE.times.csv, one per frame
   int64_t repaired_ = 0;
+  int64_t undecodable_ = 0, pass_undecodable_ = 0;
   int rotation_deg_ = 0;
   RepeatedFrameFilter repeats_;
   int64_t decoded_ = 0;  // pictures decoded over all passes, repeats included

@@ -287,5 +287,41 @@ TEST(VideoFileSource, TruncatedClipGivesTheFramesThatAreThere) {
   EXPECT_TRUE(source.ended_short());  // the header announced 60
 }
 
+// A file with damaged bytes in its middle (an H.264 .mp4, every frame a key frame, 400 B
+// overwritten a third of the way in): the damaged frames cannot be decoded, the ones after
+// them can. They all come out, each with its own time, and the lost ones are counted.
+// Before, the reading stopped at the first damaged frame and the rest of the file was lost.
+TEST(VideoFileSource, DamagedStretchIsSkippedAndTheFramesAfterItAreRead) {
+  const auto dir = testing::ScratchDir("video_file_source_damaged");
+  const std::string avi = WriteClip(dir, 60, 30);
+  const auto mp4 = (dir / "clip.mp4").string(), bad = (dir / "damaged.mp4").string();
+  std::string out;
+  ASSERT_EQ(testing::RunCommand("ffmpeg -v error -y -i '" + avi + "' -c:v libx264 -g 1 -pix_fmt yuv420p '" +
+                                    mp4 + "'",
+                                &out),
+            0)
+      << out;
+  {
+    std::ifstream in(mp4, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    ASSERT_GT(bytes.size(), 4000u);
+    for (size_t i = bytes.size() / 3; i < bytes.size() / 3 + 400; ++i) bytes[i] = "\xde\xad\xbe\xef"[i % 4];
+    std::ofstream(bad, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  VideoFileSource source({bad, false});
+  int n = 0, last_index = -1;
+  while (auto f = source.Next()) {
+    const int index = static_cast<int>(std::lround(static_cast<double>(f->utime) * 30e-6));
+    EXPECT_NEAR(BarRow(f->image), 2 * index, 1) << "frame at " << f->utime << " us";
+    EXPECT_GT(index, last_index);
+    last_index = index;
+    ++n;
+  }
+  EXPECT_GT(source.undecodable_frames(), 0);
+  EXPECT_EQ(n + source.undecodable_frames(), 60);
+  EXPECT_EQ(last_index, 59);  // the file's last frame, after the damage
+  EXPECT_FALSE(source.ended_short());
+}
+
 }  // namespace
 }  // namespace bouncefit
