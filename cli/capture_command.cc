@@ -13,6 +13,7 @@
 
 #include "capture/frame_recorder.h"
 #include "capture/v4l2_camera.h"
+#include "cli/number_checks.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/pick_window.h"
@@ -280,14 +281,14 @@ void AddCaptureCommand(CLI::App& app) {
       ->check(CLI::Range(2, 32))
       ->capture_default_str();
   cmd->add_option("--speed", o->speed, "replay: pace at this multiple of real time (0: as fast as possible)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(NonNegative())
       ->capture_default_str();
   cmd->add_flag("--loop", o->loop, "replay: start the clip again at its end");
   cmd->add_option("--record", o->record, "camera: save the frames to this .avi (and its .times.csv)");
   cmd->add_option("--log", o->log, "record every published message to this LCM log (.lcm)");
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd->add_flag("--quiet,-q", o->quiet, "print only the final line");
   AddTrackerFlags(cmd, &o->tracker, &o->pick_window);
   auto* no_audio = cmd->add_flag("--no-audio", o->no_audio, "replay: ignore the clip's sound track");

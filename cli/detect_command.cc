@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli/number_checks.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "detect/node/detect_node.h"
@@ -157,7 +158,7 @@ void AddDetectCommand(CLI::App& app) {
   cmd->add_option("--time-scale", o->time_scale,
                   "real seconds per second of the boxes' timestamps (0.25: a 4x slow-motion "
                   "file; default: as recorded)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd->add_flag("--retime-frames", o->retime_frames,
                 "boxes stamped at a lower rate than their pictures were taken (some dropped): "
                 "re-time each to the rate the ball's flight shows");

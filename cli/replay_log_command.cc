@@ -6,6 +6,7 @@
 #include <regex>
 #include <stdexcept>
 
+#include "cli/number_checks.h"
 #include "cli/commands.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
@@ -82,7 +83,7 @@ void AddReplayLogCommand(CLI::App& app) {
   cmd->add_option("log", o->log, "LCM log (.lcm), as written by --log or lcm-logger")->required();
   cmd->add_option("--speed", o->replay.speed,
                   "pace at this multiple of the logged timing (0: as fast as possible)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(NonNegative())
       ->capture_default_str();
   cmd->add_option("--channels", o->replay.channels_regex,
                   "republish only channels matching this regular expression")

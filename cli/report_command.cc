@@ -1,6 +1,7 @@
 // bouncefit report DIR: report.html and PNG figures from a run's output directory.
 #include <cstdio>
 
+#include "cli/number_checks.h"
 #include "cli/commands.h"
 #include "report/report_drops.h"
 #include "report/report_html.h"
@@ -24,7 +25,7 @@ void AddReportCommand(CLI::App& app) {
   cmd->add_option("--plot-timeout", flags->options.figures.gnuplot.timeout_s,
                   "Seconds a figure may take before gnuplot is killed")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd->add_option("--width", flags->options.figures.width_px, "Figure width, pixels")
       ->capture_default_str()
       ->check(CLI::Range(300, 4000));

@@ -12,6 +12,7 @@
 #include <mutex>
 
 #include "capture/v4l2_camera.h"
+#include "cli/number_checks.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/fit_offline.h"
@@ -463,11 +464,11 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_option("--ball", o->ball, "ball preset: " + BallPresetNames() +
                                          " (default: the sample's, else pingpong)");
   cmd->add_option("--diameter", o->diameter_m, "ball diameter, m (overrides the preset)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd->add_option("--mass", o->mass_kg, "ball mass, kg (overrides the preset)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd->add_option("--speed", o->speed, "replay at this multiple of real time (0: as fast as possible)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(NonNegative())
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", o->quiet, "print nothing but errors");
   cmd->add_flag("--json", o->json, "print one JSON object per event (calibration, peak, fit, summary)");
@@ -489,24 +490,24 @@ void AddRunCommand(CLI::App& app) {
       ->check(CLI::IsMember({"boost", "restitution"}))
       ->capture_default_str();
   cmd->add_option("--max-evals", o->max_evals, "simulations for the final fit (0: default)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd->add_option("--px-per-m", o->px_per_m, "image scale, px/m (default: from free fall)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd->add_option("--drop-height", o->drop_height_m,
                   "release height of the ball bottom, m (sets the scale)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd->add_option("--time-scale", o->time_scale,
                   "real seconds per second of the file's timeline (0.25: a 4x slow-motion "
                   "file; default: as recorded unless the container's capture rate and the "
                   "ball's size agree it is slowed, or the free fall is 16x or 64x weaker than "
                   "the size says: 4x or 8x slow motion that no wrong ball size explains)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd->add_flag("--retime-frames", o->retime_frames,
                 "the file's pictures were taken at a higher rate than its stamps say (some "
                 "dropped: a 24 fps capture saved at 20 fps): read each at the time it was "
                 "taken, when the ball's flight shows the rate (the run suggests it)");
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   AddTrackerFlags(cmd, &o->tracker, &o->pick_window);
   cmd->callback([o] { o->clips.size() > 1 ? RunSeveral(*o) : RunOneClip(*o); });

@@ -4,6 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cli/number_checks.h"
 #include "cli/commands.h"
 #include "model/ball_preset.h"
 #include "synth/synth_clip.h"
@@ -127,11 +128,11 @@ void AddSynthCommand(CLI::App& app) {
   cmd->add_flag("--no-drag", o->no_drag, "Switch air drag off (vacuum)");
   cmd->add_option("--restitution", o->restitution,
                   "Restitution at impact speed 0, e0 in e(v) = e0 - k v (default: the preset's)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd->add_option("--restitution-per-mps", o->restitution_per_mps,
                   "Restitution lost per m/s of impact speed, k in e(v) = e0 - k v, 1/(m/s) "
                   "(default: the preset's)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd->add_option("--fps", c.fps, "Frame rate, frames per second")->capture_default_str();
   cmd->add_option("--size", o->size, "Frame size WxH, pixels")->capture_default_str();
   cmd->add_option("--duration", c.duration_s, "Clip length, seconds")->capture_default_str();

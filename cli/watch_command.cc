@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <memory>
 
+#include "cli/number_checks.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/watch_render.h"
@@ -163,7 +164,7 @@ void AddWatchCommand(CLI::App& app) {
                 "Listen for --duration seconds (default 3), print one snapshot, exit");
   cmd->add_option("--duration", f->duration_s, "Stop after this many seconds (0: until q/Ctrl-C)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   cmd->add_flag("--ascii", f->ascii, "ASCII only (no block characters in the height trace)");
   cmd->add_option("--refresh-hz", f->refresh_hz, "Dashboard redraws per second")
       ->capture_default_str()
@@ -171,7 +172,7 @@ void AddWatchCommand(CLI::App& app) {
   cmd->add_option("--stale-after", f->config.stale_after_s,
                   "Seconds without a message before showing \"waiting for data\"")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   cmd->callback([f] { RunWatch(*f); });
 }
 
