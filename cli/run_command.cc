@@ -340,6 +340,15 @@ void RunOneClip(RunOptions o) {
     else
       console.Info("run: warning: " + read);
   }
+  // A whole file without the ball in any frame gave nothing to measure: say so, non-zero.
+  if (file_source && failure.empty() && !g_stop && capture.stats().frames > 0 &&
+      capture.stats().found == 0)
+    failure = clip + ": no ball found in any of its " + std::to_string(capture.stats().frames) +
+              " frames" +
+              (o.tracker.has_color || o.tracker.has_chroma || o.tracker.has_pick || o.tracker.luma_mode
+                   ? " (nothing of the colour or brightness given)"
+                   : " (nothing moved like a ball and stood out of its surroundings; if it is "
+                     "there, --color or --pick names it)");
   if (file_source && file_source->undecodable_frames() > 0)
     console.Info("run: warning: " + clip + ": " + std::to_string(file_source->undecodable_frames()) +
                  " frames could not be decoded (damaged data) and were skipped; the stream went "

@@ -168,6 +168,20 @@ TEST(Run, BadInputIsOneLineErrorAndNonZero) {
             0) << out;
   EXPECT_NE(out.find("ended after"), std::string::npos) << out;
   EXPECT_NE(out.find("frames it announces"), std::string::npos) << out;
+
+  // A whole clip with no ball in it: said in one line, non-zero (it ended "done", exit 0).
+  const fs::path empty = dir / "no_ball.mp4";
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -f lavfi -i color=c=gray:s=320x240:r=30 -t 1 -pix_fmt yuv420p '" +
+                           empty.string() + "'",
+                       &out),
+            0)
+      << out;
+  EXPECT_NE(RunCommand(BouncefitExe() + " run " + empty.string() + " --no-fit --speed 0 --out " +
+                           (dir / "out_empty").string() + " --lcm-url memq://",
+                       &out),
+            0) << out;
+  EXPECT_NE(out.find("no ball found in any of its 30 frames"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir / "out_empty" / "track.csv"));  // what was recorded is kept
 }
 
 std::string Tmux(const std::string& args) {
