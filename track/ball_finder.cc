@@ -206,6 +206,22 @@ const cv::Mat& BallFinder::Ycc(Work& w) {
   return w.ycc;
 }
 
+const PictureProfiles& BallFinder::Profiles(Work& w) {
+  if (w.profiles.empty()) w.profiles = ProfilesOf(Ycc(w));
+  return w.profiles;
+}
+
+void BallFinder::ChangeAgainst(const cv::Mat& b, const cv::Mat& other, const PictureShift& shift,
+                               cv::Mat& d) {
+  if (!shift.moved()) {
+    ChangeOf(b, other, d3_, d);
+    return;
+  }
+  const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, shift.dx, 0, 1, shift.dy);
+  cv::warpAffine(other, moved_, m, other.size(), cv::INTER_NEAREST, cv::BORDER_REPLICATE);
+  ChangeOf(b, moved_, d3_, d);
+}
+
 void BallFinder::ToYcc(const cv::Mat& image, PixelFormat format, cv::Mat* ycc) {
   cv::Mat bgr = image;
   if (format == PixelFormat::kYuyv) cv::cvtColor(image, bgr_, cv::COLOR_YUV2BGR_YUYV), bgr = bgr_;
@@ -232,8 +248,11 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
   const cv::Mat& A = Ycc(history_[na]);
   const cv::Mat& B = Ycc(history_[nb]);
   const cv::Mat& C = Ycc(history_[nc]);
-  ChangeOf(B, A, d3_, dba_);
-  ChangeOf(B, C, d3_, dbc_);
+  // A hand-held camera: the older and newer frames moved onto the middle one's picture.
+  const PictureShift shift_a = MeasurePictureShift(Profiles(history_[na]), Profiles(history_[nb]));
+  const PictureShift shift_c = MeasurePictureShift(Profiles(history_[nc]), Profiles(history_[nb]));
+  ChangeAgainst(B, A, shift_a, dba_);
+  ChangeAgainst(B, C, shift_c, dbc_);
   const cv::Mat& dba = dba_;
   const cv::Mat& dbc = dbc_;
 

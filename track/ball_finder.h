@@ -15,6 +15,7 @@
 
 #include "capture/frame.h"
 #include "track/color_model.h"
+#include "track/picture_shift.h"
 
 namespace bouncefit {
 
@@ -58,19 +59,23 @@ class BallFinder {
     cv::Mat raw;  // the frame's region of interest, as delivered
     PixelFormat format = PixelFormat::kBgr24;
     cv::Mat ycc;  // CV_8UC3 Y, Cr, Cb at reduced resolution, once a Find needed it
+    PictureProfiles profiles;  // of ycc, once a Find needed them (a hand-held camera's shift)
     cv::Mat spare;  // a buffer to compute ycc into
     double t = 0;
   };
   static constexpr size_t kHistory = 17;  // frames kept: two lags of up to 8 frames, and now
   Work& Push(const Frame& frame, cv::Rect roi);  // a new newest entry, its images empty
   const cv::Mat& Ycc(Work& w);                   // w's, converted from w.raw the first time
+  const PictureProfiles& Profiles(Work& w);      // w's, from its ycc the first time
+  // What changed in `b` against `other`, `other` first moved by the picture's shift to it.
+  void ChangeAgainst(const cv::Mat& b, const cv::Mat& other, const PictureShift& shift, cv::Mat& d);
   void ToYcc(const cv::Mat& image, PixelFormat format, cv::Mat* ycc);
   BallFinderParams params_;
   ColorModelParams color_;
   std::deque<Work> history_;
   cv::Rect roi_;
   int shrink_ = 1;
-  cv::Mat bgr_, small_, d3_, dba_, dbc_, labels_;  // scratch, kept to spare the allocations
+  cv::Mat bgr_, small_, d3_, dba_, dbc_, labels_, moved_;  // scratch, kept to spare the allocations
 };
 
 }  // namespace bouncefit
