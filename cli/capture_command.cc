@@ -13,9 +13,9 @@
 
 #include "capture/frame_recorder.h"
 #include "capture/v4l2_camera.h"
-#include "cli/number_checks.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
+#include "cli/number_checks.h"
 #include "cli/pick_window.h"
 #include "cli/run_sound.h"
 #include "cli/tracker_flags.h"

@@ -10,9 +10,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "cli/number_checks.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
+#include "cli/number_checks.h"
 #include "detect/node/detect_node.h"
 #include "model/ball_preset.h"
 #include "msgs/channels.h"

@@ -6,8 +6,8 @@
 #include <regex>
 #include <stdexcept>
 
-#include "cli/number_checks.h"
 #include "cli/commands.h"
+#include "cli/number_checks.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
 #include "replay/node/lcm_log_replay.h"

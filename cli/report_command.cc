@@ -1,8 +1,8 @@
 // bouncefit report DIR: report.html and PNG figures from a run's output directory.
 #include <cstdio>
 
-#include "cli/number_checks.h"
 #include "cli/commands.h"
+#include "cli/number_checks.h"
 #include "report/report_drops.h"
 #include "report/report_html.h"
 

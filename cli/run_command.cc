@@ -12,10 +12,10 @@
 #include <mutex>
 
 #include "capture/v4l2_camera.h"
-#include "cli/number_checks.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/fit_offline.h"
+#include "cli/number_checks.h"
 #include "cli/pick_window.h"
 #include "cli/run_console.h"
 #include "cli/run_options.h"

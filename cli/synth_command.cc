@@ -4,8 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cli/number_checks.h"
 #include "cli/commands.h"
+#include "cli/number_checks.h"
 #include "model/ball_preset.h"
 #include "synth/synth_clip.h"
 

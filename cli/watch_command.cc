@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <memory>
 
-#include "cli/number_checks.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
+#include "cli/number_checks.h"
 #include "cli/watch_render.h"
 #include "cli/watch_state.h"
 #include "cli/watch_terminal.h"
