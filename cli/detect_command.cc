@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
@@ -29,6 +30,7 @@ struct DetectOptions {
   double px_per_m = 0;
   double time_scale = 0;
   bool retime_frames = false;
+  std::vector<int> frame_size;  // W, H of the camera's picture, px (empty: not known)
   double drop_height_m = 0;
   double exit_after_idle_s = 0;
   bool quiet = false;
@@ -99,6 +101,10 @@ void RunDetect(const DetectOptions& o) {
   cfg.detector.calibration.drop_height_m = o.drop_height_m;
   cfg.detector.time_scale = o.time_scale;
   cfg.retiming.apply = o.retime_frames;
+  if (o.frame_size.size() == 2) {
+    cfg.detector.image_width_px = o.frame_size[0];
+    cfg.detector.image_height_px = o.frame_size[1];
+  }
   std::string error;
   if (!cfg.detector.IsValid(&error)) throw std::invalid_argument(error);
 
@@ -162,6 +168,13 @@ void AddDetectCommand(CLI::App& app) {
   cmd->add_flag("--retime-frames", o->retime_frames,
                 "boxes stamped at a lower rate than their pictures were taken (some dropped): "
                 "re-time each to the rate the ball's flight shows");
+  cmd->add_option("--frame-size", o->frame_size,
+                  "the camera's picture size W,H in px (as `run` knows it): a fall first seen "
+                  "just after its vertex, that vertex in the picture, is then known for a "
+                  "release the tracker did not see held")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(Positive());
   cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
                   "exit when no box came for this many seconds (0: run until Ctrl-C)");
   cmd->add_flag("--quiet", o->quiet, "print only peaks and the summary");

@@ -213,6 +213,8 @@ void RunOneClip(RunOptions o) {
   dc.retiming.apply = o.retime_frames;
   const ContainerClock container = is_file ? ReadContainerClock(clip) : ContainerClock{};
   dc.detector.capture_slowdown_hint = container.SlowDown();
+  dc.detector.image_width_px = info.width;
+  dc.detector.image_height_px = info.height;
   DetectNode detect(&bus, dc);
 
   FitInbox inbox;

@@ -188,7 +188,7 @@ std::vector<DetectorEvent> BounceDetector::Push(const BallObservation& o) {
     if (radii_.size() > 301) radii_.erase(radii_.begin());
   }
   seen_.push_back(s);
-  if (seen_.size() > 32) seen_.erase(seen_.begin());
+  if (seen_.size() > kSeenKept) seen_.erase(seen_.begin());
   if (phase_ == Phase::kFlight && t - last_seen_t_ > config_.lost_s) EndSequence("lost", ev);
   last_seen_t_ = t;
   switch (phase_) {

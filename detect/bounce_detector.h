@@ -120,6 +120,11 @@ struct BounceDetectorConfig {
   // A fall first seen this close to its vertex (or 2 frames) is a release whose hold was
   // missed (bounce 0 is the vertex); one seen later came from out of view.
   double unseen_release_max_s = 0.08;
+  // The picture's size, px (0: not known). With it, a fall first seen later than that, its
+  // vertex in the picture and nothing seen rising into it while the camera watched, is known
+  // at its first impact for a release whose hold the tracker missed (a finder that sees what
+  // moves finds a still ball only once it falls, later when the camera shakes).
+  int image_width_px = 0, image_height_px = 0;
   double lost_s = 1.0;          // the ball unseen this long ends the drop
   double hold_window_s = 0.25;  // hold samples kept in the release arc
   // A young arc's first sample, off the arc its later samples make, is dropped: by the gate
@@ -207,6 +212,9 @@ class BounceDetector {
   bool FallFromUnseenRelease(const Sample& s, std::vector<DetectorEvent>& ev);
   bool ArcFromUnseenStart(const Sample& s, std::vector<DetectorEvent>& ev);
   bool EnteredApexSeen() const;
+  // At the first impact: the drop's first arc, taken for one entered from out of view, was a
+  // fall from a hold the tracker did not see (BounceDetectorConfig::image_width_px).
+  bool EnteredFallWasAnUnseenRelease() const;
   void StartSequence(Arc release, const Sample& s, std::vector<DetectorEvent>& ev);
   void OnFlight(const Sample& s, std::vector<DetectorEvent>& ev);
   void OnRest(const Sample& s, std::vector<DetectorEvent>& ev);
@@ -305,12 +313,15 @@ class BounceDetector {
   int misses_ = 0;  // consecutive samples off the current arc
   bool rejudging_ = false;  // OnFlight judging a sample again after a refit of the scale
   std::vector<double> radii_;
+  static constexpr size_t kSeenKept = 32;
   std::vector<Sample> seen_;  // the last samples seen, whatever became of them (ImpactNotSeen)
   int sequence_ = -1;
   bool bounce0_emitted_ = false;
   int first_bounce_ = 0;  // bounce number of arc 0 in this sequence
   // An entered first arc: the lowest sample seen shortly before it (was it at the floor?).
   std::optional<Sample> low_before_entered_;
+  // ... and when the ball was last seen before it (INT64_MIN: never; INT64_MAX: not known).
+  int64_t seen_before_entered_utime_ = INT64_MAX;
   std::vector<BouncePeak> peaks_;       // this sequence
   std::vector<BounceImpact> impacts_;   // this sequence
   std::vector<Sample> rest_samples_;

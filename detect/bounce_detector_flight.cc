@@ -471,6 +471,13 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
       calibration_.calibration.floor_centre_px() - Down(*low_before_entered_) <=
           std::max(2 * RadiusPx(), 3 * Gate()))
     first_bounce_ = 1;
+  // Taken for an arc from out of view, it was a fall from a hold the tracker missed: its
+  // vertex is the release, bounce 0 (a still ball found only once it fell).
+  if (arcs_.size() == 2 && first_bounce_ == 1 && peaks_.empty() && EnteredFallWasAnUnseenRelease()) {
+    arcs_[0].entered = false;
+    arcs_[0].release = true;
+    first_bounce_ = 0;
+  }
   const size_t idx = arcs_.size() - 1;
   const FlightImpact* began = ImpactBeforeCurrentArc();
   if (calibrated_ && began && calibration_.calibration.valid()) {

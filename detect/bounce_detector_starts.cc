@@ -207,10 +207,38 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   std::optional<Sample> low;
   for (size_t k = before; k > 0 && run.front().t - hold_[k - 1].t <= kBeforeEnteredArcS; --k)
     if (!low || Down(hold_[k - 1]) > Down(*low)) low = hold_[k - 1];
+  // The last sample before the arc, from the recent ones (the arc's own among them).
+  int64_t seen_before = seen_.size() < kSeenKept ? INT64_MIN : INT64_MAX;
+  for (const Sample& q : seen_)
+    if (q.t < run.front().t) seen_before = seen_before == INT64_MAX ? q.utime : std::max(seen_before, q.utime);
   StartSequence(std::move(arc), s, ev);
   first_bounce_ = first_bounce;
   low_before_entered_ = low;
+  seen_before_entered_utime_ = seen_before;
   return true;
+}
+
+bool BounceDetector::EnteredFallWasAnUnseenRelease() const {
+  const int width = config_.image_width_px, height = config_.image_height_px;
+  if (!(width > 0 && height > 0) || arcs_.empty() || !calibrated_) return false;
+  const Arc& a = arcs_[0];
+  if (!a.entered || !a.fit_ok || low_before_entered_) return false;
+  const FlightGlobals& g = calibration_.flight.globals;
+  const double t_vertex = a.fit.t_apex, late = a.samples.front().t - t_vertex;
+  // First seen after its vertex, before the ball could have fallen four radii and been
+  // noticed two frames later (a still ball is found once it has moved about its size).
+  const double r = RadiusPx();
+  if (!(late > 0) || !(g.gravity_px > 0) ||
+      late > std::sqrt(2 * 4 * r / g.gravity_px) + 2 * frame_dt_)
+    return false;
+  // Its vertex in the picture, the whole ball (one entered from above had it out of view).
+  double x = 0, y = 0;
+  FlightPosition(g, a.fit, false, t_vertex, &x, &y);
+  if (x < r || y < r || x > width - r || y > height - r) return false;
+  // Rising into that vertex, it would have passed where it was first seen falling, as fast,
+  // `late` before it: the camera watched then, three frames at least, and saw nothing.
+  const double mirror_from = t_vertex - late - 3 * frame_dt_;
+  return mirror_from >= 0 && seen_before_entered_utime_ < ToUtime(mirror_from);
 }
 
 bool BounceDetector::EnteredApexSeen() const {
@@ -223,6 +251,7 @@ void BounceDetector::StartSequence(Arc release, const Sample& s, std::vector<Det
   release.release = !release.entered;
   first_bounce_ = 0;
   low_before_entered_.reset();
+  seen_before_entered_utime_ = INT64_MAX;
   hold_.clear();
   arcs_.clear();
   arcs_.push_back(std::move(release));

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <ostream>
 
@@ -275,6 +277,88 @@ INSTANTIATE_TEST_SUITE_P(
       return i.param.ball + "_" + std::to_string(i.param.frames_missed) + "_frames_missed";
     });
 
+// A finder that sees what moves finds a still ball only once it falls, the later the more
+// the camera shakes (a hand-held phone: 0.1 s after the release at 30 fps). A fall first seen
+// that late after its vertex was taken for an arc entered from out of view, its rebounds
+// numbered from 2. With the picture's size known, a vertex inside it and nothing seen rising
+// into it while the camera watched make it a release: bounce 0 is its vertex, then 1, 2, ...
+// The detector as `bouncefit run` configures it: the picture's size known.
+BounceDetectorConfig WithThePictureSize(const testing::SimOptions& o) {
+  BounceDetectorConfig config;
+  config.image_width_px = static_cast<int>(o.width);
+  config.image_height_px = static_cast<int>(o.height);
+  return config;
+}
+
+struct LateFall {
+  std::string ball;
+  double fps;
+  int frames_missed;  // frames after the release with no detection
+  // Heights within max(2 mm, 1%). Not yet for a light ball: its release height, extrapolated
+  // over 0.1 s of a fall slowed by drag, comes out 1.3-1.5% high and its first rebound's
+  // 1.1-1.4% (ping-pong, wiffle ball at 30 fps; docs/ACCURACY.md).
+  bool heights_checked = true;
+};
+
+void PrintTo(const LateFall& c, std::ostream* os) {
+  *os << c.ball << " at " << c.fps << " fps, " << c.frames_missed << " frames missed";
+}
+
+class DetectorLateFall : public ::testing::TestWithParam<LateFall> {};
+
+testing::SimOptions LateFallOptions(const LateFall& c) {
+  testing::SimOptions o;
+  o.ball = c.ball;
+  o.fps = c.fps;
+  o.drop_m = 1.0;
+  o.hold_s = 0.5;
+  o.noise_px = 0.3;
+  o.seed = static_cast<unsigned>(c.fps + c.frames_missed);
+  o.gaps = {{0.0, o.hold_s + (c.frames_missed + 0.5) / o.fps}};
+  return o;
+}
+
+TEST_P(DetectorLateFall, AFallFirstSeenAfterItsVertexInViewIsARelease) {
+  const testing::SimOptions o = LateFallOptions(GetParam());
+  const auto clip = testing::MakeSimClip(o);
+  BounceDetector d{WithThePictureSize(o)};
+  const auto peaks = testing::RunDetector(d, clip.obs);
+  // Every apex of a flight of 5 frames or more (the shortest, at 4, are the detector's limit).
+  const double t5 = 5 / o.fps;
+  const auto s = testing::ScorePeaks(testing::TruthOf(clip), peaks, std::max(0.01, 9.81 * t5 * t5 / 8));
+  std::printf("%s", s.report.c_str());
+  ASSERT_FALSE(peaks.empty());
+  EXPECT_EQ(peaks.front().bounce, 0) << s.report;
+  EXPECT_EQ(s.found_over_1cm, s.truth_over_1cm) << s.report;
+  EXPECT_EQ(s.false_peaks, 0) << s.report;
+  if (GetParam().heights_checked) EXPECT_TRUE(s.within_tolerance) << s.report;
+}
+
+// The same fall with its vertex above the picture's top (the ball dropped from out of view):
+// no release height is reported, the apex was never in view.
+TEST_P(DetectorLateFall, AFallFromAboveThePictureHasNoReleaseRow) {
+  testing::SimOptions o = LateFallOptions(GetParam());
+  // The ball whole in view only after falling 0.2 s from its vertex, the floor in view.
+  const double enters_s = 0.2, radius_px = ResolveBallPreset(o.ball).diameter_m / 2 * o.px_per_m;
+  o.floor_y = radius_px - 0.5 * 9.81 * enters_s * enters_s * o.px_per_m + (o.drop_m * o.px_per_m + radius_px);
+  o.gaps = {{0.0, o.hold_s + std::max(enters_s, (GetParam().frames_missed + 0.5) / o.fps)}};
+  const auto clip = testing::MakeSimClip(o);
+  BounceDetector d{WithThePictureSize(o)};
+  const auto peaks = testing::RunDetector(d, clip.obs);
+  ASSERT_FALSE(peaks.empty());
+  for (const auto& p : peaks) EXPECT_NE(p.bounce, 0) << "a release height out of view";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    HandHeldLock, DetectorLateFall,
+    ::testing::Values(LateFall{"tennis", 30, 3}, LateFall{"pingpong", 30, 3, false},
+                      LateFall{"softball", 24, 3}, LateFall{"tennis", 60, 7},
+                      LateFall{"basketball", 30, 5}, LateFall{"wiffle", 30, 3, false}),
+    [](const ::testing::TestParamInfo<LateFall>& i) {
+      return i.param.ball + "_" + std::to_string(static_cast<int>(i.param.fps)) + "fps_" +
+             std::to_string(i.param.frames_missed) + "_missed";
+    });
+
 // Issue 13: no release needed. A throw (vertical and horizontal launch speed), a clip that
 // begins mid-bounce, from 25 to 240 fps, with the exposure half the frame period (1/60 s at
 // 30 fps: the centre is the exposure average); every apex found within max(2 mm, 1%), no
@@ -302,7 +386,7 @@ TEST_P(DetectorMotionKinds, EveryApexWithoutARelease) {
   o.width = 900;
   o.seed = static_cast<unsigned>(m.fps + 7);
   const auto clip = testing::MakeSimClip(o);
-  BounceDetector d{BounceDetectorConfig{}};
+  BounceDetector d{WithThePictureSize(o)};  // as `bouncefit run` gives it
   const auto peaks = testing::RunDetector(d, clip.obs);
   // Required: every apex whose flight lasts 4 frames or more (g T^2 / 8; 2.2 cm at 30 fps),
   // and at least 1 cm (the detector reports no shorter hop: its apex is not measurable).
