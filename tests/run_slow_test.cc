@@ -182,6 +182,19 @@ TEST(Run, BadInputIsOneLineErrorAndNonZero) {
             0) << out;
   EXPECT_NE(out.find("no ball found in any of its 30 frames"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir / "out_empty" / "track.csv"));  // what was recorded is kept
+
+  // A picture too small to hold a ball: said so, not "ROI lies outside the 4x4 frame".
+  const fs::path tiny = dir / "tiny.avi";
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -f lavfi -i testsrc=s=4x4:r=30 -t 1 -c:v mjpeg '" +
+                           tiny.string() + "'",
+                       &out),
+            0)
+      << out;
+  EXPECT_NE(RunCommand(BouncefitExe() + " run " + tiny.string() + " --no-fit --speed 0 --out " +
+                           (dir / "out_tiny").string() + " --lcm-url memq://",
+                       &out),
+            0) << out;
+  EXPECT_NE(out.find("4x4 px picture is too small"), std::string::npos) << out;
 }
 
 std::string Tmux(const std::string& args) {

@@ -73,9 +73,12 @@ BallObservation Tracker::Track(const Frame& frame) {
     roi_ = (config_.roi_w > 0 && config_.roi_h > 0)
                ? cv::Rect(config_.roi_x, config_.roi_y, config_.roi_w, config_.roi_h) & full
                : full;
+    const std::string frame_size = std::to_string(size_.width) + "x" + std::to_string(size_.height);
+    if (size_.width < 8 || size_.height < 8)
+      throw std::invalid_argument("tracker: a " + frame_size +
+                                  " px picture is too small to find a ball in (8x8 at least)");
     if (roi_.width < 8 || roi_.height < 8)
-      throw std::invalid_argument("tracker: ROI lies outside the " + std::to_string(size_.width) +
-                                  "x" + std::to_string(size_.height) + " frame");
+      throw std::invalid_argument("tracker: ROI lies outside the " + frame_size + " frame");
   }
   ++frames_;
   if (!color_.valid() && !ChooseColor(frame)) {
