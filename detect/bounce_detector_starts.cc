@@ -209,8 +209,10 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
     if (!low || Down(hold_[k - 1]) > Down(*low)) low = hold_[k - 1];
   // The last sample before the arc, from the recent ones (the arc's own among them).
   int64_t seen_before = seen_.size() < kSeenKept ? INT64_MIN : INT64_MAX;
-  for (const Sample& q : seen_)
-    if (q.t < run.front().t) seen_before = seen_before == INT64_MAX ? q.utime : std::max(seen_before, q.utime);
+  for (const Sample& q : seen_) {
+    if (q.t >= run.front().t) continue;
+    seen_before = seen_before == INT64_MAX ? q.utime : std::max(seen_before, q.utime);
+  }
   StartSequence(std::move(arc), s, ev);
   first_bounce_ = first_bounce;
   low_before_entered_ = low;
