@@ -60,6 +60,8 @@ TEST(Cli, NumberOutOfRangeSaysTheRangeBriefly) {
       {"run --speed -1", "--speed: must be a number >= 0, not -1"},
       {"run --diameter 0", "--diameter: must be a number > 0, not 0"},
       {"synth -o x.avi --restitution -0.5", "--restitution: must be a number >= 0, not -0.5"},
+      {"detect --frame-size 640,-480", "--frame-size: must be a number > 0, not -480"},
+      {"detect --frame-size 640", "--frame-size: At least 2 required but received 1"},
   };
   for (const auto& [args, says] : cases) {
     std::string out;
