@@ -207,12 +207,11 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   std::optional<Sample> low;
   for (size_t k = before; k > 0 && run.front().t - hold_[k - 1].t <= kBeforeEnteredArcS; --k)
     if (!low || Down(hold_[k - 1]) > Down(*low)) low = hold_[k - 1];
-  // The last sample before the arc, from the recent ones (the arc's own among them).
+  // The last sample before the arc, from the recent ones (in time order, the arc's own among
+  // them): none ever when they are not yet as many as are kept, not known when all are the arc's.
   int64_t seen_before = seen_.size() < kSeenKept ? INT64_MIN : INT64_MAX;
-  for (const Sample& q : seen_) {
-    if (q.t >= run.front().t) continue;
-    seen_before = seen_before == INT64_MAX ? q.utime : std::max(seen_before, q.utime);
-  }
+  for (const Sample& q : seen_)
+    if (q.t < run.front().t) seen_before = q.utime;
   StartSequence(std::move(arc), s, ev);
   first_bounce_ = first_bounce;
   low_before_entered_ = low;
