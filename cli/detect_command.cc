@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/bus_flags.h"
+#include "cli/frame_times_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
 #include "detect/node/detect_node.h"
@@ -30,6 +31,7 @@ struct DetectOptions {
   double px_per_m = 0;
   double time_scale = 0;
   bool retime_frames = false;
+  bool keep_frame_times = false;
   std::vector<int> frame_size;  // W, H of the camera's picture, px (empty: not known)
   double drop_height_m = 0;
   double exit_after_idle_s = 0;
@@ -100,7 +102,7 @@ void RunDetect(const DetectOptions& o) {
   cfg.detector.calibration.px_per_m = o.px_per_m;
   cfg.detector.calibration.drop_height_m = o.drop_height_m;
   cfg.detector.time_scale = o.time_scale;
-  cfg.retiming.apply = o.retime_frames;
+  cfg.retiming.mode = FrameTimesMode(o.retime_frames, o.keep_frame_times);
   if (o.frame_size.size() == 2) {
     cfg.detector.image_width_px = o.frame_size[0];
     cfg.detector.image_height_px = o.frame_size[1];
@@ -165,9 +167,7 @@ void AddDetectCommand(CLI::App& app) {
                   "real seconds per second of the boxes' timestamps (0.25: a 4x slow-motion "
                   "file; default: as recorded)")
       ->check(NonNegative());
-  cmd->add_flag("--retime-frames", o->retime_frames,
-                "boxes stamped at a lower rate than their pictures were taken (some dropped): "
-                "re-time each to the rate the ball's flight shows");
+  AddFrameTimesFlags(cmd, &o->retime_frames, &o->keep_frame_times);
   cmd->add_option("--frame-size", o->frame_size,
                   "the camera's picture size W,H in px (as `run` knows it): a fall first seen "
                   "just after its vertex, that vertex in the picture, is then known for a "

@@ -13,6 +13,7 @@
 
 #include "capture/v4l2_camera.h"
 #include "cli/bus_flags.h"
+#include "cli/frame_times_flags.h"
 #include "cli/commands.h"
 #include "cli/fit_offline.h"
 #include "cli/number_checks.h"
@@ -210,7 +211,7 @@ void RunOneClip(RunOptions o) {
   dc.detector.calibration.px_per_m = o.px_per_m;
   dc.detector.calibration.drop_height_m = o.drop_height_m;
   dc.detector.time_scale = o.time_scale;
-  dc.retiming.apply = o.retime_frames;
+  dc.retiming.mode = FrameTimesMode(o.retime_frames, o.keep_frame_times);
   const ContainerClock container = is_file ? ReadContainerClock(clip) : ContainerClock{};
   dc.detector.capture_slowdown_hint = container.SlowDown();
   dc.detector.image_width_px = info.width;
@@ -304,7 +305,7 @@ void RunOneClip(RunOptions o) {
     out.OnBox(ToBallBox(obs));
     const bool retiming_known = detect.retiming().decided;
     const auto events = detect.OnObservation(obs);
-    if (!retiming_known && detect.retiming().retimed) console.Info("clock: " + detect.retiming().verdict);
+    if (!retiming_known && detect.retiming().decided && detect.retiming().retimed) console.Info("clock: " + detect.retiming().verdict);
     handle_events(events);
     const auto heard = sound.AdvanceTo(SecondsSince(frame.utime, out.stream_start()), out.stream_start());
     for (const auto& m : heard) publish_impact(m);
@@ -513,10 +514,7 @@ void AddRunCommand(CLI::App& app) {
                   "ball's size agree it is slowed, or the free fall is 16x or 64x weaker than "
                   "the size says: 4x or 8x slow motion that no wrong ball size explains)")
       ->check(NonNegative());
-  cmd->add_flag("--retime-frames", o->retime_frames,
-                "the file's pictures were taken at a higher rate than its stamps say (some "
-                "dropped: a 24 fps capture saved at 20 fps): read each at the time it was "
-                "taken, when the ball's flight shows the rate (the run suggests it)");
+  AddFrameTimesFlags(cmd, &o->retime_frames, &o->keep_frame_times);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(NonNegative());
   AddBusFlags(cmd, &o->lcm_url, &o->channels);

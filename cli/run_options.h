@@ -33,6 +33,7 @@ struct RunOptions {
   double px_per_m = 0;
   double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
   bool retime_frames = false;  // frames stamped at a lower rate than taken: re-time them
+  bool keep_frame_times = false;  // never re-time them (only say so)
   double drop_height_m = 0;
   int64_t max_frames = 0;
   TrackerConfig tracker;

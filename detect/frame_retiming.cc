@@ -4,25 +4,33 @@
 #include <cmath>
 #include <cstdio>
 
-#include "detect/detector_stats.h"
+#include <Eigen/Dense>
 
 namespace bouncefit {
 
 namespace {
-
-using detector_stats::Median;
 
 // Round rates first (see the choice below).
 constexpr double kSourceFps[] = {24, 25, 30, 48, 50, 60, 90, 100, 120, 23.976, 29.97, 59.94, 119.88};
 
 double Seconds(int64_t utime) { return static_cast<double>(utime) * 1e-6; }
 
-// |third divided difference| of the heights over four (time, height) points, px/s^3.
-double ThirdDifference(const double t[4], const double y[4]) {
-  double d1[3], d2[2];
-  for (int k = 0; k < 3; ++k) d1[k] = (y[k + 1] - y[k]) / (t[k + 1] - t[k]);
-  for (int k = 0; k < 2; ++k) d2[k] = (d1[k + 1] - d1[k]) / (t[k + 2] - t[k]);
-  return std::abs((d2[1] - d2[0]) / (t[3] - t[0]));
+constexpr size_t kMinArcSamples = 5;  // a parabola (3 parameters) and 2 residuals at least
+
+// Residual sum of squares of the least-squares parabola y(t) through the points, px^2.
+double ParabolaRss(const std::vector<double>& t, const std::vector<double>& y) {
+  const size_t n = t.size();
+  double mean = 0;
+  for (double v : t) mean += v / static_cast<double>(n);
+  Eigen::MatrixXd a(n, 3);
+  Eigen::VectorXd b(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double u = t[i] - mean;  // centred: a well-conditioned fit
+    a.row(static_cast<Eigen::Index>(i)) << 1, u, u * u;
+    b(static_cast<Eigen::Index>(i)) = y[i];
+  }
+  const Eigen::VectorXd x = a.colPivHouseholderQr().solve(b);
+  return (a * x - b).squaredNorm();
 }
 
 double Tick(double t, double f, double c) { return std::floor(t * f + c + 1e-9) / f; }
@@ -43,30 +51,60 @@ std::vector<BallObservation> FrameRetimer::Push(const BallObservation& obs) {
     return Release();
   }
   if (obs.found) {
-    recent_.push_back(obs);
-    if (recent_.size() > 4) recent_.erase(recent_.begin());
-    if (recent_.size() == 4 && std::abs(recent_[3].cy - recent_[0].cy) >= config_.min_move_px)
-      windows_.push_back(recent_);
+    if (moving_) {
+      arc_.push_back(obs);
+      // An impact: the height (image y, down) turned from falling to rising at the sample
+      // before last. It belongs to neither arc.
+      const size_t n = arc_.size();
+      if (n >= 3 && arc_[n - 2].cy > arc_[n - 3].cy && arc_[n - 2].cy >= arc_[n - 1].cy) {
+        const BallObservation after = arc_.back();
+        arc_.resize(n - 2);
+        CloseArc();
+        arc_.push_back(after);
+      }
+    } else {
+      recent_.push_back(obs);
+      if (recent_.size() > 4) recent_.erase(recent_.begin());
+      if (recent_.size() == 4 && std::abs(recent_[3].cy - recent_[0].cy) >= config_.min_move_px) {
+        moving_ = true;
+        arc_ = recent_;
+      }
+    }
   } else {
     recent_.clear();
+    CloseArc();  // unseen: the arc cannot be followed across the gap
   }
   // Not moving yet, or only reporting: nothing is held.
-  const bool hold = config_.apply && !windows_.empty();
+  const bool hold = config_.mode != FrameTimes::kStamped && moving_;
   if (hold) held_.push_back(obs);
-  if (static_cast<int>(windows_.size()) >= config_.min_windows) Decide(true);
+  if (Dof() >= config_.min_dof) Decide(true);
   else if (static_cast<int>(held_.size()) >= config_.max_held) Decide(false);
   if (!hold) return {obs};
   return retiming_.decided ? Release() : std::vector<BallObservation>{};
 }
 
+void FrameRetimer::CloseArc() {
+  if (arc_.size() >= kMinArcSamples) arcs_.push_back(arc_);
+  arc_.clear();
+}
+
+int FrameRetimer::Dof() const {
+  int dof = 0;
+  for (const auto& a : arcs_) dof += static_cast<int>(a.size()) - 3;
+  if (arc_.size() >= kMinArcSamples) dof += static_cast<int>(arc_.size()) - 3;
+  return dof;
+}
+
 std::vector<BallObservation> FrameRetimer::Flush() {
-  if (!retiming_.decided) Decide(static_cast<int>(windows_.size()) >= config_.min_windows / 2);
+  if (!retiming_.decided) Decide(Dof() >= config_.min_dof / 2);
   return Release();
 }
 
 void FrameRetimer::Decide(bool enough) {
   retiming_.decided = true;
-  retiming_.windows = static_cast<int>(windows_.size());
+  CloseArc();
+  for (const auto& a : arcs_) retiming_.samples += static_cast<int>(a.size());
+  retiming_.arcs = static_cast<int>(arcs_.size());
   if (!uniform_) {
     retiming_.verdict = "frame times as stamped (not evenly spaced: the capture's own)";
     return;
@@ -75,21 +113,27 @@ void FrameRetimer::Decide(bool enough) {
     retiming_.verdict = "frame times as stamped (too little flight to test them)";
     return;
   }
-  const auto median_for = [&](double f, double c) {
-    std::vector<double> d;
-    for (const auto& w : windows_) {
-      double t[4], y[4];
-      for (int k = 0; k < 4; ++k) {
-        t[k] = f > 0 ? Tick(Seconds(w[k].utime), f, c) : Seconds(w[k].utime);
-        y[k] = w[k].cy;
+  // Pooled residual variance of the arcs' parabolas, px^2, on a clock (f = 0: the stamps).
+  const auto variance_for = [&](double f, double c) {
+    double rss = 0;
+    int dof = 0;
+    std::vector<double> t, y;
+    for (const auto& a : arcs_) {
+      t.clear();
+      y.clear();
+      for (const auto& o : a) {
+        t.push_back(f > 0 ? Tick(Seconds(o.utime), f, c) : Seconds(o.utime));
+        y.push_back(o.cy);
+        if (t.size() > 1 && !(t.back() > t[t.size() - 2])) return 1e300;  // two on one tick
       }
-      if (!(t[0] < t[1] && t[1] < t[2] && t[2] < t[3])) return 1e300;
-      d.push_back(ThirdDifference(t, y));
+      rss += ParabolaRss(t, y);
+      dof += static_cast<int>(a.size()) - 3;
     }
-    return Median(d);
+    return rss / std::max(dof, 1);
   };
   const double stamped_fps = 1 / period_s_;
-  retiming_.median_as_stamped = median_for(0, 0);
+  retiming_.stamped_fps = stamped_fps;
+  const double as_stamped = variance_for(0, 0);
   double best = 1e300, best_f = 0, best_c = 0;
   for (double f : kSourceFps) {
     const double ratio = f / stamped_fps;
@@ -98,31 +142,43 @@ void FrameRetimer::Decide(bool enough) {
     // A broadcast rate (23.976 = 24/1.001) must fit clearly better than the round one next to it.
     const bool round = std::abs(f - std::round(f)) < 1e-6;
     for (int k = 0; k < 10; ++k) {
-      const double m = median_for(f, 0.1 * k);
-      if (m < best * (round ? 1.0 : 0.9)) best = m, best_f = f, best_c = 0.1 * k;
+      const double v = variance_for(f, 0.1 * k);
+      if (v < best * (round ? 1.0 : 0.9)) best = v, best_f = f, best_c = 0.1 * k;
     }
   }
-  retiming_.median_retimed = best;
-  char line[320];
-  if (best_f > 0 && best * config_.min_gain < retiming_.median_as_stamped) {
+  retiming_.rms_as_stamped_px = std::sqrt(as_stamped);
+  retiming_.rms_retimed_px = best < 1e300 ? std::sqrt(best) : 0;
+  // A perfect fit (no noise at all) on both clocks is no evidence either way.
+  retiming_.gain = best > 0 && best < 1e300 ? as_stamped / best : (as_stamped > 0 && best == 0 ? 1e300 : 1.0);
+  char line[360];
+  const double explained_px = best < as_stamped ? std::sqrt(as_stamped - best) : 0;
+  if (best_f > 0 && retiming_.gain >= config_.min_gain && explained_px >= config_.min_explained_px) {
     retiming_.retimed = true;
+    retiming_.applied = config_.mode == FrameTimes::kRetimed;
     retiming_.source_fps = best_f;
     retiming_.phase = best_c;
+    const char* how = retiming_.applied ? "frames re-timed" : "frame times as stamped, but they look";
+    const char* hint = !retiming_.applied ? ": --retime-frames to read them at the times they were taken" : "";
     std::snprintf(line, sizeof line,
                   "%s: taken at %.4g fps and stamped at %.4g fps (pictures dropped); the ball's "
-                  "flight fits the %.4g fps times %.1fx better (%d windows)%s",
-                  config_.apply ? "frames re-timed" : "frame times as stamped, but they look",
-                  best_f, stamped_fps, best_f, retiming_.median_as_stamped / best, retiming_.windows,
-                  config_.apply ? "" : ": --retime-frames to read them at the times they were taken");
+                  "arcs fit the %.4g fps times with %.1f px of residual, %.1f px as stamped (%d arcs)%s",
+                  how, best_f, stamped_fps, best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
+                  retiming_.arcs, hint);
   } else {
-    std::snprintf(line, sizeof line, "frame times as stamped (no faster source rate fits the flight %gx better; the best: %.1fx)",
-                  config_.min_gain, best > 0 && best < 1e300 ? retiming_.median_as_stamped / best : 1.0);
+    std::snprintf(line, sizeof line,
+                  "frame times as stamped (no faster source rate fits the ball's arcs by far better: "
+                  "%.1f px of residual as stamped, %.1f px at best re-timed)",
+                  retiming_.rms_as_stamped_px, retiming_.rms_retimed_px);
   }
   retiming_.verdict = line;
 }
 
-BallObservation FrameRetimer::Applied(BallObservation o) const {
-  if (!retiming_.retimed || !config_.apply) return o;
+BallObservation FrameRetimer::Applied(const BallObservation& o) const {
+  return retiming_.applied ? Retimed(o) : o;
+}
+
+BallObservation FrameRetimer::Retimed(BallObservation o) const {
+  if (!retiming_.retimed) return o;
   const double t = Tick(Seconds(o.utime), retiming_.source_fps, retiming_.phase);
   o.utime = static_cast<int64_t>(std::llround(t * 1e6));
   return o;
@@ -132,7 +188,8 @@ std::vector<BallObservation> FrameRetimer::Release() {
   std::vector<BallObservation> out;
   for (const auto& o : held_) out.push_back(Applied(o));
   held_.clear();
-  windows_.clear();
+  arcs_.clear();
+  arc_.clear();
   recent_.clear();
   return out;
 }

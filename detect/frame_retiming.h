@@ -2,19 +2,24 @@
 // Pictures taken at one rate and stamped at a lower one (a 24 fps capture saved at 20 fps: one
 // picture in six dropped, each stamp up to 1/24 s off its capture). A ball in free flight then
 // does not fall on a parabola of its stamps, and the detector, which fits parabolas to time,
-// breaks its arcs. The test: a parabola's third divided difference (height over four
-// consecutive times) is zero; its median over the first moving samples, with the stamps as
-// they are and with each frame re-timed to the tick of a faster source it would have come
-// from (floor(t f + c) / f), says whether a re-timing explains the motion by far better
-// (docs/ACCURACY.md, "Why tennis_door sees 1 rebound"). A core with no I/O.
+// breaks its arcs. The test: the first moving samples are cut into arcs at the impacts (where
+// the ball's height turns from falling to rising) and a parabola of time is fitted to each
+// arc, with the stamps as they are and with each frame re-timed to the tick of a faster source
+// it would have come from (floor(t f + c) / f). The pooled residual says whether a re-timing
+// explains the motion by far better (docs/ACCURACY.md, "Why tennis_door sees 1 rebound").
+// Whole arcs, not four-sample windows: a window's third difference amplifies a pixel of
+// tracking noise by the frame rate cubed, and the shared tennis clip cropped by 8 px and
+// re-encoded lost its 7x signal that way (1.5x); fitted arcs keep it (5x). A core with no I/O.
 //
-// By default the test only reports (every observation passes through as stamped): on the
-// shared football clip the re-timed flight shows two hops of 3-4.5 cm more than a person
-// counts, so re-timing waits for the user's word (`--retime-frames`). Applied, observations
-// pass through while the ball has not moved; from its first moving samples they are held
-// until the test decides (a few tenths of a second of flight), then released, re-timed or
-// not, and every later one goes straight through. Stamps that are not evenly spaced (a
-// camera's own clock, a variable frame rate) are taken as they are.
+// A flight that fits a faster rate better is not proof on its own: the shared football clip
+// (a 30 fps capture stamped at 20) fits 4.5x better re-timed, yet its stamps already agree
+// with the ball's size and its heights with their flight times. So the test alone decides
+// nothing by default (kAuto): observations pass through while the ball has not moved; from
+// its first moving samples they are held until the test decides (a few tenths of a second
+// of flight), then released as stamped, and the caller (detect/retiming_detector.h) may also
+// read them re-timed and choose. kRetimed (`--retime-frames`) re-times whenever the test says
+// so; kStamped only reports. Stamps that are not evenly spaced (a camera's own clock, a
+// variable frame rate) are taken as they are.
 #include <string>
 #include <vector>
 
@@ -22,22 +27,35 @@
 
 namespace bouncefit {
 
+enum class FrameTimes {
+  kStamped,  // test and report only: nothing held, times as stamped
+  kAuto,     // held until the test decides, released as stamped; Retimed() for the caller
+  kRetimed,  // held until the test decides, released re-timed when it says so
+};
+
 struct FrameRetimingConfig {
-  bool apply = false;          // false: test and report only, times as stamped
-  int min_windows = 12;        // moving four-sample windows before deciding
-  double min_gain = 3.0;       // the re-timing must shrink the median this many times
-  double min_move_px = 3;      // a window whose ends are closer is not moving
+  FrameTimes mode = FrameTimes::kAuto;
+  int min_dof = 12;            // degrees of freedom of the fitted arcs before deciding
+  double min_gain = 3.0;       // the re-timing must shrink the residual variance this many times
+  // ... and explain this much misfit, px (sqrt of the variance it removes): a parabola is not
+  // a ball's exact flight (air drag), and among 130 re-timings one absorbs a pixel of that.
+  // Dropped pictures misplace a moving ball by its speed times up to a frame: many pixels.
+  double min_explained_px = 2.0;
+  double min_move_px = 3;      // four samples whose ends are closer: the ball is not moving yet
   int max_held = 60;           // held observations at most; then taken as stamped
   double uniform_tolerance = 0.01;  // stamps evenly spaced within this share of the period
 };
 
 struct Retiming {
   bool decided = false;
-  bool retimed = false;        // a re-timing explains the flight (applied only if config.apply)
+  bool retimed = false;        // a re-timing explains the flight (the test's verdict)
+  bool applied = false;        // the detector reads the re-timed times
+  double stamped_fps = 0;      // the rate of the stamps (evenly spaced ones)
   double source_fps = 0;       // retimed: the rate the pictures were taken at
   double phase = 0;            // retimed: c in floor(t f + c) / f
-  double median_as_stamped = 0, median_retimed = 0;  // px/s^3
-  int windows = 0;
+  double rms_as_stamped_px = 0, rms_retimed_px = 0;  // the arcs' parabola residuals
+  double gain = 1;             // residual variance as stamped over re-timed (the best)
+  int arcs = 0, samples = 0;   // what the test rested on
   std::string verdict;         // one line for the run's output
 };
 
@@ -49,16 +67,24 @@ class FrameRetimer {
   // End of stream: decides on what was seen and releases what is held.
   std::vector<BallObservation> Flush();
   const Retiming& retiming() const { return retiming_; }
+  // The observation at the time it was taken, once the test has found a re-timing (else as is).
+  BallObservation Retimed(BallObservation o) const;
 
  private:
   void Decide(bool enough);
-  BallObservation Applied(BallObservation o) const;  // re-timed when decided and applied
+  // Closes the arc being collected (kept when it can be tested: 5 samples at least).
+  void CloseArc();
+  // Residual degrees of freedom of the arcs collected (and the one open).
+  int Dof() const;
+  BallObservation Applied(const BallObservation& o) const;  // re-timed in kRetimed mode
   std::vector<BallObservation> Release();
 
   FrameRetimingConfig config_;
   Retiming retiming_;
   std::vector<BallObservation> held_, recent_;  // recent_: the last consecutive found ones
-  std::vector<std::vector<BallObservation>> windows_;
+  bool moving_ = false;                          // the ball has started to move
+  std::vector<BallObservation> arc_;              // the arc being collected
+  std::vector<std::vector<BallObservation>> arcs_;
   double period_s_ = 0;
   int64_t last_utime_ = -1;
   bool uniform_ = true;

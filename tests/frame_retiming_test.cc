@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "detect/bounce_detector.h"
+#include "detect/retiming_detector.h"
 #include "tests/detect_sim.h"
 
 namespace bouncefit {
@@ -19,11 +20,11 @@ using testing::SimOptions;
 
 // A tennis drop seen at `taken_fps`, kept as a file at `stamped_fps`: the pictures nearest
 // each stamp's slot (a frame-rate conversion that drops some), stamped evenly.
-SimClip Restamped(double taken_fps, double stamped_fps, unsigned seed) {
+SimClip Restamped(double taken_fps, double stamped_fps, unsigned seed, double noise_px = 0.3) {
   SimOptions o;
   o.ball = "tennis";
   o.fps = taken_fps;
-  o.noise_px = 0.3;
+  o.noise_px = noise_px;
   o.seed = seed;
   SimClip c = MakeSimClip(o);
   std::vector<BallObservation> kept;
@@ -39,23 +40,45 @@ SimClip Restamped(double taken_fps, double stamped_fps, unsigned seed) {
   return c;
 }
 
-std::vector<BouncePeak> Detect(const SimClip& c, bool apply, Retiming* retiming) {
+std::vector<BouncePeak> Detect(const SimClip& c, bool apply, Retiming* retiming, int* sequence_ends = nullptr) {
   BounceDetectorConfig dc;
   dc.calibration.ball_diameter_m = ResolveBallPreset("tennis").diameter_m;
   BounceDetector d(dc);
   FrameRetimingConfig rc;
-  rc.apply = apply;
+  rc.mode = apply ? FrameTimes::kRetimed : FrameTimes::kStamped;
   FrameRetimer r(rc);
   std::vector<BouncePeak> peaks;
   auto take = [&](const std::vector<DetectorEvent>& ev) {
-    for (const auto& e : ev)
+    for (const auto& e : ev) {
       if (e.kind == DetectorEvent::Kind::kPeak) peaks.push_back(e.peak);
+      if (sequence_ends) *sequence_ends += e.kind == DetectorEvent::Kind::kSequenceEnd;
+    }
   };
   for (const auto& o : c.obs)
     for (const auto& released : r.Push(o)) take(d.Push(released));
   for (const auto& released : r.Flush()) take(d.Push(released));
   take(d.Finish());
   *retiming = r.retiming();
+  return peaks;
+}
+
+// The same through RetimingDetector, as `run` and `detect` read by default (kAuto), the ball's
+// diameter given times `size_factor`. Every event comes out once: *events counts them.
+std::vector<BouncePeak> DetectAuto(const SimClip& c, double size_factor, Retiming* retiming,
+                                   std::vector<DetectorEvent>* events = nullptr) {
+  BounceDetectorConfig dc;
+  dc.calibration.ball_diameter_m = ResolveBallPreset("tennis").diameter_m * size_factor;
+  RetimingDetector d(dc, FrameRetimingConfig{});
+  std::vector<BouncePeak> peaks;
+  auto take = [&](const std::vector<DetectorEvent>& ev) {
+    for (const auto& e : ev) {
+      if (e.kind == DetectorEvent::Kind::kPeak) peaks.push_back(e.peak);
+      if (events) events->push_back(e);
+    }
+  };
+  for (const auto& o : c.obs) take(d.Push(o));
+  take(d.Finish());
+  *retiming = d.retiming();
   return peaks;
 }
 
@@ -87,6 +110,45 @@ TEST(FrameRetiming, A24FpsCaptureStampedAt20FpsIsReadAtItsOwnTimes) {
   }
 }
 
+// By default a re-timing is taken when the stamps' free fall contradicts the ball's size and the
+// re-timed one agrees: then the rows are those of --retime-frames, each emitted once.
+TEST(FrameRetiming, ByDefaultTheBallSizeDecidesTheClock) {
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    const SimClip c = Restamped(24, 20, seed);
+    Retiming forced, chosen;
+    std::vector<DetectorEvent> events;
+    int want_ends = 0;
+    const auto want = Detect(c, true, &forced, &want_ends);
+    const auto got = DetectAuto(c, 1.0, &chosen, &events);
+    std::printf("seed %u: %s\n", seed, chosen.verdict.c_str());
+    ASSERT_TRUE(chosen.decided);
+    EXPECT_TRUE(chosen.applied) << chosen.verdict;
+    ASSERT_EQ(got.size(), want.size());
+    for (size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].bounce, want[k].bounce);
+      EXPECT_DOUBLE_EQ(got[k].height_m, want[k].height_m);
+    }
+    int ends = 0;
+    for (const auto& e : events) ends += e.kind == DetectorEvent::Kind::kSequenceEnd;
+    EXPECT_EQ(ends, want_ends) << "each drop ended once";
+  }
+}
+
+// A ball of another size than given: gravity agrees with it on neither clock, so the size says
+// nothing about the stamps, and they are kept (the run says why).
+TEST(FrameRetiming, AWrongBallSizeKeepsTheStamps) {
+  const SimClip c = Restamped(24, 20, 1);
+  Retiming stamped, chosen;
+  const auto want = Detect(c, false, &stamped);
+  const auto got = DetectAuto(c, 2.0, &chosen);
+  std::printf("%s\n", chosen.verdict.c_str());
+  EXPECT_TRUE(chosen.retimed) << "the flight still shows the faster rate";
+  EXPECT_FALSE(chosen.applied) << chosen.verdict;
+  EXPECT_NE(chosen.verdict.find("--retime-frames"), std::string::npos) << chosen.verdict;
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t k = 0; k < got.size(); ++k) EXPECT_DOUBLE_EQ(got[k].height_m, want[k].height_m);
+}
+
 TEST(FrameRetiming, AClipStampedAtTheRateItWasTakenIsLeftAlone) {
   for (double fps : {20.0, 25.0, 30.0, 60.0}) {
     SimOptions o;
@@ -102,9 +164,32 @@ TEST(FrameRetiming, AClipStampedAtTheRateItWasTakenIsLeftAlone) {
   }
 }
 
+// A smeared ball tracked to 1.5 px: the test fits whole arcs, so the noise does not hide the
+// dropped pictures (a third difference over four samples, the test before, amplified it by
+// the frame rate cubed), nor does it make honest stamps look dropped.
+TEST(FrameRetiming, TheTestSurvivesTrackingNoise) {
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    Retiming r;
+    Detect(Restamped(24, 20, seed, 1.5), false, &r);
+    EXPECT_TRUE(r.retimed) << "seed " << seed << ": " << r.verdict;
+    EXPECT_DOUBLE_EQ(r.source_fps, 24) << r.verdict;
+    for (double fps : {20.0, 25.0, 30.0}) {
+      SimOptions o;
+      o.ball = "tennis";
+      o.fps = fps;
+      o.noise_px = 1.5;
+      o.seed = seed;
+      Retiming honest;
+      Detect(MakeSimClip(o), false, &honest);
+      EXPECT_TRUE(honest.decided);
+      EXPECT_FALSE(honest.retimed) << fps << " fps, seed " << seed << ": " << honest.verdict;
+    }
+  }
+}
+
 TEST(FrameRetiming, UnevenStampsAreACapturesOwnAndPassStraightThrough) {
   FrameRetimingConfig rc;
-  rc.apply = true;
+  rc.mode = FrameTimes::kRetimed;
   FrameRetimer r(rc);
   BallObservation o;
   o.found = true;

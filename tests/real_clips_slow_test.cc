@@ -121,9 +121,9 @@ struct ClipExpectation {
   const char* ball;
   int min_bounces, max_bounces;  // README's count of rebound apexes
   double time_scale = 1;         // real seconds per file second (slow motion: < 1)
-  // Where the must-show does not hold yet, why (issue 13 stays open for these clips). The
-  // test then asserts what holds today, so that it cannot get worse unnoticed: the run
-  // succeeds, no more rebounds than a person counts (none invented), the right clock.
+  // Where the must-show's heights do not hold yet, why (issue 13 stays open for these clips).
+  // The test then asserts all the rest: the run succeeds, the bounces a person counts, none
+  // invented, apexes falling, the right clock.
   const char* known_gap = nullptr;
   // The bounce number of the first apex reported, when the clip shows what it must be (a ball
   // that enters falling and hits the floor in view: its first apex is a rebound, 1); -1: not
@@ -186,16 +186,13 @@ void ExpectMustShow(const ClipExpectation& c) {
     ASSERT_FALSE(s["peaks"].empty());
     EXPECT_EQ(s["peaks"][0]["bounce"].get<int>(), c.first_apex_bounce) << table;
   }
-  if (c.known_gap) {
-    std::printf("KNOWN GAP (issue 13 open): %s\n", c.known_gap);
-    return;
-  }
   EXPECT_GE(static_cast<int>(rs.size()), c.min_bounces) << table;
+  if (c.known_gap) std::printf("KNOWN GAP (issue 13 open): %s\n", c.known_gap);
   for (size_t k = 0; k < rs.size(); ++k) {
     if (k > 0 && rs[k].sequence == rs[k - 1].sequence) {
       EXPECT_LT(rs[k].height_m, rs[k - 1].height_m) << "apexes must fall\n" << table;
     }
-    if (rs[k].height_m >= 0.10 && rs[k].flight_m > 0) {
+    if (rs[k].height_m >= 0.10 && rs[k].flight_m > 0 && !c.known_gap) {
       EXPECT_NEAR(rs[k].height_m, rs[k].flight_m, 0.05 * rs[k].flight_m) << table;
     }
   }
@@ -226,44 +223,49 @@ TEST(RealClipsMustShow, FootballDoorWood20fps) {
   // detector looked, at the first impact, at where the ball was just before the arc).
   ExpectMustShow({"football_door_wood_20fps.mp4", "football", 4, 8, 1, nullptr, 1});
 }
+// Its pictures come from a 24 fps capture stamped at 20 fps (one in six dropped, stamps up to
+// 1/24 s off): as stamped its arcs do not fit their times, and gravity's scale is 0.40x the ball
+// size's. The run re-times them by itself, since re-timed gravity agrees with the size (1.08x).
 TEST(RealClipsMustShow, TennisDoorWood20fps) {
   ExpectMustShow({"tennis_door_wood_20fps.mp4", "tennis", 3, 5, 1,
-                  "its pictures come from a 24 fps capture stamped at 20 fps (one in six "
-                  "dropped, stamps up to 1/24 s off: docs/ACCURACY.md), so its arcs do not fit "
-                  "their times: 1 of 3-5 rebounds seen"});
+                  "re-timed, its free-fall scale drifts from 446 to 390 px/m over the drop "
+                  "(docs/ACCURACY.md): its second rebound is 9% above its flight time"});
 }
-// The tennis clip's pictures were taken at 24 fps and stamped at 20 (one in six dropped): the
-// run says so, and with --retime-frames reads them at their own times and sees its rebounds.
+// The clock the run chose, and --keep-frame-times, which reads the stamps as they are.
 TEST(RealClips, TennisDoorFramesRetimedToTheirCaptureRate) {
   const auto clip = RealClip("tennis_door_wood_20fps.mp4");
   if (clip.empty()) GTEST_SKIP() << "real clips not found (../shared/real-clips)";
   const fs::path dir = testing::ScratchDir("real_clip_tennis_door_retimed");
   nlohmann::json summary[2];
-  for (int apply = 0; apply < 2; ++apply) {
-    const fs::path out = dir / (apply ? "retimed" : "stamped");
+  for (int by_default = 0; by_default < 2; ++by_default) {
+    const fs::path out = dir / (by_default ? "default" : "stamped");
     std::string log;
     const int rc = RunCommand(BouncefitExe() + " run " + clip.string() + " --ball tennis --out " + out.string() +
-                                  " --speed 0 --no-fit --lcm-url memq://" + (apply ? " --retime-frames" : ""),
+                                  " --speed 0 --no-fit --lcm-url memq://" + (by_default ? "" : " --keep-frame-times"),
                               &log);
     ASSERT_EQ(rc, 0) << log;
-    summary[apply] = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+    summary[by_default] = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   }
-  const std::string suggested = summary[0]["clock"]["frame_times"].get<std::string>();
-  EXPECT_NE(suggested.find("taken at 24 fps"), std::string::npos) << suggested;
-  EXPECT_NE(suggested.find("--retime-frames"), std::string::npos) << suggested;
-  const std::string applied = summary[1]["clock"]["frame_times"].get<std::string>();
-  EXPECT_NE(applied.find("frames re-timed: taken at 24 fps"), std::string::npos) << applied;
-  const auto rs = Rebounds(summary[1]);
+  const std::string kept = summary[0]["clock"]["frame_times"].get<std::string>();
+  EXPECT_NE(kept.find("taken at 24 fps"), std::string::npos) << kept;
+  EXPECT_NE(kept.find("--retime-frames"), std::string::npos) << kept;
+  const std::string chosen = summary[1]["clock"]["frame_times"].get<std::string>();
+  EXPECT_NE(chosen.find("frames re-timed: taken at 24 fps"), std::string::npos) << chosen;
+  EXPECT_NE(chosen.find("agrees with the ball's size"), std::string::npos) << chosen;
+  const auto rs = Rebounds(summary[1]), as_stamped = Rebounds(summary[0]);
   std::string table;
   for (const auto& r : rs)
     table += "  bounce " + std::to_string(r.bounce) + ": " + std::to_string(r.height_m) + " m, flight-time " +
              std::to_string(r.flight_m) + " m\n";
-  std::printf("tennis_door re-timed: %zu rebounds (a person counts 3-5; 1 as stamped)\n%s", rs.size(), table.c_str());
+  std::printf("tennis_door re-timed: %zu rebounds (a person counts 3-5; %zu as stamped)\n%s", rs.size(),
+              as_stamped.size(), table.c_str());
+  EXPECT_LT(as_stamped.size(), 3u) << "as stamped its arcs break (if this fails, the stamps became usable)";
   EXPECT_GE(rs.size(), 3u) << table;
   EXPECT_LE(rs.size(), 5u) << table;
-  // Heights against the flight time are not asserted: 3-50% apart today (docs/ACCURACY.md).
-  for (size_t k = 1; k < rs.size(); ++k)
-    EXPECT_LT(rs[k].height_m, rs[k - 1].height_m) << "apexes must fall\n" << table;
+  // The first rebound, on the scale of the first free falls, is within 5% of its flight time.
+  ASSERT_FALSE(rs.empty());
+  EXPECT_EQ(rs[0].bounce, 1);
+  EXPECT_NEAR(rs[0].height_m, rs[0].flight_m, 0.05 * rs[0].flight_m) << table;
 }
 
 TEST(RealClipsMustShow, PingpongWhiteBlackcloth24fps) {

@@ -49,8 +49,7 @@ bounce_peak_t ToBouncePeakMsg(const BouncePeak& p) {
 DetectNode::DetectNode(LcmBus* bus, DetectNodeConfig config)
     : bus_(bus),
       config_(std::move(config)),
-      detector_(std::make_unique<BounceDetector>(config_.detector)),
-      retimer_(config_.retiming) {}
+      detector_(std::make_unique<RetimingDetector>(config_.detector, config_.retiming)) {}
 
 void DetectNode::Subscribe() {
   if (!bus_) throw std::logic_error("detect node: no bus to subscribe to");
@@ -70,44 +69,32 @@ std::vector<DetectorEvent> DetectNode::OnObservation(const BallObservation& obs)
   if (have_box_ && obs.utime < last_utime_) {
     // Times went backwards: a new stream (a replay restarted). Close the old one.
     events = detector_->Finish();
-    for (const auto& s : detector_->Summaries()) earlier_summaries_.push_back(s);
-    detector_ = std::make_unique<BounceDetector>(config_.detector);
-    retimer_ = FrameRetimer(config_.retiming);
+    for (const auto& s : detector_->detector().Summaries()) earlier_summaries_.push_back(s);
+    rejected_before_ += detector_->rejected();
+    detector_ = std::make_unique<RetimingDetector>(config_.detector, config_.retiming);
     ++stats_.stream_restarts;
   }
   have_box_ = true;
   last_utime_ = obs.utime;
   const int64_t t0 = SteadyMicros();
-  PushToDetector(retimer_.Push(obs), &events);
+  auto more = detector_->Push(obs);
+  events.insert(events.end(), more.begin(), more.end());
+  stats_.rejected = rejected_before_ + detector_->rejected();
   stats_.detect_s += (SteadyMicros() - t0) * 1e-6;
   Publish(events);
   return events;
 }
 
-void DetectNode::PushToDetector(const std::vector<BallObservation>& released,
-                                std::vector<DetectorEvent>* events) {
-  for (const auto& o : released) {
-    try {
-      auto more = detector_->Push(o);
-      events->insert(events->end(), more.begin(), more.end());
-    } catch (const std::exception&) {
-      ++stats_.rejected;
-    }
-  }
-}
-
 std::vector<DetectorEvent> DetectNode::Finish() {
-  std::vector<DetectorEvent> events;
-  PushToDetector(retimer_.Flush(), &events);
-  auto more = detector_->Finish();
-  events.insert(events.end(), more.begin(), more.end());
+  const auto events = detector_->Finish();
+  stats_.rejected = rejected_before_ + detector_->rejected();
   Publish(events);
   return events;
 }
 
 std::vector<SequenceSummary> DetectNode::Summaries() const {
   std::vector<SequenceSummary> all = earlier_summaries_;
-  for (const auto& s : detector_->Summaries()) all.push_back(s);
+  for (const auto& s : detector_->detector().Summaries()) all.push_back(s);
   return all;
 }
 

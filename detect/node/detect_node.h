@@ -15,6 +15,7 @@
 #include "bouncefit/calibration_t.hpp"
 #include "detect/bounce_detector.h"
 #include "detect/frame_retiming.h"
+#include "detect/retiming_detector.h"
 #include "msgs/channels.h"
 #include "track/ball_observation.h"
 #include "track/node/ball_box_msg.h"
@@ -66,22 +67,21 @@ class DetectNode {
   void Run(const std::atomic<bool>* stop, double exit_after_idle_s);
 
   void set_event_handler(EventFn fn) { on_event_ = std::move(fn); }
-  const BounceDetector& detector() const { return *detector_; }
-  // Whether the frames' stamps were re-timed to the rate they were taken at (detect/frame_retiming.h).
-  const Retiming& retiming() const { return retimer_.retiming(); }
+  const BounceDetector& detector() const { return detector_->detector(); }
+  // Whether the frames' stamps were re-timed to the rate they were taken at (detect/retiming_detector.h).
+  Retiming retiming() const { return detector_->retiming(); }
   const DetectStats& stats() const { return stats_; }
   // Summaries of every drop ended so far, across stream restarts.
   std::vector<SequenceSummary> Summaries() const;
 
  private:
   void Publish(const std::vector<DetectorEvent>& events);
-  void PushToDetector(const std::vector<BallObservation>& released, std::vector<DetectorEvent>* events);
 
   LcmBus* bus_;
   DetectNodeConfig config_;
-  std::unique_ptr<BounceDetector> detector_;
-  FrameRetimer retimer_;
+  std::unique_ptr<RetimingDetector> detector_;
   std::vector<SequenceSummary> earlier_summaries_;
+  int64_t rejected_before_ = 0;  // by the detectors of earlier streams
   EventFn on_event_;
   DetectStats stats_;
   int64_t last_utime_ = 0;
