@@ -41,6 +41,16 @@ TEST(Cli, WrongFlagIsOneLineErrorAndNonZero) {
   }
 }
 
+// Flags that contradict each other: one line naming both.
+TEST(Cli, ExclusiveFlagsAreOneLineErrors) {
+  for (const char* sub : {"run", "detect"}) {
+    std::string out;
+    EXPECT_NE(RunCommand(BouncefitExe() + " " + sub + " --retime-frames --keep-frame-times", &out), 0) << sub;
+    EXPECT_EQ(LineCount(out), 1) << sub << ": " << out;
+    EXPECT_NE(out.find("--retime-frames excludes --keep-frame-times"), std::string::npos) << out;
+  }
+}
+
 TEST(Cli, UnknownSubcommandAndNoSubcommandFail) {
   std::string out;
   EXPECT_NE(RunCommand(BouncefitExe() + " frobnicate", &out), 0);
