@@ -102,7 +102,7 @@ void RunDetect(const DetectOptions& o) {
   cfg.detector.calibration.px_per_m = o.px_per_m;
   cfg.detector.calibration.drop_height_m = o.drop_height_m;
   cfg.detector.time_scale = o.time_scale;
-  cfg.retiming.mode = FrameTimesMode(o.retime_frames, o.keep_frame_times);
+  cfg.retiming.mode = FrameTimesMode(o.keep_frame_times);
   if (o.frame_size.size() == 2) {
     cfg.detector.image_width_px = o.frame_size[0];
     cfg.detector.image_height_px = o.frame_size[1];

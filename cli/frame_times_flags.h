@@ -7,10 +7,10 @@
 
 namespace bouncefit::cli {
 
-// Adds --retime-frames and --keep-frame-times (exclusive), writing into the two flags.
+// Adds --keep-frame-times, and --retime-frames (the default, said explicitly; they exclude
+// each other), writing into the two flags.
 void AddFrameTimesFlags(CLI::App* cmd, bool* retime_frames, bool* keep_frame_times);
 
-// Neither flag: the ball's size decides (kAuto).
-FrameTimes FrameTimesMode(bool retime_frames, bool keep_frame_times);
+FrameTimes FrameTimesMode(bool keep_frame_times);
 
 }  // namespace bouncefit::cli

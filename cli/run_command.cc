@@ -211,7 +211,7 @@ void RunOneClip(RunOptions o) {
   dc.detector.calibration.px_per_m = o.px_per_m;
   dc.detector.calibration.drop_height_m = o.drop_height_m;
   dc.detector.time_scale = o.time_scale;
-  dc.retiming.mode = FrameTimesMode(o.retime_frames, o.keep_frame_times);
+  dc.retiming.mode = FrameTimesMode(o.keep_frame_times);
   const ContainerClock container = is_file ? ReadContainerClock(clip) : ContainerClock{};
   dc.detector.capture_slowdown_hint = container.SlowDown();
   dc.detector.image_width_px = info.width;

@@ -32,7 +32,7 @@ struct RunOptions {
   int max_evals = 0;  // 0: the session's default
   double px_per_m = 0;
   double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
-  bool retime_frames = false;  // frames stamped at a lower rate than taken: re-time them
+  bool retime_frames = false;  // --retime-frames: the default (re-time dropped pictures), said
   bool keep_frame_times = false;  // never re-time them (only say so)
   double drop_height_m = 0;
   int64_t max_frames = 0;

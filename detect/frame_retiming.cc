@@ -44,7 +44,7 @@ std::vector<BallObservation> FrameRetimer::Push(const BallObservation& obs) {
     if (dt <= 0 || std::abs(dt - period_s_) > config_.uniform_tolerance * period_s_) uniform_ = false;
   }
   last_utime_ = obs.utime;
-  if (retiming_.decided) return {Applied(obs)};
+  if (retiming_.decided) return {obs};
   if (!uniform_) {
     Decide(false);
     held_.push_back(obs);
@@ -157,13 +157,12 @@ void FrameRetimer::Decide(bool enough) {
     retiming_.applied = config_.mode == FrameTimes::kRetimed;
     retiming_.source_fps = best_f;
     retiming_.phase = best_c;
-    const char* how = retiming_.applied ? "frames re-timed" : "frame times as stamped, but they look";
-    const char* hint = !retiming_.applied ? ": --retime-frames to read them at the times they were taken" : "";
     std::snprintf(line, sizeof line,
-                  "%s: taken at %.4g fps and stamped at %.4g fps (pictures dropped); the ball's "
-                  "arcs fit the %.4g fps times with %.1f px of residual, %.1f px as stamped (%d arcs)%s",
-                  how, best_f, stamped_fps, best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
-                  retiming_.arcs, hint);
+                  "%s: taken at %.4g fps and stamped at %.4g fps (pictures dropped): the ball's "
+                  "arcs fit the %.4g fps times with %.1f px of residual, %.1f px as stamped (%d arcs)",
+                  retiming_.applied ? "frames re-timed" : "frame times as stamped (--keep-frame-times), but they look",
+                  best_f, stamped_fps, best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
+                  retiming_.arcs);
   } else {
     std::snprintf(line, sizeof line,
                   "frame times as stamped (no faster source rate fits the ball's arcs by far better: "
@@ -171,10 +170,6 @@ void FrameRetimer::Decide(bool enough) {
                   retiming_.rms_as_stamped_px, retiming_.rms_retimed_px);
   }
   retiming_.verdict = line;
-}
-
-BallObservation FrameRetimer::Applied(const BallObservation& o) const {
-  return retiming_.applied ? Retimed(o) : o;
 }
 
 BallObservation FrameRetimer::Retimed(BallObservation o) const {
@@ -186,7 +181,7 @@ BallObservation FrameRetimer::Retimed(BallObservation o) const {
 
 std::vector<BallObservation> FrameRetimer::Release() {
   std::vector<BallObservation> out;
-  for (const auto& o : held_) out.push_back(Applied(o));
+  out.swap(held_);
   held_.clear();
   arcs_.clear();
   arc_.clear();

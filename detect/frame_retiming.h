@@ -11,15 +11,12 @@
 // tracking noise by the frame rate cubed, and the shared tennis clip cropped by 8 px and
 // re-encoded lost its 7x signal that way (1.5x); fitted arcs keep it (5x). A core with no I/O.
 //
-// A flight that fits a faster rate better is not proof on its own: the shared football clip
-// (a 30 fps capture stamped at 20) fits 4.5x better re-timed, yet its stamps already agree
-// with the ball's size and its heights with their flight times. So the test alone decides
-// nothing by default (kAuto): observations pass through while the ball has not moved; from
-// its first moving samples they are held until the test decides (a few tenths of a second
-// of flight), then released as stamped, and the caller (detect/retiming_detector.h) may also
-// read them re-timed and choose. kRetimed (`--retime-frames`) re-times whenever the test says
-// so; kStamped only reports. Stamps that are not evenly spaced (a camera's own clock, a
-// variable frame rate) are taken as they are.
+// Observations pass through while the ball has not moved; from its first moving samples they
+// are held until the test decides (a few tenths of a second of flight), then released, always
+// as stamped: the caller re-times them (detect/retiming_detector.h, which also re-times the
+// ones before the hold, so that a ball held still pins its release on the same clock). Stamps
+// that are not evenly spaced (a camera's own clock, a variable frame rate) are taken as they
+// are. kStamped (`--keep-frame-times`) only reports, holding nothing.
 #include <string>
 #include <vector>
 
@@ -29,12 +26,11 @@ namespace bouncefit {
 
 enum class FrameTimes {
   kStamped,  // test and report only: nothing held, times as stamped
-  kAuto,     // held until the test decides, released as stamped; Retimed() for the caller
-  kRetimed,  // held until the test decides, released re-timed when it says so
+  kRetimed,  // held until the test decides; re-timed when it finds a faster source rate
 };
 
 struct FrameRetimingConfig {
-  FrameTimes mode = FrameTimes::kAuto;
+  FrameTimes mode = FrameTimes::kRetimed;
   int min_dof = 12;            // degrees of freedom of the fitted arcs before deciding
   double min_gain = 3.0;       // the re-timing must shrink the residual variance this many times
   // ... and explain this much misfit, px (sqrt of the variance it removes): a parabola is not
@@ -49,7 +45,7 @@ struct FrameRetimingConfig {
 struct Retiming {
   bool decided = false;
   bool retimed = false;        // a re-timing explains the flight (the test's verdict)
-  bool applied = false;        // the detector reads the re-timed times
+  bool applied = false;        // retimed, and the detector reads the re-timed times (kRetimed)
   double stamped_fps = 0;      // the rate of the stamps (evenly spaced ones)
   double source_fps = 0;       // retimed: the rate the pictures were taken at
   double phase = 0;            // retimed: c in floor(t f + c) / f
@@ -62,7 +58,8 @@ struct Retiming {
 class FrameRetimer {
  public:
   explicit FrameRetimer(FrameRetimingConfig config = {}) : config_(config) {}
-  // One observation in stream order; returns those released (in order, possibly none).
+  // One observation in stream order; returns those released (in order, possibly none), as
+  // stamped.
   std::vector<BallObservation> Push(const BallObservation& obs);
   // End of stream: decides on what was seen and releases what is held.
   std::vector<BallObservation> Flush();
@@ -76,7 +73,6 @@ class FrameRetimer {
   void CloseArc();
   // Residual degrees of freedom of the arcs collected (and the one open).
   int Dof() const;
-  BallObservation Applied(const BallObservation& o) const;  // re-timed in kRetimed mode
   std::vector<BallObservation> Release();
 
   FrameRetimingConfig config_;

@@ -241,21 +241,26 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
   r.seen = static_cast<int>(seen.size());
   r.heard = static_cast<int>(heard.size());
 
-  // The offset pairing the most impacts (ties: the smallest residuals).
+  // The offset pairing the most impacts (ties: the smallest residuals). The offsets pairing a
+  // set of impacts are those within the tolerance of every pair's difference: the most
+  // pairs are found at a difference or at the tolerance's edge beside one (two clicks 31 ms
+  // apart in their differences pair at one offset with a 20 ms tolerance, at neither
+  // difference).
   std::vector<int> pair(seen.size(), -1);
   double best_residual = 0;
+  const double edge = 0.999 * c.match_tolerance_s;
   for (double a : ht)
-    for (double v : seen) {
-      const double d = a - v;
-      if (std::abs(d) > c.max_offset_s) continue;
-      double residual = 0;
-      const std::vector<int> p = Pair(ht, seen, d, c.match_tolerance_s, &residual);
-      if (Count(p) > Count(pair) || (Count(p) == Count(pair) && Count(p) > 0 && residual < best_residual)) {
-        pair = p;
-        best_residual = residual;
-        r.offset_s = d;
+    for (double v : seen)
+      for (const double d : {a - v, a - v - edge, a - v + edge}) {
+        if (std::abs(d) > c.max_offset_s) continue;
+        double residual = 0;
+        const std::vector<int> p = Pair(ht, seen, d, c.match_tolerance_s, &residual);
+        if (Count(p) > Count(pair) || (Count(p) == Count(pair) && Count(p) > 0 && residual < best_residual)) {
+          pair = p;
+          best_residual = residual;
+          r.offset_s = d;
+        }
       }
-    }
   if (Count(pair) > 0) {  // refine: the median of the pairs' differences
     std::vector<double> diffs;
     for (size_t v = 0; v < seen.size(); ++v)

@@ -69,7 +69,7 @@ class DetectNode {
   void set_event_handler(EventFn fn) { on_event_ = std::move(fn); }
   const BounceDetector& detector() const { return detector_->detector(); }
   // Whether the frames' stamps were re-timed to the rate they were taken at (detect/retiming_detector.h).
-  Retiming retiming() const { return detector_->retiming(); }
+  const Retiming& retiming() const { return detector_->retiming(); }
   const DetectStats& stats() const { return stats_; }
   // Summaries of every drop ended so far, across stream restarts.
   std::vector<SequenceSummary> Summaries() const;
