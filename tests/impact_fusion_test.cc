@@ -127,6 +127,23 @@ TEST(ImpactFusion, ASeenImpactNearAHeardOneIsThatImpact) {
   EXPECT_EQ(video, 1);
 }
 
+// A 20 fps picture times each impact to some 15 ms: the pairs' differences scatter over 31 ms
+// here, and they pair at one offset only between them, not at any one difference.
+TEST(ImpactFusion, PairsWhoseDifferencesScatterPairAtAnOffsetBetweenThem) {
+  const PointMassDropResult r = Drop("tennis", 1.0);
+  ASSERT_GE(r.impact_times_s.size(), 5u);
+  const std::vector<double> t(r.impact_times_s.begin(), r.impact_times_s.begin() + 5);
+  const double scatter[] = {-0.0122, 0.0151, -0.0061, 0.0191, 0};  // seen - heard, s
+  std::vector<double> seen;
+  for (size_t i = 0; i < t.size(); ++i) seen.push_back(t[i] + scatter[i]);
+  std::vector<AudioImpact> heard = Heard(t, 0.010);
+  heard.pop_back();  // the last one too quiet to hear
+  const FusionResult f = FuseImpacts(heard, seen, t.back() + 1, ConfigFor("tennis"));
+  ASSERT_TRUE(f.sound_used) << f.verdict;
+  EXPECT_EQ(f.matched, 4) << f.verdict;
+  EXPECT_NEAR(f.offset_s, 0.010, 0.02);
+}
+
 TEST(ImpactFusion, BouncesHeardBeforeThePictureFoundTheBallAreKept) {
   const PointMassDropResult r = Drop("tennis", 1.5);
   ASSERT_GE(r.impact_times_s.size(), 9u);
