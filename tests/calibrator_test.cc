@@ -92,6 +92,25 @@ TEST(Calibrator, ScaleRollAndFloorFromFreeFlightWithDrag) {
   }
 }
 
+// A drop that ends rolling: the detector closes its last "arc" on a ball that rolls along the
+// floor (flat, 6 samples). It measures no fall and must not pull the scale down.
+TEST(Calibrator, ARollAtTheEndOfADropIsNotAFreeFall) {
+  testing::SimOptions o;  // a phone's 24 fps: a few samples an arc, and a roll of as many
+  o.ball = "tennis";
+  o.fps = 24;
+  o.noise_px = 0.2;
+  const auto c = testing::MakeSimClip(o);
+  CalibrationInput in = ArcsOf(c, 4);
+  FlightArcData roll;
+  const auto& last = in.arcs.back().samples.back();
+  for (int i = 1; i <= 6; ++i) roll.samples.push_back({last.t + 0.2 + i / 24.0, last.x + 8.0 * i, last.y + 3});
+  in.arcs.push_back(roll);
+  Calibrator cal{CalibratorConfig{}};
+  const auto r = cal.Calibrate(in);
+  ASSERT_TRUE(r.ok) << r.problem;
+  EXPECT_NEAR(r.calibration.px_per_m, c.options.px_per_m, 0.003 * c.options.px_per_m);
+}
+
 TEST(Calibrator, IgnoringDragBiasesTheScaleOfALightBall) {
   // Why drag is modelled: a ping-pong ball falling 1.6 m is far from a parabola.
   const auto c = Clip("pingpong", 1.6, 0);
