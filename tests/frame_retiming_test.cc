@@ -96,10 +96,28 @@ TEST(FrameRetiming, AClipStampedAtTheRateItWasTakenIsLeftAlone) {
     o.noise_px = 0.3;
     const SimClip c = MakeSimClip(o);
     Retiming r;
-    const auto score = ScorePeaks(c, Detect(c, true, &r));
+    const auto peaks = Detect(c, true, &r);
+    const auto score = ScorePeaks(c, peaks);
     EXPECT_TRUE(r.decided);
     EXPECT_FALSE(r.retimed) << fps << " fps: " << r.verdict;
     EXPECT_EQ(score.false_peaks, 0) << fps << " fps";
+    // Held while the test decided, then read as stamped: the rows of the detector alone.
+    BounceDetectorConfig dc;
+    dc.calibration.ball_diameter_m = ResolveBallPreset("tennis").diameter_m;
+    BounceDetector alone(dc);
+    std::vector<BouncePeak> want;
+    auto take = [&](const std::vector<DetectorEvent>& ev) {
+      for (const auto& e : ev)
+        if (e.kind == DetectorEvent::Kind::kPeak) want.push_back(e.peak);
+    };
+    for (const auto& o : c.obs) take(alone.Push(o));
+    take(alone.Finish());
+    ASSERT_EQ(peaks.size(), want.size()) << fps << " fps";
+    for (size_t k = 0; k < peaks.size(); ++k) {
+      EXPECT_EQ(peaks[k].bounce, want[k].bounce);
+      EXPECT_EQ(peaks[k].height_m, want[k].height_m);
+      EXPECT_EQ(peaks[k].emitted_utime, want[k].emitted_utime) << "emitted on the same picture";
+    }
   }
 }
 
