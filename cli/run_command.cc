@@ -411,6 +411,13 @@ void RunOneClip(RunOptions o) {
                       {"container_stored_fps", container.stored_fps},
                       {"report", clock_report.text},
                       {"frame_times", detect.retiming().verdict}};
+  // The rows are on the clock the pictures were taken on; track.csv keeps the stamps.
+  const Retiming& retiming = detect.retiming();
+  summary["clock"]["frames_retimed"] =
+      retiming.applied ? nlohmann::json{{"source_fps", retiming.source_fps},
+                                        {"phase", retiming.phase},
+                                        {"first_frame_s", out.stream_start() * 1e-6}}
+                       : nlohmann::json();
   nlohmann::json jpeaks = nlohmann::json::array();
   for (const auto& p : peaks) jpeaks.push_back(ToJson(p, out.stream_start()));
   summary["peaks"] = jpeaks;

@@ -33,7 +33,7 @@ double ParabolaRss(const std::vector<double>& t, const std::vector<double>& y) {
   return (a * x - b).squaredNorm();
 }
 
-double Tick(double t, double f, double c) { return std::floor(t * f + c + 1e-9) / f; }
+double Tick(double t, double f, double c) { return TakenAtSeconds(t, f, c); }
 
 }  // namespace
 

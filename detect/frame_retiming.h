@@ -17,12 +17,19 @@
 // ones before the hold, so that a ball held still pins its release on the same clock). Stamps
 // that are not evenly spaced (a camera's own clock, a variable frame rate) are taken as they
 // are. kStamped (`--keep-frame-times`) only reports, holding nothing.
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "track/ball_observation.h"
 
 namespace bouncefit {
+
+// The time a picture stamped at stamp_s was taken, on the tick of a source_fps capture:
+// floor(t f + c) / f. (report/ re-times the track with it, as the detector read it.)
+inline double TakenAtSeconds(double stamp_s, double source_fps, double phase) {
+  return std::floor(stamp_s * source_fps + phase + 1e-9) / source_fps;
+}
 
 enum class FrameTimes {
   kStamped,  // test and report only: nothing held, times as stamped

@@ -1,5 +1,7 @@
 #include "report/report_run_data.h"
 
+#include "detect/frame_retiming.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
@@ -279,6 +281,22 @@ const ReportFit* ReportRunData::FinalFit() const {
   return fits.empty() ? nullptr : &fits.back();
 }
 
+namespace {
+
+// A run whose pictures were re-timed (summary.json clock.frames_retimed) reports its rows on
+// the clock they were taken on; its track.csv keeps the stamps. The track is read on the same
+// clock, so that the tracked curve meets the apexes.
+void RetimeTrack(const nlohmann::json& summary, std::vector<ReportTrackRow>* track) {
+  if (!summary.is_object() || !summary.contains("clock") || !summary["clock"].is_object()) return;
+  const auto& r = summary["clock"].value("frames_retimed", nlohmann::json());
+  if (!r.is_object()) return;
+  const double f = r.value("source_fps", 0.0), c = r.value("phase", 0.0), first = r.value("first_frame_s", 0.0);
+  if (!(f > 0) || !std::isfinite(c) || !std::isfinite(first)) return;
+  for (auto& row : *track) row.t_s = TakenAtSeconds(first + row.t_s, f, c) - first;
+}
+
+}  // namespace
+
 ReportRunData LoadRunDirectory(const fs::path& dir) {
   if (!fs::is_directory(dir)) {
     throw std::runtime_error(dir.string() + ": is not a directory");
@@ -303,6 +321,7 @@ ReportRunData LoadRunDirectory(const fs::path& dir) {
   if (fs::exists(dir / "impacts.csv")) run.impacts = LoadImpacts(dir / "impacts.csv");
   if (fs::exists(dir / "waveform.csv")) run.waveform = LoadWaveform(dir / "waveform.csv");
   if (auto p = optional("summary.json")) run.summary = ParseJson(*p, ReadWholeFile(*p));
+  if (run.summary) RetimeTrack(*run.summary, &run.track);
   if (auto p = optional("coefficients.json")) {
     run.coefficients_export = ParseJson(*p, ReadWholeFile(*p));
   }

@@ -110,7 +110,7 @@ TEST(FrameRetiming, AClipStampedAtTheRateItWasTakenIsLeftAlone) {
       for (const auto& e : ev)
         if (e.kind == DetectorEvent::Kind::kPeak) want.push_back(e.peak);
     };
-    for (const auto& o : c.obs) take(alone.Push(o));
+    for (const auto& ob : c.obs) take(alone.Push(ob));
     take(alone.Finish());
     ASSERT_EQ(peaks.size(), want.size()) << fps << " fps";
     for (size_t k = 0; k < peaks.size(); ++k) {
