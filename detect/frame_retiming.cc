@@ -33,8 +33,6 @@ double ParabolaRss(const std::vector<double>& t, const std::vector<double>& y) {
   return (a * x - b).squaredNorm();
 }
 
-double Tick(double t, double f, double c) { return TakenAtSeconds(t, f, c); }
-
 }  // namespace
 
 std::vector<BallObservation> FrameRetimer::Push(const BallObservation& obs) {
@@ -103,7 +101,6 @@ std::vector<BallObservation> FrameRetimer::Flush() {
 void FrameRetimer::Decide(bool enough) {
   retiming_.decided = true;
   CloseArc();
-  for (const auto& a : arcs_) retiming_.samples += static_cast<int>(a.size());
   retiming_.arcs = static_cast<int>(arcs_.size());
   if (!uniform_) {
     retiming_.verdict = "frame times as stamped (not evenly spaced: the capture's own)";
@@ -122,7 +119,7 @@ void FrameRetimer::Decide(bool enough) {
       t.clear();
       y.clear();
       for (const auto& o : a) {
-        t.push_back(f > 0 ? Tick(Seconds(o.utime), f, c) : Seconds(o.utime));
+        t.push_back(f > 0 ? TakenAtSeconds(Seconds(o.utime), f, c) : Seconds(o.utime));
         y.push_back(o.cy);
         if (t.size() > 1 && !(t.back() > t[t.size() - 2])) return 1e300;  // two on one tick
       }
@@ -174,7 +171,7 @@ void FrameRetimer::Decide(bool enough) {
 
 BallObservation FrameRetimer::Retimed(BallObservation o) const {
   if (!retiming_.retimed) return o;
-  const double t = Tick(Seconds(o.utime), retiming_.source_fps, retiming_.phase);
+  const double t = TakenAtSeconds(Seconds(o.utime), retiming_.source_fps, retiming_.phase);
   o.utime = static_cast<int64_t>(std::llround(t * 1e6));
   return o;
 }

@@ -58,7 +58,7 @@ struct Retiming {
   double phase = 0;            // retimed: c in floor(t f + c) / f
   double rms_as_stamped_px = 0, rms_retimed_px = 0;  // the arcs' parabola residuals
   double gain = 1;             // residual variance as stamped over re-timed (the best)
-  int arcs = 0, samples = 0;   // what the test rested on
+  int arcs = 0;                // the arcs the test rested on
   std::string verdict;         // one line for the run's output
 };
 
