@@ -50,31 +50,40 @@ bool ApexInside(const FlightArcData& arc, const FlightGlobals& g) {
   return p.t_apex > arc.samples.front().t - 0.1 && p.t_apex < arc.samples.back().t;
 }
 
+// An arc's own image acceleration (ArcAcceleration), once per calibration: it both screens
+// the arcs and starts the shared fit.
+struct ArcAccel {
+  bool ok = false;
+  double ax = 0, ay = 0;  // px/s^2
+  int n = 0;              // samples it rests on
+};
+
 // An arc that is not a free flight: the ball rolling or sliding at the end of a drop (the
 // "arc" of a rolling ball is flat), or moved by a hand. Its own acceleration, from 5 samples or
 // more, is under half the median of the arcs' that measure one, of 3 arcs or more. It would
 // pull the shared gravity down: a tennis clip's last calibration went from 395 to 263 px/m
-// when a 6-sample roll joined it.
-void DropArcsNotInFreeFall(std::vector<FlightArcData>* arcs, std::vector<size_t>* index) {
-  std::vector<double> accel(arcs->size(), -1);
+// when a 6-sample roll joined it. Drops it from all three lists.
+void DropArcsNotInFreeFall(std::vector<FlightArcData>* arcs, std::vector<size_t>* index,
+                           std::vector<ArcAccel>* accels) {
   std::vector<double> measured;
-  for (size_t k = 0; k < arcs->size(); ++k) {
-    double ax, ay;
-    int n;
-    if (ArcAcceleration((*arcs)[k], &ax, &ay, &n)) measured.push_back(accel[k] = std::hypot(ax, ay));
-  }
+  for (const auto& a : *accels)
+    if (a.ok) measured.push_back(std::hypot(a.ax, a.ay));
   if (measured.size() < 3) return;
   std::nth_element(measured.begin(), measured.begin() + measured.size() / 2, measured.end());
   const double median = measured[measured.size() / 2];
   std::vector<FlightArcData> kept;
   std::vector<size_t> kept_index;
+  std::vector<ArcAccel> kept_accels;
   for (size_t k = 0; k < arcs->size(); ++k) {
-    if (accel[k] >= 0 && accel[k] < 0.5 * median) continue;
-    kept.push_back((*arcs)[k]);
+    const ArcAccel& a = (*accels)[k];
+    if (a.ok && std::hypot(a.ax, a.ay) < 0.5 * median) continue;
+    kept.push_back(std::move((*arcs)[k]));
     kept_index.push_back((*index)[k]);
+    kept_accels.push_back(a);
   }
   *arcs = std::move(kept);
   *index = std::move(kept_index);
+  *accels = std::move(kept_accels);
 }
 
 }  // namespace
@@ -134,7 +143,10 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
       chosen_index.push_back(j);
     }
   }
-  DropArcsNotInFreeFall(&chosen, &chosen_index);
+  std::vector<ArcAccel> accels(chosen.size());
+  for (size_t k = 0; k < chosen.size(); ++k)
+    accels[k].ok = ArcAcceleration(chosen[k], &accels[k].ax, &accels[k].ay, &accels[k].n);
+  DropArcsNotInFreeFall(&chosen, &chosen_index, &accels);
 
   FlightGlobals init;
   if (in.previous_globals && in.previous_globals->gravity_px > 0) {
@@ -142,14 +154,11 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
   } else {
     double sx = 0, sy = 0;
     int total = 0;
-    for (const auto& a : chosen) {
-      double ax, ay;
-      int n;
-      if (ArcAcceleration(a, &ax, &ay, &n)) {
-        sx += ax * n;
-        sy += ay * n;
-        total += n;
-      }
+    for (const auto& a : accels) {
+      if (!a.ok) continue;
+      sx += a.ax * a.n;
+      sy += a.ay * a.n;
+      total += a.n;
     }
     if (total > 0) {
       init.gravity_px = std::hypot(sx, sy) / total;
