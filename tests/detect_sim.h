@@ -241,9 +241,11 @@ inline double MaxOf(const std::vector<double>& v) {
   return m;
 }
 
-// Runs a detector over a clip, returns the peaks (all sequences) and the events.
-inline std::vector<BouncePeak> RunDetector(BounceDetector& d, const std::vector<BallObservation>& obs,
-                                           std::vector<DetectorEvent>* all_events = nullptr) {
+// Runs a detector over a clip, returns the peaks (all sequences) and the events. Any detector
+// with BounceDetector's Push and Finish (detect/retiming_detector.h too).
+template <class Detector>
+std::vector<BouncePeak> RunDetector(Detector& d, const std::vector<BallObservation>& obs,
+                                    std::vector<DetectorEvent>* all_events = nullptr) {
   std::vector<BouncePeak> peaks;
   auto take = [&](const std::vector<DetectorEvent>& ev) {
     for (const auto& e : ev) {

@@ -48,13 +48,7 @@ std::vector<BouncePeak> Detect(const SimClip& c, bool apply, Retiming* retiming)
   FrameRetimingConfig rc;
   rc.mode = apply ? FrameTimes::kRetimed : FrameTimes::kStamped;
   RetimingDetector d(dc, rc);
-  std::vector<BouncePeak> peaks;
-  auto take = [&](const std::vector<DetectorEvent>& ev) {
-    for (const auto& e : ev)
-      if (e.kind == DetectorEvent::Kind::kPeak) peaks.push_back(e.peak);
-  };
-  for (const auto& o : c.obs) take(d.Push(o));
-  take(d.Finish());
+  const auto peaks = testing::RunDetector(d, c.obs);
   *retiming = d.retiming();
   return peaks;
 }
@@ -105,13 +99,7 @@ TEST(FrameRetiming, AClipStampedAtTheRateItWasTakenIsLeftAlone) {
     BounceDetectorConfig dc;
     dc.calibration.ball_diameter_m = ResolveBallPreset("tennis").diameter_m;
     BounceDetector alone(dc);
-    std::vector<BouncePeak> want;
-    auto take = [&](const std::vector<DetectorEvent>& ev) {
-      for (const auto& e : ev)
-        if (e.kind == DetectorEvent::Kind::kPeak) want.push_back(e.peak);
-    };
-    for (const auto& ob : c.obs) take(alone.Push(ob));
-    take(alone.Finish());
+    const auto want = testing::RunDetector(alone, c.obs);
     ASSERT_EQ(peaks.size(), want.size()) << fps << " fps";
     for (size_t k = 0; k < peaks.size(); ++k) {
       EXPECT_EQ(peaks[k].bounce, want[k].bounce);
