@@ -1,13 +1,13 @@
 #include "report/report_run_data.h"
 
-#include "detect/frame_retiming.h"
-
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
+
+#include "detect/frame_retiming.h"
 
 namespace bouncefit {
 namespace {
