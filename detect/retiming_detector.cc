@@ -29,7 +29,7 @@ std::vector<DetectorEvent> RetimingDetector::Push(const BallObservation& obs) {
   const auto released = retimer_.Push(obs);
   if (!retimer_.retiming().decided) {
     before_.insert(before_.end(), released.begin(), released.end());
-    if (before_.size() > kMaxBefore) before_.erase(before_.begin(), before_.end() - kMaxBefore);
+    while (before_.size() > kMaxBefore) before_.pop_front();
   } else if (!was_decided) {
     OnDecided();
   }

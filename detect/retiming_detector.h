@@ -9,6 +9,7 @@
 // 1 m drop taken at 24 fps and stamped at 20 fps measured its release 0.859 m and its first
 // calibration 19% off; read whole, 1.0005 m (docs/ACCURACY.md "Frames re-timed by default").
 // A core with no I/O.
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -44,7 +45,7 @@ class RetimingDetector {
   std::unique_ptr<BounceDetector> detector_;
   // What the detector read before the test decided (the ball still, before its first moves),
   // the last kMaxBefore only.
-  std::vector<BallObservation> before_;
+  std::deque<BallObservation> before_;
   static constexpr size_t kMaxBefore = 1000;
   int64_t rejected_ = 0;
 };
