@@ -305,7 +305,7 @@ void RunOneClip(RunOptions o) {
     out.OnBox(ToBallBox(obs));
     const bool retiming_known = detect.retiming().decided;
     const auto events = detect.OnObservation(obs);
-    if (!retiming_known && detect.retiming().decided && detect.retiming().retimed) console.Info("clock: " + detect.retiming().verdict);
+    if (!retiming_known && detect.retiming().retimed) console.Info("clock: " + detect.retiming().verdict);
     handle_events(events);
     const auto heard = sound.AdvanceTo(SecondsSince(frame.utime, out.stream_start()), out.stream_start());
     for (const auto& m : heard) publish_impact(m);
