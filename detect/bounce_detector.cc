@@ -193,7 +193,10 @@ std::vector<DetectorEvent> BounceDetector::Push(const BallObservation& o) {
   last_seen_t_ = t;
   switch (phase_) {
     case Phase::kWaiting: OnWaiting(s, ev); break;
-    case Phase::kFlight: OnFlight(s, ev); break;
+    case Phase::kFlight:
+      if (flight_seen_.size() < kFlightSeenKept) flight_seen_.push_back(s);
+      OnFlight(s, ev);
+      break;
     case Phase::kRest: OnRest(s, ev); break;
   }
   return ev;

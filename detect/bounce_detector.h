@@ -99,6 +99,13 @@ struct BounceDetectorConfig {
   // first fall of a few smeared frames gives gravity to 7% (a phone's rolling shutter adds
   // more), and an arc followed with it leaves its samples with the square of the time.
   double scale_gate_sigmas = 3;
+  // ... with the scale's relative uncertainty taken as at least this: a fall fits its own
+  // gravity closely even when that is off (a release with a push of the hand reads gravity
+  // 20-25% high, as a smeared fall can), and the first rebound must outlive it.
+  double first_scale_min_rel_sigma = 0.08;
+  // Times a recalibration lets the closed arcs take back their samples and fits again
+  // (0: an arc keeps what it was followed with).
+  int readmit_rounds = 2;
   double noise_floor_px = 0.05; // lower bound on the noise estimate
   double initial_noise_px = 0.3;  // until the first fit measures it
   // Whether the first samples make an arc: until then, the noise is taken as at least this
@@ -222,6 +229,15 @@ class BounceDetector {
   void RefitArc(Arc& arc);
   bool AdoptOffArcSamples(Arc& cur);
   void Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev);
+  // Takes a calibration fitted to the arcs as they are: the arcs' fits, the noise level.
+  void ApplyCalibration(CalibrationResult res);
+  // Each arc closed by a fitted impact takes back the samples seen between its impacts that
+  // lie on it under the current calibration, within the gate a sample is followed with. An
+  // arc is followed with the scale of the moment: a first fall's few smeared frames at 24 fps
+  // measured it 25% high, and the ends of every rebound after it, off that scale, were turned
+  // away or dropped; the arcs then kept their five tops, which hold their curvature least.
+  // True when an arc gained a sample.
+  bool ReadmitSamples();
   // free_fall: the scale just measured rests on the free fall (not on the ball's size alone).
   bool DecideClock(bool free_fall);
   // The slow-down among `slowdowns` that explains a free-fall scale q times the ball size's
@@ -315,6 +331,8 @@ class BounceDetector {
   std::vector<double> radii_;
   static constexpr size_t kSeenKept = 32;
   std::vector<Sample> seen_;  // the last samples seen, whatever became of them (ImpactNotSeen)
+  static constexpr size_t kFlightSeenKept = 4096;
+  std::vector<Sample> flight_seen_;  // this drop's samples in flight, kept or not (ReadmitSamples)
   int sequence_ = -1;
   bool bounce0_emitted_ = false;
   int first_bounce_ = 0;  // bounce number of arc 0 in this sequence

@@ -47,6 +47,26 @@ void BounceDetector::Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev) 
     res = calibrator_.Calibrate(in);
     if (!res.flight.ok) return;
   }
+  ApplyCalibration(std::move(res));
+  // The arcs' samples judged anew on this scale; the scale again if an arc took some back.
+  for (int round = 0; round < config_.readmit_rounds && ReadmitSamples(); ++round) {
+    in.arcs = ArcData();
+    FlightGlobals globals = calibration_.flight.globals;
+    std::vector<FlightArcParams> arcs;
+    for (const auto& a : arcs_) arcs.push_back(a.fit);
+    in.previous_globals = &globals;
+    in.previous_arcs = &arcs;
+    CalibrationResult again = calibrator_.Calibrate(in);
+    if (!again.flight.ok) break;
+    ApplyCalibration(std::move(again));
+  }
+  DetectorEvent e;
+  e.kind = DetectorEvent::Kind::kCalibration;
+  e.calibration = calibration_.calibration;
+  ev.push_back(e);
+}
+
+void BounceDetector::ApplyCalibration(CalibrationResult res) {
   if (!res.calibration.has_floor && calibrated_ && calibration_.calibration.has_floor) {
     // Same camera, same floor: keep the floor of an earlier drop until this one has one.
     res.calibration.has_floor = true;
@@ -54,23 +74,20 @@ void BounceDetector::Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev) 
         calibration_.calibration.floor_centre_px() + res.calibration.radius_px;
     res.calibration.floor_sigma_px = calibration_.calibration.floor_sigma_px;
   }
-  calibration_ = res;
+  calibration_ = std::move(res);
   calibration_.calibration.time_scale = scale_;
   calibrated_ = true;
   calibration_sequence_ = sequence_;
-  for (size_t j = 0; j < arcs_.size() && j < res.flight.arcs.size(); ++j) {
-    arcs_[j].fit = res.flight.arcs[j];
+  const FlightFit& flight = calibration_.flight;
+  for (size_t j = 0; j < arcs_.size() && j < flight.arcs.size(); ++j) {
+    arcs_[j].fit = flight.arcs[j];
     arcs_[j].fit_ok = true;
-    arcs_[j].u_sigma = res.flight.u_apex_sigma[j];
+    arcs_[j].u_sigma = flight.u_apex_sigma[j];
   }
-  if (res.flight.samples > 10) {
-    sigma_ = std::max(config_.noise_floor_px, res.flight.rms_px);
+  if (flight.samples > 10) {
+    sigma_ = std::max(config_.noise_floor_px, flight.rms_px);
     sigma_measured_ = true;
   }
-  DetectorEvent e;
-  e.kind = DetectorEvent::Kind::kCalibration;
-  e.calibration = calibration_.calibration;
-  ev.push_back(e);
 }
 
 bool BounceDetector::DecideClock(bool free_fall) {
@@ -119,6 +136,7 @@ void BounceDetector::RescaleTime(double k) {
   scale(pending_off_);
   scale(rest_samples_);
   scale(seen_);
+  scale(flight_seen_);
   for (auto& a : arcs_) {
     scale(a.samples);
     a.fit.t_apex *= k;

@@ -25,7 +25,8 @@ bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
     *u = AlongDown(x, y, g.roll_rad);
     *w = AlongFloor(x, y, g.roll_rad);
     const double tau = t - arc.fit.t_apex;
-    *v_down = arc.held && tau < 0 ? 0.0 : FlightVelocityDown(g.gravity_px, g.drag_per_px, tau);
+    const bool in_hand = arc.held && tau < arc.fit.lead_s;
+    *v_down = in_hand ? 0.0 : FlightVelocityDown(g.gravity_px, g.drag_per_px, tau);
     return true;
   }
   // No model yet (the first fall): a local quadratic through the last moving samples,
@@ -43,15 +44,19 @@ bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
   // sample of a fall is already tens of pixels further than the second went.
   if (arc.held && moving.size() >= 2 && moving.size() < 10 && hold_u.size() >= 3) {
     const double uh = Median(hold_u);
-    double st = 0, sq = 0, stt = 0, stq = 0, sw = 0, n = 0;
+    // Weighted by the drop: a pixel of noise moves sqrt(u - u_hold) by 1 / (2 sqrt(u - u_hold)),
+    // so the first samples below the hand, a few pixels down, say least about the fall.
+    double st = 0, sq = 0, stt = 0, stq = 0, n = 0, w_sum = 0;
     for (const Sample* m : moving) {
-      const double q = std::sqrt(std::max(0.0, Down(*m) - uh));
-      st += m->t;
-      sq += q;
-      stt += m->t * m->t;
-      stq += m->t * q;
-      sw += Floor(*m);
-      n += 1;
+      const double d = std::max(0.0, Down(*m) - uh);
+      const double q = std::sqrt(d);
+      const double wt = std::max(d, 1.0);
+      st += wt * m->t;
+      sq += wt * q;
+      stt += wt * m->t * m->t;
+      stq += wt * m->t * q;
+      n += wt;
+      w_sum += Floor(*m);
     }
     const double den = n * stt - st * st;
     if (den <= 0) return false;
@@ -61,7 +66,7 @@ bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
     const double tr = -icpt / slope;
     const double dt = std::max(0.0, t - tr);
     *u = uh + slope * slope * dt * dt;
-    *w = sw / n;
+    *w = w_sum / static_cast<double>(moving.size());
     *v_down = 2 * slope * slope * dt;
     return true;
   }
@@ -152,8 +157,9 @@ double BounceDetector::ScaleGatePx(const Arc& arc, double t) const {
   tc /= n;
   const double var = std::max(0.0, tt / n - tc * tc);
   const double reach = std::max(0.0, (t - tc) * (t - tc) - var);
-  const double dg = config_.scale_gate_sigmas * cal.px_per_m_sigma / cal.px_per_m *
-                    std::abs(calibration_.flight.globals.gravity_px);
+  const double rel = std::max(cal.px_per_m_sigma / cal.px_per_m, config_.first_scale_min_rel_sigma);
+  const double dg =
+      config_.scale_gate_sigmas * rel * std::abs(calibration_.flight.globals.gravity_px);
   return 0.5 * dg * reach;
 }
 
@@ -197,7 +203,17 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     TryEmitApex(s.t, s.utime, false, ev);
     return;
   }
-  if (std::abs(ru) <= gate && std::abs(rw) <= 2 * gate) {
+  // Before the first calibration a fall from the hand is followed with a guess from its first
+  // few samples, a few pixels below the hand, where a pixel of noise is much of the drop (a
+  // smeared 24 fps fall is located to pixels): a sample beyond that guess further down the same
+  // line is the fall going faster than guessed, not the end of it.
+  // Only while the fall is young (followed as a fall from the hand, under 10 samples): a "fall"
+  // the hand drew slowly for seconds before the ball dropped is no guess to outrun.
+  const bool faster_fall = !calibrated_ && cur.release && cur.held &&
+                           cur.samples.size() < cur.hold_samples + 10 && ru > gate &&
+                           ru < 0.5 * reach && std::abs(rw) <= 2 * gate &&
+                           Down(s) > Down(cur.samples.back());
+  if ((std::abs(ru) <= gate || faster_fall) && std::abs(rw) <= 2 * gate) {
     cur.samples.push_back(s);
     pending_up_.clear();
     pending_off_.clear();

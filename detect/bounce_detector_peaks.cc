@@ -87,9 +87,10 @@ void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent
   p.utime = utime;
   p.sequence = sequence_;
   p.bounce = static_cast<int>(j) + first_bounce_;
-  p.apex_utime = ToUtime(arc.fit.t_apex);
+  const FlightGlobals& globals = calibration_.flight.globals;
+  p.apex_utime = ToUtime(FlightTopT(arc.fit, arc.held));
   const double floor_px = FloorUnderArcPx(j, false);
-  p.height_px = floor_px - arc.fit.u_apex;
+  p.height_px = floor_px - FlightTopU(globals, arc.fit, arc.held);
   // The release arc's apex is its fitted vertex (seen held, or extrapolated from the fall).
   if (config_.use_arc_apex && !arc.release) {
     // Heights above the floor with the drag's departure from a parabola removed.
@@ -155,9 +156,9 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
     for (size_t j = 0; j + 1 < arcs_.size() && j < calibration_.impacts.size(); ++j)
       impact_t.push_back(calibration_.impacts[j].ok ? calibration_.impacts[j].t : nan);
     for (size_t j = 0; j < arcs_.size(); ++j) {
+      const double top = FlightTopU(calibration_.flight.globals, arcs_[j].fit, arcs_[j].held);
       sum.final_height_m.push_back(
-          metres && arcs_[j].fit_ok ? (FloorUnderArcPx(j, true) - arcs_[j].fit.u_apex) / cal.px_per_m
-                                    : nan);
+          metres && arcs_[j].fit_ok ? (FloorUnderArcPx(j, true) - top) / cal.px_per_m : nan);
       double fh = nan;
       if (j >= 1 && j < impact_t.size()) {
         const double dt = impact_t[j] - impact_t[j - 1];
@@ -193,6 +194,7 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
     ev.push_back(e);
   }
   arcs_.clear();
+  flight_seen_.clear();
   pending_up_.clear();
   pending_off_.clear();
   last_far_.reset();

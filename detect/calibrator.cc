@@ -11,7 +11,9 @@ namespace {
 
 // Image acceleration (px/s^2) of an arc from quadratic fits of x(t) and y(t), skipping a
 // hold at its start. False with fewer than 5 moving samples.
-bool ArcAcceleration(const FlightArcData& arc, double* ax, double* ay, int* n_used) {
+// Index of a held arc's last sample still in the hand (within 1.5 px of the first); 0 for an
+// arc not held.
+size_t HoldEnd(const FlightArcData& arc) {
   const auto& s = arc.samples;
   size_t first = 0;
   if (arc.held_before_apex && s.size() >= 4) {
@@ -19,6 +21,12 @@ bool ArcAcceleration(const FlightArcData& arc, double* ax, double* ay, int* n_us
     while (first + 1 < s.size() && std::hypot(s[first + 1].x - x0, s[first + 1].y - y0) < 1.5)
       ++first;
   }
+  return first;
+}
+
+bool ArcAcceleration(const FlightArcData& arc, double* ax, double* ay, int* n_used) {
+  const auto& s = arc.samples;
+  const size_t first = HoldEnd(arc);
   const size_t n = s.size() - first;
   if (n < 5) return false;
   double tm = 0;
@@ -84,6 +92,76 @@ void DropArcsNotInFreeFall(std::vector<FlightArcData>* arcs, std::vector<size_t>
   *arcs = std::move(kept);
   *index = std::move(kept_index);
   *accels = std::move(kept_accels);
+}
+
+// Where a held arc's fall, bent by gravity g, crosses the hand: its vertex from the moving
+// samples, and the release that many seconds after it (before it: tossed up). False when fewer
+// than 3 samples move or they fall less than min_fall_px below the hand (a hop of a ball at
+// rest, taken for a hold and a release, says nothing of a hand's push).
+bool ReleaseStart(const FlightArcData& arc, const FlightGlobals& g, double min_fall_px,
+                  FlightArcParams* out) {
+  const FlightArcParams& current = *out;
+  std::vector<double> t, u;
+  for (const auto& q : arc.samples) {
+    t.push_back(q.t);
+    u.push_back(AlongDown(q.x, q.y, g.roll_rad));
+  }
+  const size_t last_held = HoldEnd(arc), first = last_held + 1;
+  if (last_held == 0 || first + 3 > u.size() || !(g.gravity_px > 0)) return false;
+  std::vector<double> held(u.begin(), u.begin() + static_cast<long>(first));
+  std::nth_element(held.begin(), held.begin() + static_cast<long>(held.size() / 2), held.end());
+  const double u_hand = held[held.size() / 2];
+  if (*std::max_element(u.begin() + static_cast<long>(first), u.end()) - u_hand < min_fall_px)
+    return false;
+  // u = c0 + c1 dt + G/2 dt^2 through the moving samples (dt from their mean time).
+  double tm = 0;
+  for (size_t i = first; i < u.size(); ++i) tm += t[i];
+  tm /= static_cast<double>(u.size() - first);
+  double sd = 0, sdd = 0, sr = 0, sdr = 0, n = 0;
+  for (size_t i = first; i < u.size(); ++i) {
+    const double dt = t[i] - tm, r = u[i] - 0.5 * g.gravity_px * dt * dt;
+    sd += dt, sdd += dt * dt, sr += r, sdr += dt * r, n += 1;
+  }
+  const double den = n * sdd - sd * sd;
+  if (!(den > 0)) return false;
+  const double c1 = (n * sdr - sd * sr) / den, c0 = (sr - c1 * sd) / n;
+  FlightArcParams p = current;
+  p.t_apex = tm - c1 / g.gravity_px;
+  p.u_apex = c0 - c1 * c1 / (2 * g.gravity_px);
+  const double lead = std::sqrt(2 * std::max(0.0, u_hand - p.u_apex) / g.gravity_px);
+  p.lead_s = p.t_apex > t[first] ? -lead : lead;  // rising at first: tossed up
+  p.w_apex = current.w_apex + current.vw * (p.t_apex - current.t_apex);
+  *out = p;
+  return true;
+}
+
+// Each held arc's release speed fitted too, kept only when it explains far more of the arcs
+// than one more parameter per arc explains of noise: a drop from rest keeps its from-rest
+// fit (freed, its speed trades with drag: a ping-pong ball's scale 2.5% off).
+FlightFit WithReleaseSpeed(const std::vector<FlightArcData>& arcs, const FlightFit& from_rest,
+                           double min_fall_px, FlightFitOptions opt) {
+  std::vector<FlightArcParams> start = from_rest.arcs;
+  int freed = 0;
+  for (size_t j = 0; j < arcs.size(); ++j)
+    if (arcs[j].held_before_apex &&
+        ReleaseStart(arcs[j], from_rest.globals, min_fall_px, &start[j]))
+      ++freed;
+  if (freed == 0) return from_rest;
+  opt.fit_release_lead = true;
+  const FlightFit pushed = FitFlight(arcs, from_rest.globals, start, opt);
+  if (!pushed.ok) return from_rest;
+  const double rows = 2.0 * pushed.samples;
+  const double cost_rest = from_rest.rms_px * from_rest.rms_px * rows;
+  const double cost_pushed = pushed.rms_px * pushed.rms_px * rows;
+  const double params = 3.0 + 5.0 * static_cast<double>(arcs.size());
+  const double sigma2 = cost_pushed / std::max(1.0, rows - params);
+  // Far beyond the noise, and a good part of the misfit: with a fraction of a pixel of noise
+  // over many samples, the speed would absorb any small misfit of the model (a floor that
+  // drifts down the picture as the ball comes closer).
+  constexpr double kSigmas = 5, kMinShare = 1.0 / 3;
+  const bool explains = cost_rest - cost_pushed > kSigmas * kSigmas * sigma2 * freed &&
+                        cost_rest - cost_pushed > kMinShare * cost_rest;
+  return explains ? pushed : from_rest;
 }
 
 }  // namespace
@@ -192,6 +270,8 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
       opt.fit_drag = false;
       global = FitFlight(chosen, g0, global.arcs, opt);
     }
+    if (global.ok && config_.fit_release_speed && chosen.size() >= 2)
+      global = WithReleaseSpeed(chosen, global, 4 * in.radius_px, opt);
     if (!global.ok) {
       res.problem = "the free-flight fit failed";
     } else {
@@ -277,7 +357,9 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
     cal.px_per_m = 0;
     cal.method = "drop-height";
     if (cal.has_floor && !res.flight.arcs.empty()) {
-      const double h_px = cal.floor_centre_px() - res.flight.arcs[0].u_apex;
+      const double top =
+          FlightTopU(res.flight.globals, res.flight.arcs[0], in.arcs[0].held_before_apex);
+      const double h_px = cal.floor_centre_px() - top;
       if (h_px > 0) {
         cal.px_per_m = h_px / config_.drop_height_m;
         const double su0 =

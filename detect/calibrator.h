@@ -58,6 +58,7 @@ struct CalibratorConfig {
   double px_per_m = 0;         // > 0: the user's scale is used for metres
   double drop_height_m = 0;    // > 0: scale = release height (px) / this
   bool fit_drag = true;        // false: no air drag in the free-flight model
+  bool fit_release_speed = true;  // false: a held ball is always let go from rest
   int max_arcs = 8;            // the first arcs of a drop carry the information
   int min_arc_samples = 4;     // shorter arcs do not enter the scale fit
   // A free-fall scale less certain than this (standard uncertainty over the scale) measures

@@ -57,13 +57,22 @@ double AlongFloor(double x, double y, double roll_rad) {
 
 void FlightPosition(const FlightGlobals& g, const FlightArcParams& a, bool held_before_apex,
                     double t, double* x, double* y) {
-  const double tau = t - a.t_apex;
-  const bool held = held_before_apex && tau < 0;
-  const double u = a.u_apex + (held ? 0.0 : FlightDrop(g.gravity_px, g.drag_per_px, tau));
-  const double w = a.w_apex + (held ? 0.0 : a.vw * tau);
+  double tau = t - a.t_apex;
+  if (held_before_apex && tau < a.lead_s) tau = a.lead_s;  // still in the hand
+  const double u = a.u_apex + FlightDrop(g.gravity_px, g.drag_per_px, tau);
+  const double w = a.w_apex + a.vw * tau;
   const double s = std::sin(g.roll_rad), c = std::cos(g.roll_rad);
   *x = u * s + w * c;
   *y = u * c - w * s;
+}
+
+double FlightTopU(const FlightGlobals& g, const FlightArcParams& a, bool held_before_apex) {
+  if (!held_before_apex || !(a.lead_s > 0)) return a.u_apex;
+  return a.u_apex + FlightDrop(g.gravity_px, g.drag_per_px, a.lead_s);
+}
+
+double FlightTopT(const FlightArcParams& a, bool held_before_apex) {
+  return held_before_apex && a.lead_s > 0 ? a.t_apex + a.lead_s : a.t_apex;
 }
 
 FlightArcParams InitialArcParams(const FlightArcData& arc, const FlightGlobals& g) {
@@ -147,9 +156,9 @@ FlightArcParams InitialArcParams(const FlightArcData& arc, const FlightGlobals& 
 
 namespace {
 
-// Parameter layout: [G, k, roll, (t_apex, u_apex, w_apex, vw) per arc].
+// Parameter layout: [G, k, roll, (t_apex, u_apex, w_apex, vw, lead_s) per arc].
 constexpr int kGlobals = 3;
-constexpr int kPerArc = 4;
+constexpr int kPerArc = 5;
 
 struct Problem {
   const std::vector<FlightArcData>* arcs;
@@ -159,7 +168,7 @@ struct Problem {
   FlightGlobals Globals(const Eigen::VectorXd& p) const { return {p(0), p(1), p(2)}; }
   static FlightArcParams Arc(const Eigen::VectorXd& p, size_t j) {
     const auto o = static_cast<Eigen::Index>(kGlobals + kPerArc * j);
-    return {p(o), p(o + 1), p(o + 2), p(o + 3)};
+    return {p(o), p(o + 1), p(o + 2), p(o + 3), p(o + 4)};
   }
   // Residuals (observed - model) of one arc into r at its rows.
   void ArcResiduals(const Eigen::VectorXd& p, size_t j, Eigen::VectorXd& r) const {
@@ -187,7 +196,8 @@ double StepFor(int index, const Eigen::VectorXd& p) {
     case 0: return 1e-7;
     case 1: return 1e-4;
     case 2: return 1e-4;
-    default: return 1e-3;
+    case 3: return 1e-3;
+    default: return 1e-7;
   }
 }
 
@@ -219,6 +229,7 @@ FlightFit FitFlight(const std::vector<FlightArcData>& arcs, const FlightGlobals&
     p(o + 1) = a.u_apex;
     p(o + 2) = a.w_apex;
     p(o + 3) = a.vw;
+    p(o + 4) = arcs[j].held_before_apex ? a.lead_s : 0.0;
   }
   // Free parameters.
   std::vector<int> free;
@@ -233,6 +244,7 @@ FlightFit FitFlight(const std::vector<FlightArcData>& arcs, const FlightGlobals&
     free.push_back(o + 2);  // w_apex
     if (n >= 2) free.push_back(o);  // t_apex
     if (n >= 3 && options.fit_horizontal_speed) free.push_back(o + 3);
+    if (options.fit_release_lead && arcs[j].held_before_apex && n >= 6) free.push_back(o + 4);
   }
   const int nf = static_cast<int>(free.size());
   if (prob.rows < nf || nf == 0) return fit;

@@ -31,6 +31,10 @@ struct FlightArcParams {
   double u_apex = 0;  // px along true down (d . p)
   double w_apex = 0;  // px along the floor (e . p, e = (cos roll, -sin roll))
   double vw = 0;      // px/s along the floor
+  // Held arcs: the release, s after the vertex (0: from rest; > 0 pushed down by the hand, the
+  // vertex a virtual one above it; < 0 tossed up into the vertex). Until then the ball stays
+  // where the flight passes at the release.
+  double lead_s = 0;
 };
 
 struct FlightGlobals {
@@ -53,6 +57,9 @@ struct FlightFitOptions {
   bool fit_drag = true;     // false: drag_per_px is held at its initial value
   bool fit_roll = true;     // false: roll is held at its initial value
   bool fit_horizontal_speed = true;  // false: vw held (e.g. arcs with one or two samples)
+  // true: a held arc's release speed (FlightArcParams::lead_s) is fitted; false: held
+  // (from rest, unless the initial arcs say otherwise).
+  bool fit_release_lead = false;
   int max_iterations = 60;
 };
 
@@ -66,6 +73,11 @@ struct FlightFit {
   int samples = 0;
   int iterations = 0;
 };
+
+// The highest point of an arc's flight along true down (px) and its time (s): the vertex, or
+// the release of a held arc pushed down past it.
+double FlightTopU(const FlightGlobals& g, const FlightArcParams& a, bool held_before_apex);
+double FlightTopT(const FlightArcParams& a, bool held_before_apex);
 
 // Initial arc parameters from a quadratic fit of each arc's samples along the given roll
 // (for arcs with at least 3 samples; shorter arcs get their mean position).

@@ -92,6 +92,40 @@ TEST(Calibrator, ScaleRollAndFloorFromFreeFlightWithDrag) {
   }
 }
 
+// A hand that pushes the ball down as it lets go (0.6 m/s on a 1 m drop): fitted from rest, the
+// fall reads gravity high and every height low. With a rebound to pin gravity, the release
+// speed is fitted too; a drop from rest keeps its from-rest fit (the test above).
+TEST(Calibrator, APushedReleaseIsFittedWithItsSpeed) {
+  for (const char* ball : {"tennis", "pingpong", "basketball"}) {
+    testing::SimOptions o;
+    o.ball = ball;
+    o.noise_px = 0.2;
+    o.launch_up_mps = -0.6;
+    const auto c = testing::MakeSimClip(o);
+    // As the detector has it at the first rebound's apex: the fall, and the rebound's rise.
+    CalibrationInput in = ArcsOf(c, 2);
+    in.arcs[1].samples.resize(in.arcs[1].samples.size() / 2);
+    CalibratorConfig from_rest;
+    from_rest.fit_release_speed = false;
+    const auto rest = Calibrator{from_rest}.Calibrate(in);
+    const auto r = Calibrator{CalibratorConfig{}}.Calibrate(in);
+    ASSERT_TRUE(r.ok && rest.ok) << ball;
+    const Calibration& k = r.calibration;
+    std::printf("%s: scale %.1f px/m (from rest %.1f; truth %.1f), release lead %.4f s\n", ball,
+                k.px_per_m, rest.calibration.px_per_m, o.px_per_m, r.flight.arcs[0].lead_s);
+    EXPECT_GT(std::abs(rest.calibration.px_per_m / o.px_per_m - 1), 0.03)
+        << ball << ": from rest fits it";
+    EXPECT_NEAR(k.px_per_m, o.px_per_m, 0.005 * o.px_per_m) << ball;
+    const FlightGlobals& g = r.flight.globals;
+    const double speed =
+        FlightVelocityDown(g.gravity_px, g.drag_per_px, r.flight.arcs[0].lead_s) / k.px_per_m;
+    EXPECT_NEAR(speed, 0.6, 0.06) << ball;
+    // The release row is the hand, the highest point of the flight.
+    const double h = (k.floor_centre_px() - FlightTopU(g, r.flight.arcs[0], true)) / k.px_per_m;
+    EXPECT_NEAR(h, o.drop_m, 0.005 * o.drop_m) << ball;
+  }
+}
+
 // A drop that ends rolling: the detector closes its last "arc" on a ball that rolls along the
 // floor (flat, 6 samples). It measures no fall and must not pull the scale down.
 TEST(Calibrator, ARollAtTheEndOfADropIsNotAFreeFall) {
