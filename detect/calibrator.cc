@@ -155,13 +155,8 @@ FlightFit WithReleaseSpeed(const std::vector<FlightArcData>& arcs, const FlightF
   const double cost_pushed = pushed.rms_px * pushed.rms_px * rows;
   const double params = 3.0 + 5.0 * static_cast<double>(arcs.size());
   const double sigma2 = cost_pushed / std::max(1.0, rows - params);
-  // Far beyond the noise, and a good part of the misfit: with a fraction of a pixel of noise
-  // over many samples, the speed would absorb any small misfit of the model (a floor that
-  // drifts down the picture as the ball comes closer).
-  constexpr double kSigmas = 5, kMinShare = 1.0 / 3;
-  const bool explains = cost_rest - cost_pushed > kSigmas * kSigmas * sigma2 * freed &&
-                        cost_rest - cost_pushed > kMinShare * cost_rest;
-  return explains ? pushed : from_rest;
+  constexpr double kSigmas = 5;
+  return cost_rest - cost_pushed > kSigmas * kSigmas * sigma2 * freed ? pushed : from_rest;
 }
 
 }  // namespace
