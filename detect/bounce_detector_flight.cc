@@ -157,7 +157,8 @@ double BounceDetector::ScaleGatePx(const Arc& arc, double t) const {
   tc /= n;
   const double var = std::max(0.0, tt / n - tc * tc);
   const double reach = std::max(0.0, (t - tc) * (t - tc) - var);
-  const double rel = std::max(cal.px_per_m_sigma / cal.px_per_m, config_.first_scale_min_rel_sigma);
+  const double rel =
+      std::max(cal.px_per_m_sigma / cal.px_per_m, config_.first_scale_min_rel_sigma);
   const double dg =
       config_.scale_gate_sigmas * rel * std::abs(calibration_.flight.globals.gravity_px);
   return 0.5 * dg * reach;

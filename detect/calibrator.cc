@@ -9,8 +9,6 @@
 namespace bouncefit {
 namespace {
 
-// Image acceleration (px/s^2) of an arc from quadratic fits of x(t) and y(t), skipping a
-// hold at its start. False with fewer than 5 moving samples.
 // Index of a held arc's last sample still in the hand (within 1.5 px of the first); 0 for an
 // arc not held.
 size_t HoldEnd(const FlightArcData& arc) {
@@ -24,6 +22,8 @@ size_t HoldEnd(const FlightArcData& arc) {
   return first;
 }
 
+// Image acceleration (px/s^2) of an arc from quadratic fits of x(t) and y(t), skipping a
+// hold at its start. False with fewer than 5 moving samples.
 bool ArcAcceleration(const FlightArcData& arc, double* ax, double* ay, int* n_used) {
   const auto& s = arc.samples;
   const size_t first = HoldEnd(arc);
