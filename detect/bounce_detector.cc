@@ -73,6 +73,10 @@ double BounceDetector::Gate() const {
   return std::max(config_.min_gate_px, config_.gate_sigmas * sigma_);
 }
 
+double BounceDetector::FollowGate(double v_down, double gap_frames) const {
+  return Gate() + 0.02 * std::abs(v_down) * frame_dt_ * gap_frames;
+}
+
 double BounceDetector::StartGate() const {
   if (sigma_measured_) return Gate();
   const double sigma = std::max(sigma_, config_.initial_noise_radius_share * RadiusPx());

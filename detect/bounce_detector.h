@@ -282,6 +282,10 @@ class BounceDetector {
   double FloorUnderArcPx(size_t j, bool both) const;
   void EndSequence(const std::string& reason, std::vector<DetectorEvent>& ev);
   double Gate() const;
+  // How far a sample may lie off an arc whose model moves at v_down px/s there, gap_frames
+  // after the arc's last sample: the noise gate, plus 2% of the travel (a model a little off
+  // in speed is a little off in place).
+  double FollowGate(double v_down, double gap_frames = 1) const;
   // How far the arc's prediction at t may be off for the uncertainty of the scale it is
   // followed with (BounceDetectorConfig::scale_gate_sigmas), px.
   double ScaleGatePx(const Arc& arc, double t) const;

@@ -179,7 +179,7 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   }
   const double u = Down(s), w = Floor(s);
   const double gap_frames = std::max(1.0, (s.t - cur.samples.back().t) / frame_dt_);
-  double gate = Gate() + 0.02 * std::abs(vp) * frame_dt_ * gap_frames;
+  double gate = FollowGate(vp, gap_frames);
   if (cur.samples.size() < 4 || !calibrated_) gate += 2 * Gate();
   // Until the drop's noise is measured, an arc whose own samples scatter more than assumed
   // (a smeared ball at 20-30 fps is located to pixels, not tenths) is followed with its scatter.
@@ -469,7 +469,7 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
       if (calibrated_) RefitArc(probe);
       double up, wp, vp;
       if (Predict(probe, last.t, &up, &wp, &vp) &&
-          std::abs(Down(last) - up) > Gate() + 0.02 * std::abs(vp) * frame_dt_)
+          std::abs(Down(last) - up) > FollowGate(vp))
         prev.samples.pop_back();
     }
   }

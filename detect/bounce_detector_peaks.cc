@@ -87,14 +87,13 @@ void BounceDetector::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent
   p.utime = utime;
   p.sequence = sequence_;
   p.bounce = static_cast<int>(j) + first_bounce_;
-  const FlightGlobals& globals = calibration_.flight.globals;
+  const FlightGlobals& g = calibration_.flight.globals;
   p.apex_utime = ToUtime(FlightTopT(arc.fit, arc.held));
   const double floor_px = FloorUnderArcPx(j, false);
-  p.height_px = floor_px - FlightTopU(globals, arc.fit, arc.held);
+  p.height_px = floor_px - FlightTopU(g, arc.fit, arc.held);
   // The release arc's apex is its fitted vertex (seen held, or extrapolated from the fall).
   if (config_.use_arc_apex && !arc.release) {
     // Heights above the floor with the drag's departure from a parabola removed.
-    const FlightGlobals& g = calibration_.flight.globals;
     std::vector<double> ts, hs;
     for (const auto& q : arc.samples) {
       const double tau = q.t - arc.fit.t_apex;

@@ -8,7 +8,6 @@ namespace bouncefit {
 
 bool BounceDetector::ReadmitSamples() {
   if (!calibrated_ || arcs_.size() < 2) return false;
-  const FlightGlobals& g = calibration_.flight.globals;
   const auto& imps = calibration_.impacts;
   bool gained = false;
   // The current arc is still followed sample by sample: only arcs closed by an impact.
@@ -27,14 +26,11 @@ bool BounceDetector::ReadmitSamples() {
       const bool kept = std::any_of(arc.samples.begin(), arc.samples.end(),
                                     [&](const Sample& a) { return a.t == q.t; });
       if (kept) continue;
-      double x, y;
-      FlightPosition(g, arc.fit, arc.held, q.t, &x, &y);
-      const double v = FlightVelocityDown(g.gravity_px, g.drag_per_px, q.t - arc.fit.t_apex);
+      double u, w, v;
+      if (!Predict(arc, q.t, &u, &w, &v)) continue;
       // The gate a sample of a known arc is followed with (OnFlight).
-      const double gate = Gate() + 0.02 * std::abs(v) * frame_dt_;
-      const double ru = Down(q) - AlongDown(x, y, g.roll_rad);
-      const double rw = Floor(q) - AlongFloor(x, y, g.roll_rad);
-      if (std::abs(ru) <= gate && std::abs(rw) <= 2 * gate) taken.push_back(q);
+      const double gate = FollowGate(v);
+      if (std::abs(Down(q) - u) <= gate && std::abs(Floor(q) - w) <= 2 * gate) taken.push_back(q);
     }
     if (taken.empty()) continue;
     arc.samples.insert(arc.samples.end(), taken.begin(), taken.end());

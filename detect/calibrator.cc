@@ -1,4 +1,5 @@
 #include "detect/calibrator.h"
+#include "detect/detector_stats.h"
 
 #include <Eigen/Dense>
 
@@ -108,9 +109,7 @@ bool ReleaseStart(const FlightArcData& arc, const FlightGlobals& g, double min_f
   }
   const size_t last_held = HoldEnd(arc), first = last_held + 1;
   if (last_held == 0 || first + 3 > u.size() || !(g.gravity_px > 0)) return false;
-  std::vector<double> held(u.begin(), u.begin() + static_cast<long>(first));
-  std::nth_element(held.begin(), held.begin() + static_cast<long>(held.size() / 2), held.end());
-  const double u_hand = held[held.size() / 2];
+  const double u_hand = detector_stats::Median({u.begin(), u.begin() + static_cast<long>(first)});
   if (*std::max_element(u.begin() + static_cast<long>(first), u.end()) - u_hand < min_fall_px)
     return false;
   // u = c0 + c1 dt + G/2 dt^2 through the moving samples (dt from their mean time).
