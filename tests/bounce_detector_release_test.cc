@@ -3,7 +3,6 @@
 // scatter at 24 fps. Every rebound must still be found, numbered from the release, and measured.
 #include <gtest/gtest.h>
 
-#include <random>
 #include <string>
 
 #include "detect/bounce_detector.h"
@@ -12,46 +11,12 @@
 namespace bouncefit {
 namespace {
 
-struct FirstFall {
-  std::string ball;
-  double fps;
-  double push_mps;      // the hand's push down at the release (0: from rest)
-  double fall_noise_px;  // extra scatter of the fall's centres (0: none)
-  unsigned seed;
-};
-
-void PrintTo(const FirstFall& c, std::ostream* os) {
-  *os << c.ball << " at " << c.fps << " fps, pushed " << c.push_mps << " m/s, fall noise "
-      << c.fall_noise_px << " px, seed " << c.seed;
-}
-
-testing::SimClip FirstFallClip(const FirstFall& c) {
-  testing::SimOptions o;
-  o.ball = c.ball;
-  o.fps = c.fps;
-  o.noise_px = 0.4;
-  o.px_per_m = 390;
-  o.exposure_frac = 0.8;
-  o.seed = c.seed;
-  o.launch_up_mps = -c.push_mps;
-  auto clip = testing::MakeSimClip(o);
-  if (c.fall_noise_px > 0) {
-    std::mt19937 rng(c.seed * 7);
-    std::normal_distribution<double> noise(0, c.fall_noise_px);
-    const double impact = clip.truth.impact_times_s.at(0);
-    for (auto& b : clip.obs) {
-      const double t = b.utime * 1e-6;
-      if (b.found && t > o.hold_s + 0.5 / o.fps && t < impact - 0.5 / o.fps)
-        b.cy += static_cast<float>(noise(rng));
-    }
-  }
-  return clip;
-}
+using testing::FirstFall;
 
 class DetectorFirstFall : public ::testing::TestWithParam<FirstFall> {};
 
 TEST_P(DetectorFirstFall, EveryReboundIsFoundNumberedAndMeasured) {
-  const auto clip = FirstFallClip(GetParam());
+  const auto clip = testing::MakeFirstFallClip(GetParam());
   BounceDetectorConfig config;
   config.image_width_px = static_cast<int>(clip.options.width);
   config.image_height_px = static_cast<int>(clip.options.height);

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <random>
 #include <string>
 
 #include "detect/bounce_detector.h"
@@ -31,25 +30,10 @@ TEST(FirstFallSweep, DropsBrokenAndRowsOff) {
         if (kind == kSmeared && fps > 30) continue;
         const unsigned seeds = kind == kSmeared ? 10 : 4;
         for (unsigned seed = 1; seed <= seeds; ++seed) {
-          testing::SimOptions o;
-          o.ball = ball;
-          o.fps = fps;
-          o.noise_px = 0.4;
-          o.px_per_m = 390;
-          o.seed = seed;
-          o.exposure_frac = 0.8;
-          o.launch_up_mps = kind == kPushed03 ? -0.3 : kind == kPushed06 ? -0.6 : 0.0;
-          auto clip = testing::MakeSimClip(o);
-          if (kind == kSmeared) {
-            std::mt19937 rng(seed * 7);
-            std::normal_distribution<double> noise(0, 2.5);
-            const double impact = clip.truth.impact_times_s.at(0);
-            for (auto& b : clip.obs) {
-              const double t = b.utime * 1e-6;
-              if (b.found && t > o.hold_s + 0.5 / fps && t < impact - 0.5 / fps)
-                b.cy += static_cast<float>(noise(rng));
-            }
-          }
+          const double push = kind == kPushed03 ? 0.3 : kind == kPushed06 ? 0.6 : 0.0;
+          const double smear = kind == kSmeared ? 2.5 : 0.0;
+          const auto clip = testing::MakeFirstFallClip({ball, fps, push, smear, seed});
+          const testing::SimOptions& o = clip.options;
           BounceDetectorConfig c;
           c.image_width_px = static_cast<int>(o.width);
           c.image_height_px = static_cast<int>(o.height);
