@@ -228,6 +228,12 @@ class BounceDetector {
   bool Predict(const Arc& arc, double t, double* u, double* w, double* v_down) const;
   void RefitArc(Arc& arc);
   bool AdoptOffArcSamples(Arc& cur);
+  // The release arc, young and not yet calibrated, turned away `missed` (time order) for
+  // its misses: they continue its fall (below its last sample, faster and faster, free flight
+  // for the ball's size), so the model lost the fall, not the ball. *fall_parabola: that
+  // fall's DownParabola (dt from the last missed sample).
+  bool YoungFallContinues(const Arc& cur, const std::vector<Sample>& missed,
+                          Eigen::Vector3d* fall_parabola) const;
   void Recalibrate(int64_t utime, std::vector<DetectorEvent>& ev);
   // Takes a calibration fitted to the arcs as they are: the arcs' fits, the noise level.
   void ApplyCalibration(CalibrationResult res);

@@ -206,15 +206,16 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   }
   // Before the first calibration a fall from the hand is followed with a guess from its first
   // few samples, a few pixels below the hand, where a pixel of noise is much of the drop (a
-  // smeared 24 fps fall is located to pixels): a sample beyond that guess further down the same
-  // line is the fall going faster than guessed, not the end of it.
+  // smeared 24 fps fall is located to pixels): a sample beyond that guess, below or above it,
+  // further down the same line is the fall going faster or slower than guessed, not the end of
+  // it (above, it is no rebound: the ball is lower than at its last sample).
   // Only while the fall is young (followed as a fall from the hand, under 10 samples): a "fall"
   // the hand drew slowly for seconds before the ball dropped is no guess to outrun.
-  const bool faster_fall = !calibrated_ && cur.release && cur.held &&
-                           cur.samples.size() < cur.hold_samples + 10 && ru > gate &&
-                           ru < 0.5 * reach && std::abs(rw) <= 2 * gate &&
-                           Down(s) > Down(cur.samples.back());
-  if ((std::abs(ru) <= gate || faster_fall) && std::abs(rw) <= 2 * gate) {
+  const bool young_fall_off_guess = !calibrated_ && cur.release && cur.held &&
+                                    cur.samples.size() < cur.hold_samples + 10 &&
+                                    std::abs(ru) > gate && std::abs(ru) < 0.5 * reach &&
+                                    std::abs(rw) <= 2 * gate && Down(s) > Down(cur.samples.back());
+  if ((std::abs(ru) <= gate || young_fall_off_guess) && std::abs(rw) <= 2 * gate) {
     cur.samples.push_back(s);
     pending_up_.clear();
     pending_off_.clear();
@@ -301,6 +302,25 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     recent.insert(recent.end(), pending_up_.begin(), pending_up_.end());
     std::sort(recent.begin(), recent.end(),
               [](const Sample& x, const Sample& y) { return x.t < y.t; });
+    Eigen::Vector3d fall;
+    if (!near_floor && YoungFallContinues(cur, recent, &fall)) {
+      // The release arc's young model lost its own fall (a push, a smeared 24 fps fall):
+      // the samples it turned away are that fall, not the end of the drop. An arc not seen
+      // held keeps only its samples on that fall: the still ones it began with were the hand.
+      if (!cur.held) {
+        const double t_last = recent.back().t, g = StartGate();
+        std::erase_if(cur.samples, [&](const Sample& q) {
+          const double dt = q.t - t_last;
+          return std::abs(Down(q) - (fall(0) + fall(1) * dt + fall(2) * dt * dt)) > g;
+        });
+      }
+      cur.samples.insert(cur.samples.end(), recent.begin(), recent.end());
+      pending_up_.clear();
+      pending_off_.clear();
+      misses_ = 0;
+      RefitArc(cur);
+      return;
+    }
     EndSequence(near_floor ? "rest" : "broken", ev);
     if (!near_floor)
       for (const auto& o : recent) OnWaiting(o, ev);
@@ -516,6 +536,25 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
   if (!bounce0_emitted_ && idx == 1 && arcs_[0].held &&
       static_cast<int>(arcs_[1].samples.size()) >= config_.bounce0_rising_samples)
     EmitPeak(0, s.utime, ev);
+}
+
+bool BounceDetector::YoungFallContinues(const Arc& cur, const std::vector<Sample>& missed,
+                                        Eigen::Vector3d* fall_parabola) const {
+  // Only a release arc not yet calibrated, before any impact, turning away samples that are
+  // one fall: each lower than the one before it, from the arc's last sample on, falling
+  // faster and faster along one parabola (within the start gate).
+  if (!cur.release || calibrated_ || arcs_.size() != 1 || cur.samples.empty() || missed.size() < 3)
+    return false;
+  std::vector<Sample> fall{cur.samples.back()};
+  for (const Sample& q : missed) {
+    if (q.t <= fall.back().t || Down(q) <= Down(fall.back())) return false;
+    fall.push_back(q);
+  }
+  double rms = 0;
+  *fall_parabola = DownParabola(fall, &rms);
+  const double bend = (*fall_parabola)(2);
+  // Free flight for the ball's size on some clock the file may have, not a hand's curve.
+  return bend > 0 && rms <= StartGate() && SlowdownOfBend(2 * bend) > 0;
 }
 
 }  // namespace bouncefit

@@ -55,7 +55,13 @@ INSTANTIATE_TEST_SUITE_P(
                       FirstFall{"basketball", 24, 0.6, 0, 2},
                       FirstFall{"pingpong", 120, 0.6, 0, 1}, FirstFall{"tennis", 60, 0.3, 0, 1},
                       FirstFall{"tennis", 24, 0, 2.5, 12}, FirstFall{"tennis", 24, 0, 2.5, 15},
-                      FirstFall{"tennis", 24, 0, 2.5, 21}, FirstFall{"basketball", 24, 0, 2.5, 1}),
+                      FirstFall{"tennis", 24, 0, 2.5, 21}, FirstFall{"basketball", 24, 0, 2.5, 1},
+                      // Broken until the sixteenth session: young falls their model lost (pushes
+                      // at 24 fps, falls smeared slower than their first samples said), and a
+                      // push the release-speed fit missed from the from-rest gravity (30 fps).
+                      FirstFall{"tennis", 24, 0.3, 0, 4}, FirstFall{"pingpong", 24, 0, 2.5, 1},
+                      FirstFall{"basketball", 24, 0, 2.5, 3},
+                      FirstFall{"basketball", 24, 0.6, 0, 4}, FirstFall{"tennis", 30, 0.6, 0, 1}),
     [](const ::testing::TestParamInfo<FirstFall>& i) {
       const auto& c = i.param;
       return c.ball + "_" + std::to_string(static_cast<int>(c.fps)) + "fps_" +
