@@ -176,6 +176,19 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
   const double rms_u = std::sqrt(r.col(0).squaredNorm() / static_cast<double>(m));
   const double rms_w = std::sqrt(r.col(1).squaredNorm() / static_cast<double>(m));
   if (rms_u > StartGate() || rms_w > StartGate()) return false;
+  // Over a floor an earlier drop measured (its free fall, 15 frames or more), an arc whose
+  // vertex is lower than any apex a drop reports, and not under the floor (by two radii at
+  // most), is the ball settling after that drop (which ended at rest on such hops), not a new
+  // drop: its few frames would only refit the scale to nonsense (a ping-pong ball's 2-3 cm
+  // hops at 24 fps: 483 and then 77 px/m, and a false 4 cm row). A floor from a false start,
+  // on the ball's size, is no such floor (a shaken copy of the green ball clip: 50 px above
+  // the picture).
+  const Calibration& known = calibration_.calibration;
+  if (calibrated_ && known.has_floor && known.samples >= 15 &&
+      known.FreeFallMeasured(config_.calibration.max_free_fall_rel_sigma)) {
+    const double h = known.floor_centre_px() - (c(0, 0) - c(1, 0) * c(1, 0) / (4 * c(2, 0)));
+    if (h < MinApexPx() && h > -2 * RadiusPx()) return false;
+  }
 
   Arc arc;
   arc.samples = run;
