@@ -67,6 +67,25 @@ struct ArcAccel {
   int n = 0;              // samples it rests on
 };
 
+// The accelerations of arcs k where use(k) holds, summed weighted by their samples: the pooled
+// acceleration is (sx, sy) / n (n 0: none).
+struct PooledAccel {
+  double sx = 0, sy = 0;
+  int n = 0;
+};
+template <typename Use>
+PooledAccel Pool(const std::vector<ArcAccel>& accels, Use use) {
+  PooledAccel p;
+  for (size_t k = 0; k < accels.size(); ++k) {
+    const ArcAccel& a = accels[k];
+    if (!a.ok || !use(k)) continue;
+    p.sx += a.ax * a.n;
+    p.sy += a.ay * a.n;
+    p.n += a.n;
+  }
+  return p;
+}
+
 // An arc that is not a free flight: the ball rolling or sliding at the end of a drop (the
 // "arc" of a rolling ball is flat), or moved by a hand. Its own acceleration, from 5 samples or
 // more, is under half the median of the arcs' that measure one, of 3 arcs or more. It would
@@ -137,23 +156,19 @@ bool ReleaseStart(const FlightArcData& arc, const FlightGlobals& g, double min_f
 // Each held arc's release speed fitted too, kept only when it explains far more of the arcs
 // than one more parameter per arc explains of noise: a drop from rest keeps its from-rest
 // fit (freed, its speed trades with drag: a ping-pong ball's scale 2.5% off).
-FlightFit WithReleaseSpeed(const std::vector<FlightArcData>& arcs, const FlightFit& from_rest,
+// `accels` are the arcs' own (ArcAcceleration), in the same order.
+FlightFit WithReleaseSpeed(const std::vector<FlightArcData>& arcs,
+                           const std::vector<ArcAccel>& accels, const FlightFit& from_rest,
                            double min_fall_px, FlightFitOptions opt) {
   // The fit is local: it starts from each held arc's release under a gravity. The from-rest
   // fit reads a push as stronger gravity (a 0.6 m/s push, 10% on a short first rebound) and
   // may leave the fit in a worse minimum than from rest; the rebounds' own bend does not.
   std::vector<FlightGlobals> gravities{from_rest.globals};
-  double sx = 0, sy = 0;
-  int total = 0;
-  for (const auto& a : arcs) {
-    double ax = 0, ay = 0;
-    int n = 0;
-    if (a.held_before_apex || !ArcAcceleration(a, &ax, &ay, &n)) continue;
-    sx += ax * n, sy += ay * n, total += n;
-  }
+  const PooledAccel rebounds = Pool(accels, [&](size_t k) { return !arcs[k].held_before_apex; });
   // (Tried only when it differs: a drop from rest bends alike before and after its impact.)
-  const double rebound_gravity = total > 0 ? std::hypot(sx, sy) / total : 0;
-  if (total > 0 && std::abs(rebound_gravity / from_rest.globals.gravity_px - 1) > 0.02) {
+  const double rebound_gravity =
+      rebounds.n > 0 ? std::hypot(rebounds.sx, rebounds.sy) / rebounds.n : 0;
+  if (rebounds.n > 0 && std::abs(rebound_gravity / from_rest.globals.gravity_px - 1) > 0.02) {
     gravities.push_back(from_rest.globals);
     gravities.back().gravity_px = rebound_gravity;
   }
@@ -245,17 +260,10 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
   if (in.previous_globals && in.previous_globals->gravity_px > 0) {
     init = *in.previous_globals;
   } else {
-    double sx = 0, sy = 0;
-    int total = 0;
-    for (const auto& a : accels) {
-      if (!a.ok) continue;
-      sx += a.ax * a.n;
-      sy += a.ay * a.n;
-      total += a.n;
-    }
-    if (total > 0) {
-      init.gravity_px = std::hypot(sx, sy) / total;
-      init.roll_rad = std::atan2(sx, sy);
+    const PooledAccel all = Pool(accels, [](size_t) { return true; });
+    if (all.n > 0) {
+      init.gravity_px = std::hypot(all.sx, all.sy) / all.n;
+      init.roll_rad = std::atan2(all.sx, all.sy);
     }
   }
   if (!config_.fit_drag) init.drag_per_px = 0;
@@ -286,7 +294,7 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
       global = FitFlight(chosen, g0, global.arcs, opt);
     }
     if (global.ok && config_.fit_release_speed && chosen.size() >= 2)
-      global = WithReleaseSpeed(chosen, global, 4 * in.radius_px, opt);
+      global = WithReleaseSpeed(chosen, accels, global, 4 * in.radius_px, opt);
     if (!global.ok) {
       res.problem = "the free-flight fit failed";
     } else {
