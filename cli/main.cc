@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "capture/frame_memory.h"
 #include "cli/commands.h"
 
 namespace bouncefit::cli {
@@ -15,6 +16,7 @@ void NotYetAvailable(const std::string& command, int issue) {
 
 int main(int argc, char** argv) {
   using namespace bouncefit::cli;
+  bouncefit::KeepFreedFrameMemory();
   CLI::App app{
       "bouncefit: watch a ball bounce, measure its bounces, and fit the coefficients of a "
       "Bullet soft-body ball to them.",
