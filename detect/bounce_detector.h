@@ -310,6 +310,18 @@ class BounceDetector {
   double SlowdownOfBend(double accel_px) const;
   // Free fall at the ball's size, px/s^2 on the real clock (0: size not known).
   double SizeGravityPx() const;
+  // Whether the ball was seen rising into the vertex of the fall made by the last m samples
+  // held: one free flight from a sample lower than its top, beyond a hold's jitter. The
+  // longest such flight's vertex time, when there is one.
+  bool SeenRisingIntoFall(size_t m, double* t_vertex) const;
+  // How many samples just before hold_[first] lie on the parabolas Down = cu0 + cu1 dt + cu2
+  // dt^2 and Floor = cw0 + ... (dt from t_ref) within tol, back to back (gaps of 3 frames at
+  // most).
+  size_t OnArcBefore(size_t first, const Eigen::Vector3d& cu, const Eigen::Vector3d& cw,
+                     double t_ref, double tol) const;
+  // Whether held-looking samples (times, heights along down) are the top of a free flight:
+  // one parabola bending down at gravity through them, its vertex among or before them.
+  bool TopOfAFlight(const std::vector<double>& t, const std::vector<double>& u) const;
   // Down(t) of the samples as c0 + c1 dt + c2 dt^2, dt from the last sample's time, and the
   // fit's RMS residual (px) when asked.
   Eigen::Vector3d DownParabola(const std::vector<Sample>& run, double* rms = nullptr) const;

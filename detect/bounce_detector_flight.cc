@@ -510,8 +510,7 @@ void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& 
     first_bounce_ = 1;
   // Taken for an arc from out of view, it was a fall from a hold the tracker missed: its
   // vertex is the release, bounce 0 (a still ball found only once it fell).
-  if (arcs_.size() == 2 && first_bounce_ == 1 && peaks_.empty() &&
-      EnteredFallWasAnUnseenRelease()) {
+  if (arcs_.size() == 2 && peaks_.empty() && EnteredFallWasAnUnseenRelease()) {
     arcs_[0].entered = false;
     arcs_[0].release = true;
     first_bounce_ = 0;

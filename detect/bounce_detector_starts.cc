@@ -46,6 +46,11 @@ bool BounceDetector::ReleasedFromHold(const Sample& s, std::vector<DetectorEvent
   // release arc held at the wrong place, and their spread the noise (gates a few times
   // too wide: a slow rebound then passes for more of the fall).
   if (std::abs(LineDrift(wt, wu)) > config_.max_hold_drift * thr) return false;
+  // ... and not the top of a flight: near its apex a ball stays within a hold's jitter for a
+  // few frames (0.07 s at 120 fps), with little drift. A clip that begins just before or at a
+  // rebound's apex would have it taken for a hand and its apex for a release (bounce 0).
+  // FallFromUnseenRelease or ArcFromUnseenStart take such an arc.
+  if (TopOfAFlight(wt, wu)) return false;
   if (!sigma_measured_)
     sigma_ = std::max(config_.noise_floor_px, std::sqrt(ss / static_cast<double>(near)));
   if (std::abs(Floor(a) - ref_w) > thr || std::abs(Floor(b) - ref_w) > thr) return false;
@@ -86,6 +91,14 @@ bool BounceDetector::FallFromUnseenRelease(const Sample& s, std::vector<Detector
   // twice the margin: five samples place the vertex roughly).
   const double t_vertex = fall.back().t - c(1) / (2 * c(2));
   if (fall.front().t - t_vertex > 2 * UnseenReleaseMaxS(SlowdownOfBend(2 * c(2)))) return false;
+  // Seen rising into its vertex (a clip begun just before a rebound's apex, which at 120 fps
+  // stays within a hold's jitter for 6 frames): the top of an arc, not a fall from a release.
+  // A vertex a frame or more before the first frame: whether the ball fell from a hand or
+  // from its rise was never seen, and a release is bounce 0 only when it was
+  // (ArcFromUnseenStart takes the arc). The vertex from the longest free flight the samples
+  // show (five samples near a vertex place it roughly).
+  double t_top = t_vertex;
+  if (SeenRisingIntoFall(m, &t_top) || t_top < -frame_dt_) return false;
   // Seen rising into that vertex just before (a rebound, or a throw, entering the view): an
   // arc, not a fall from rest; ArcFromUnseenStart takes it with its rising branch.
   for (size_t i = hold_.size() - m, k = 0; i > 0 && k < 2; --i, ++k) {
@@ -190,30 +203,45 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
     if (h < MinApexPx() && h > -2 * RadiusPx()) return false;
   }
 
+  // Samples just before the run on its parabola are the arc's own (a rebound's rise near its
+  // apex, left out as barely moving): where the arc was first seen decides how it began.
+  const size_t seen = OnArcBefore(hold_.size() - m, c.col(0), c.col(1), run.back().t, thr);
+  run.insert(run.begin(), hold_.end() - static_cast<long>(m + seen), hold_.end() - static_cast<long>(m));
+  m = run.size();
   Arc arc;
   arc.samples = run;
-  // A fall that starts at its vertex is a release out of sight (bounce 0 is its vertex).
+  // A fall that starts at its vertex is a release out of sight (bounce 0 is its vertex), if
+  // the camera was watching then.
   const double t_vertex = run.back().t - c(1, 0) / (2 * c(2, 0));
-  if (t_vertex >= run.front().t - UnseenReleaseMaxS(slowdown) &&
+  if (t_vertex >= -frame_dt_ && t_vertex >= run.front().t - UnseenReleaseMaxS(slowdown) &&
       t_vertex <= run.front().t + 0.5 * frame_dt_) {
     StartSequence(std::move(arc), s, ev);
     return true;
   }
   arc.entered = true;
   // Its apex is bounce 0 when the ball came from the hand (seen before, not falling into
-  // the arc), bounce 1 when it came from an impact or from out of view.
-  int first_bounce = 1;
+  // the arc), bounce 1 when it came from an impact or from out of view. Entered falling, its
+  // apex never in view: the first apex seen, its rebound's, is bounce 1 (as a ball entered
+  // rising has its first apex seen bounce 1).
+  int first_bounce = t_vertex < run.front().t ? 0 : 1;
   const size_t before = hold_.size() - m;
   if (before >= 1 && run.front().t - hold_[before - 1].t <= 3 * frame_dt_) {
     // Only a sample where the arc leads back to can be the hand it left (a detection far off
     // it, say of a hand elsewhere in the picture, tells nothing of where the ball came from).
+    // At the hand's time, roughly; or closely at some time before the arc's first sample (the
+    // ball left the hand between the two: at 30 fps a throw's first frame may show it 17 px
+    // up, and the hand's last one still where it held it).
     const Sample& hand = hold_[before - 1];
-    const double dt = hand.t - run.back().t;
-    const double near = std::max(4 * thr, 2 * RadiusPx());
-    const bool on_arc = std::abs(Down(hand) - (c(0, 0) + c(1, 0) * dt + c(2, 0) * dt * dt)) <= near &&
-                        std::abs(Floor(hand) - (c(0, 1) + c(1, 1) * dt + c(2, 1) * dt * dt)) <= near;
+    auto passes = [&](double t, double tol) {
+      const double dt = t - run.back().t;
+      return std::abs(Down(hand) - (c(0, 0) + c(1, 0) * dt + c(2, 0) * dt * dt)) <= tol &&
+             std::abs(Floor(hand) - (c(0, 1) + c(1, 1) * dt + c(2, 1) * dt * dt)) <= tol;
+    };
+    bool on_arc = passes(hand.t, std::max(4 * thr, 2 * RadiusPx()));
+    for (int k = 1; k <= 8 && !on_arc; ++k)
+      on_arc = passes(hand.t + (run.front().t - hand.t) * k / 8.0, 2 * thr);
     const bool falling_in = before >= 2 && Down(hold_[before - 1]) > Down(hold_[before - 2]) + thr;
-    first_bounce = on_arc && !falling_in ? 0 : 1;
+    if (on_arc && !falling_in) first_bounce = 0;
   }
   // The lowest the ball was seen shortly before the arc: whether that was the floor is known
   // at the first impact (ConfirmImpact).
@@ -285,6 +313,72 @@ void BounceDetector::StartSequence(Arc release, const Sample& s, std::vector<Det
       bounce0_emitted_ = true;
     }
   }
+}
+
+size_t BounceDetector::OnArcBefore(size_t first, const Eigen::Vector3d& cu,
+                                  const Eigen::Vector3d& cw, double t_ref, double tol) const {
+  size_t seen = 0;
+  double next_t = first < hold_.size() ? hold_[first].t : 0;
+  auto at = [](const Eigen::Vector3d& c, double dt) { return c(0) + c(1) * dt + c(2) * dt * dt; };
+  for (size_t i = std::min(first, hold_.size()); i > 0; --i) {
+    const Sample& q = hold_[i - 1];
+    const double dt = q.t - t_ref;
+    if (next_t - q.t > 3 * frame_dt_ || std::abs(Down(q) - at(cu, dt)) > tol ||
+        std::abs(Floor(q) - at(cw, dt)) > tol)
+      break;
+    ++seen;
+    next_t = q.t;
+  }
+  return seen;
+}
+
+bool BounceDetector::SeenRisingIntoFall(size_t m, double* t_vertex) const {
+  // The samples before the fall, back to back, over half a second at most.
+  size_t from = hold_.size() - m;
+  while (from > 0 && hold_[from].t - hold_[from - 1].t <= 3 * frame_dt_ &&
+         hold_.back().t - hold_[from - 1].t <= 0.5)
+    --from;
+  const double thr = std::max(config_.release_px, Gate());
+  // The longest run of them that ends with the fall and is one free flight ...
+  for (size_t f = from; f + m + 2 <= hold_.size(); ++f) {
+    const std::vector<Sample> run(hold_.begin() + static_cast<long>(f), hold_.end());
+    double rms = 0;
+    const Eigen::Vector3d c = DownParabola(run, &rms);
+    if (!(c(2) > 0) || rms > StartGate() || !(SlowdownOfBend(2 * c(2)) > 0)) continue;
+    // ... began lower than its top, beyond a hold's jitter: the ball rose into the vertex.
+    *t_vertex = run.back().t - c(1) / (2 * c(2));
+    double top = Down(run.front());
+    for (const Sample& q : run) top = std::min(top, Down(q));
+    return run.front().t < *t_vertex && Down(run.front()) - top > thr + 2 * rms;
+  }
+  return false;
+}
+
+bool BounceDetector::TopOfAFlight(const std::vector<double>& t, const std::vector<double>& u) const {
+  const auto n = static_cast<Eigen::Index>(t.size());
+  if (n < 5) return false;
+  Eigen::MatrixXd a(n, 3);
+  Eigen::VectorXd b(n);
+  const double t0 = t.back();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double dt = t[static_cast<size_t>(i)] - t0;
+    a(i, 0) = 1;
+    a(i, 1) = dt;
+    a(i, 2) = dt * dt;
+    b(i) = u[static_cast<size_t>(i)];
+  }
+  const Eigen::Vector3d c = a.colPivHouseholderQr().solve(b);
+  if (!(c(2) > 0)) return false;
+  // The bend stands out of the samples' own scatter (a held ball's is noise about zero) ...
+  const double var = (a * c - b).squaredNorm() / static_cast<double>(n - 3);
+  const Eigen::Matrix3d cov = (a.transpose() * a).inverse() * std::max(var, 1e-6);
+  if (!(c(2) > 5 * std::sqrt(cov(2, 2)))) return false;
+  // ... is free flight's at the ball's size (on a clock the file may have) ...
+  if (!(SlowdownOfBend(2 * c(2)) > 0)) return false;
+  // ... and its vertex lies inside, or before (a clip begun at the apex), two samples or
+  // more after it.
+  const double t_vertex = t0 - c(1) / (2 * c(2));
+  return std::count_if(t.begin(), t.end(), [&](double ti) { return ti > t_vertex; }) >= 2;
 }
 
 Eigen::Vector3d BounceDetector::DownParabola(const std::vector<Sample>& run, double* rms) const {
