@@ -319,9 +319,6 @@ class BounceDetector {
   // most).
   size_t OnArcBefore(size_t first, const Eigen::Vector3d& cu, const Eigen::Vector3d& cw,
                      double t_ref, double tol) const;
-  // Whether held-looking samples (times, heights along down) are the top of a free flight:
-  // one parabola bending down at gravity through them, its vertex among or before them.
-  bool TopOfAFlight(const std::vector<double>& t, const std::vector<double>& u) const;
   // Down(t) of the samples as c0 + c1 dt + c2 dt^2, dt from the last sample's time, and the
   // fit's RMS residual (px) when asked.
   Eigen::Vector3d DownParabola(const std::vector<Sample>& run, double* rms = nullptr) const;

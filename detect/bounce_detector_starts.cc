@@ -46,11 +46,6 @@ bool BounceDetector::ReleasedFromHold(const Sample& s, std::vector<DetectorEvent
   // release arc held at the wrong place, and their spread the noise (gates a few times
   // too wide: a slow rebound then passes for more of the fall).
   if (std::abs(LineDrift(wt, wu)) > config_.max_hold_drift * thr) return false;
-  // ... and not the top of a flight: near its apex a ball stays within a hold's jitter for a
-  // few frames (0.07 s at 120 fps), with little drift. A clip that begins just before or at a
-  // rebound's apex would have it taken for a hand and its apex for a release (bounce 0).
-  // FallFromUnseenRelease or ArcFromUnseenStart take such an arc.
-  if (TopOfAFlight(wt, wu)) return false;
   if (!sigma_measured_)
     sigma_ = std::max(config_.noise_floor_px, std::sqrt(ss / static_cast<double>(near)));
   if (std::abs(Floor(a) - ref_w) > thr || std::abs(Floor(b) - ref_w) > thr) return false;
@@ -352,33 +347,6 @@ bool BounceDetector::SeenRisingIntoFall(size_t m, double* t_vertex) const {
     return run.front().t < *t_vertex && Down(run.front()) - top > thr + 2 * rms;
   }
   return false;
-}
-
-bool BounceDetector::TopOfAFlight(const std::vector<double>& t, const std::vector<double>& u) const {
-  const auto n = static_cast<Eigen::Index>(t.size());
-  if (n < 5) return false;
-  Eigen::MatrixXd a(n, 3);
-  Eigen::VectorXd b(n);
-  const double t0 = t.back();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double dt = t[static_cast<size_t>(i)] - t0;
-    a(i, 0) = 1;
-    a(i, 1) = dt;
-    a(i, 2) = dt * dt;
-    b(i) = u[static_cast<size_t>(i)];
-  }
-  const Eigen::Vector3d c = a.colPivHouseholderQr().solve(b);
-  if (!(c(2) > 0)) return false;
-  // The bend stands out of the samples' own scatter (a held ball's is noise about zero) ...
-  const double var = (a * c - b).squaredNorm() / static_cast<double>(n - 3);
-  const Eigen::Matrix3d cov = (a.transpose() * a).inverse() * std::max(var, 1e-6);
-  if (!(c(2) > 5 * std::sqrt(cov(2, 2)))) return false;
-  // ... is free flight's at the ball's size (on a clock the file may have) ...
-  if (!(SlowdownOfBend(2 * c(2)) > 0)) return false;
-  // ... and its vertex lies inside, or before (a clip begun at the apex), two samples or
-  // more after it.
-  const double t_vertex = t0 - c(1) / (2 * c(2));
-  return std::count_if(t.begin(), t.end(), [&](double ti) { return ti > t_vertex; }) >= 2;
 }
 
 Eigen::Vector3d BounceDetector::DownParabola(const std::vector<Sample>& run, double* rms) const {
