@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <filesystem>
 #include <fstream>
 
 #include "replay/video_file_source.h"
@@ -267,15 +268,18 @@ TEST(VideoFileSource, MissingCorruptOrEmptyFilesAreOneLineErrors) {
   EXPECT_EQ(e2.find('\n'), std::string::npos);
 }
 
+// A copy of `path` with only its first `percent` of bytes (a download or a copy cut short).
+std::string CutCopy(const std::string& path, const std::filesystem::path& out, int percent) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  std::ofstream(out, std::ios::binary)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size() * static_cast<size_t>(percent) / 100));
+  return out.string();
+}
+
 TEST(VideoFileSource, TruncatedClipGivesTheFramesThatAreThere) {
   const auto dir = testing::ScratchDir("video_file_source_truncated");
-  const std::string good = WriteClip(dir, 60, 120);
-  const auto cut = (dir / "half.avi").string();
-  {
-    std::ifstream in(good, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), {});
-    std::ofstream(cut, std::ios::binary).write(bytes.data(), bytes.size() / 2);
-  }
+  const std::string cut = CutCopy(WriteClip(dir, 60, 120), dir / "half.avi", 50);
   VideoFileSource source({cut, false});
   int n = 0;
   while (auto f = source.Next()) {
@@ -292,14 +296,7 @@ TEST(VideoFileSource, TruncatedClipGivesTheFramesThatAreThere) {
 // below 5%: a 1080p AVI cut 10 frames short of 216 ended "done").
 TEST(VideoFileSource, ClipCutALittleShortIsSaidToHaveEndedShort) {
   const auto dir = testing::ScratchDir("video_file_source_cut_short");
-  const std::string good = WriteClip(dir, 60, 120);
-  const auto cut = (dir / "cut.avi").string();
-  {
-    std::ifstream in(good, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), {});
-    std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() * 92 / 100));
-  }
-  VideoFileSource source({cut, false});
+  VideoFileSource source({CutCopy(WriteClip(dir, 60, 120), dir / "cut.avi", 92), false});
   int n = 0;
   while (source.Next()) ++n;
   std::printf("cut to 92%% of its bytes: %d of 60 frames read\n", n);
