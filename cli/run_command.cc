@@ -352,6 +352,12 @@ void RunOneClip(RunOptions o) {
                    ? " (nothing of the colour or brightness given)"
                    : " (nothing moved like a ball and stood out of its surroundings; if it is "
                      "there, --color or --pick names it)");
+  // The ball followed but no bounce found: the output has a track and nothing measured.
+  if (file_source && failure.empty() && !g_stop && peaks.empty() && capture.stats().found > 0)
+    console.Info("run: warning: " + clip + ": no bounce found (the ball, or what was taken for it, was seen in " +
+                 std::to_string(capture.stats().found) + " of " + std::to_string(capture.stats().frames) +
+                 " frames, never on an arc between two impacts above the floor; the tracker's choice "
+                 "is below, and --color or --pick names the ball)");
   if (file_source && file_source->undecodable_frames() > 0)
     console.Info("run: warning: " + clip + ": " + std::to_string(file_source->undecodable_frames()) +
                  " frames could not be decoded (damaged data) and were skipped; the stream went "

@@ -183,6 +183,21 @@ TEST(Run, BadInputIsOneLineErrorAndNonZero) {
   EXPECT_NE(out.find("no ball found in any of its 30 frames"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir / "out_empty" / "track.csv"));  // what was recorded is kept
 
+  // Something that moves but never bounces (a test card's moving patch): what was taken for
+  // the ball and that no bounce was found, said (it ended "done ... 0 peaks" without a word).
+  const fs::path card = dir / "test_card.mp4";
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -f lavfi -i testsrc=s=320x240:r=30 -t 3 -pix_fmt yuv420p '" +
+                           card.string() + "'",
+                       &out),
+            0)
+      << out;
+  EXPECT_EQ(RunCommand(BouncefitExe() + " run " + card.string() + " --no-fit --speed 0 --out " +
+                           (dir / "out_card").string() + " --lcm-url memq://",
+                       &out),
+            0) << out;
+  EXPECT_NE(out.find("no bounce found"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir / "out_card" / "track.csv"));
+
   // A picture too small to hold a ball: said so, not "ROI lies outside the 4x4 frame".
   const fs::path tiny = dir / "tiny.avi";
   ASSERT_EQ(RunCommand("ffmpeg -v error -y -f lavfi -i testsrc=s=4x4:r=30 -t 1 -c:v mjpeg '" +
