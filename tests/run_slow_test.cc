@@ -123,6 +123,24 @@ TEST(Run, WritesTheOutputDirectoryWithPeaksThatMatchTruth) {
   EXPECT_EQ(per_channel["FIT_UPDATE"], lines);
 }
 
+// A clip from one of FFmpeg's test sources (lavfi), e.g. "color=c=gray:s=320x240:r=30".
+void MakeLavfiClip(const std::string& source, double seconds, const std::string& codec,
+                   const fs::path& path) {
+  std::string out;
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -f lavfi -i " + source + " -t " + std::to_string(seconds) +
+                           " " + codec + " '" + path.string() + "'",
+                       &out),
+            0)
+      << out;
+}
+
+// `bouncefit run CLIP` into `out_dir`, with no fit and no pacing; its exit status.
+int RunOn(const fs::path& clip, const fs::path& out_dir, std::string* out) {
+  return RunCommand(BouncefitExe() + " run " + clip.string() + " --no-fit --speed 0 --out " +
+                        out_dir.string() + " --lcm-url memq://",
+                    out);
+}
+
 TEST(Run, BadInputIsOneLineErrorAndNonZero) {
   std::string out;
   EXPECT_NE(RunCommand(BouncefitExe() + " run /no/such/clip.avi --out /tmp/x", &out), 0);
@@ -162,53 +180,29 @@ TEST(Run, BadInputIsOneLineErrorAndNonZero) {
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 40);
   }
-  EXPECT_NE(RunCommand(BouncefitExe() + " run " + cut.string() + " --no-fit --speed 0 --out " +
-                           (dir / "out_cut").string() + " --lcm-url memq://",
-                       &out),
-            0) << out;
+  EXPECT_NE(RunOn(cut, dir / "out_cut", &out), 0) << out;
   EXPECT_NE(out.find("ended after"), std::string::npos) << out;
   EXPECT_NE(out.find("frames it announces"), std::string::npos) << out;
 
   // A whole clip with no ball in it: said in one line, non-zero (it ended "done", exit 0).
   const fs::path empty = dir / "no_ball.mp4";
-  ASSERT_EQ(RunCommand("ffmpeg -v error -y -f lavfi -i color=c=gray:s=320x240:r=30 -t 1 -pix_fmt yuv420p '" +
-                           empty.string() + "'",
-                       &out),
-            0)
-      << out;
-  EXPECT_NE(RunCommand(BouncefitExe() + " run " + empty.string() + " --no-fit --speed 0 --out " +
-                           (dir / "out_empty").string() + " --lcm-url memq://",
-                       &out),
-            0) << out;
+  MakeLavfiClip("color=c=gray:s=320x240:r=30", 1, "-pix_fmt yuv420p", empty);
+  EXPECT_NE(RunOn(empty, dir / "out_empty", &out), 0) << out;
   EXPECT_NE(out.find("no ball found in any of its 30 frames"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir / "out_empty" / "track.csv"));  // what was recorded is kept
 
   // Something that moves but never bounces (a test card's moving patch): what was taken for
   // the ball and that no bounce was found, said (it ended "done ... 0 peaks" without a word).
   const fs::path card = dir / "test_card.mp4";
-  ASSERT_EQ(RunCommand("ffmpeg -v error -y -f lavfi -i testsrc=s=320x240:r=30 -t 3 -pix_fmt yuv420p '" +
-                           card.string() + "'",
-                       &out),
-            0)
-      << out;
-  EXPECT_EQ(RunCommand(BouncefitExe() + " run " + card.string() + " --no-fit --speed 0 --out " +
-                           (dir / "out_card").string() + " --lcm-url memq://",
-                       &out),
-            0) << out;
+  MakeLavfiClip("testsrc=s=320x240:r=30", 3, "-pix_fmt yuv420p", card);
+  EXPECT_EQ(RunOn(card, dir / "out_card", &out), 0) << out;
   EXPECT_NE(out.find("no bounce found"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir / "out_card" / "track.csv"));
 
   // A picture too small to hold a ball: said so, not "ROI lies outside the 4x4 frame".
   const fs::path tiny = dir / "tiny.avi";
-  ASSERT_EQ(RunCommand("ffmpeg -v error -y -f lavfi -i testsrc=s=4x4:r=30 -t 1 -c:v mjpeg '" +
-                           tiny.string() + "'",
-                       &out),
-            0)
-      << out;
-  EXPECT_NE(RunCommand(BouncefitExe() + " run " + tiny.string() + " --no-fit --speed 0 --out " +
-                           (dir / "out_tiny").string() + " --lcm-url memq://",
-                       &out),
-            0) << out;
+  MakeLavfiClip("testsrc=s=4x4:r=30", 1, "-c:v mjpeg", tiny);
+  EXPECT_NE(RunOn(tiny, dir / "out_tiny", &out), 0) << out;
   EXPECT_NE(out.find("4x4 px picture is too small"), std::string::npos) << out;
 }
 
