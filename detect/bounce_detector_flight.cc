@@ -13,6 +13,7 @@ namespace bouncefit {
 
 using detector_stats::LineDrift;
 using detector_stats::Median;
+using detector_stats::ParabolaAt;
 
 constexpr int kMissesEndArc = 6;  // samples in a row off an arc that end it
 
@@ -86,8 +87,8 @@ bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
   }
   const Eigen::MatrixXd c = a.colPivHouseholderQr().solve(b);
   const double dt = t - tm;
-  *u = c(0, 0) + c(1, 0) * dt + c(2, 0) * dt * dt;
-  *w = c(0, 1) + c(1, 1) * dt + c(2, 1) * dt * dt;
+  *u = ParabolaAt(c.col(0), dt);
+  *w = ParabolaAt(c.col(1), dt);
   *v_down = c(1, 0) + 2 * c(2, 0) * dt;
   return true;
 }
@@ -310,8 +311,7 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
       if (!cur.held) {
         const double t_last = recent.back().t, g = StartGate();
         std::erase_if(cur.samples, [&](const Sample& q) {
-          const double dt = q.t - t_last;
-          return std::abs(Down(q) - (fall(0) + fall(1) * dt + fall(2) * dt * dt)) > g;
+          return std::abs(Down(q) - ParabolaAt(fall, q.t - t_last)) > g;
         });
       }
       cur.samples.insert(cur.samples.end(), recent.begin(), recent.end());

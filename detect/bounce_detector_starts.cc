@@ -13,6 +13,7 @@ namespace bouncefit {
 
 using detector_stats::LineDrift;
 using detector_stats::Median;
+using detector_stats::ParabolaAt;
 
 bool BounceDetector::ReleasedFromHold(const Sample& s, std::vector<DetectorEvent>& ev) {
   const size_t n = hold_.size();
@@ -229,8 +230,8 @@ bool BounceDetector::ArcFromUnseenStart(const Sample& s, std::vector<DetectorEve
     const Sample& hand = hold_[before - 1];
     auto passes = [&](double t, double tol) {
       const double dt = t - run.back().t;
-      return std::abs(Down(hand) - (c(0, 0) + c(1, 0) * dt + c(2, 0) * dt * dt)) <= tol &&
-             std::abs(Floor(hand) - (c(0, 1) + c(1, 1) * dt + c(2, 1) * dt * dt)) <= tol;
+      return std::abs(Down(hand) - ParabolaAt(c.col(0), dt)) <= tol &&
+             std::abs(Floor(hand) - ParabolaAt(c.col(1), dt)) <= tol;
     };
     bool on_arc = passes(hand.t, std::max(4 * thr, 2 * RadiusPx()));
     for (int k = 1; k <= 8 && !on_arc; ++k)
@@ -314,12 +315,11 @@ size_t BounceDetector::OnArcBefore(size_t first, const Eigen::Vector3d& cu,
                                   const Eigen::Vector3d& cw, double t_ref, double tol) const {
   size_t seen = 0;
   double next_t = first < hold_.size() ? hold_[first].t : 0;
-  auto at = [](const Eigen::Vector3d& c, double dt) { return c(0) + c(1) * dt + c(2) * dt * dt; };
   for (size_t i = std::min(first, hold_.size()); i > 0; --i) {
     const Sample& q = hold_[i - 1];
     const double dt = q.t - t_ref;
-    if (next_t - q.t > 3 * frame_dt_ || std::abs(Down(q) - at(cu, dt)) > tol ||
-        std::abs(Floor(q) - at(cw, dt)) > tol)
+    if (next_t - q.t > 3 * frame_dt_ || std::abs(Down(q) - ParabolaAt(cu, dt)) > tol ||
+        std::abs(Floor(q) - ParabolaAt(cw, dt)) > tol)
       break;
     ++seen;
     next_t = q.t;

@@ -47,4 +47,11 @@ inline double LineDrift(const std::vector<double>& t, const std::vector<double>&
   return t.empty() ? 0 : LineSlope(t, v) * (t.back() - t.front());
 }
 
+// c0 + c1 dt + c2 dt^2 of a column of parabola coefficients (as DownParabola, or a column of a
+// fit in both image axes, gives them).
+template <typename Coeffs>
+double ParabolaAt(const Coeffs& c, double dt) {
+  return c(0) + c(1) * dt + c(2) * dt * dt;
+}
+
 }  // namespace bouncefit::detector_stats
