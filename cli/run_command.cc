@@ -425,7 +425,19 @@ void RunOneClip(RunOptions o) {
                                         {"first_frame_s", out.stream_start() * 1e-6}}
                        : nlohmann::json();
   nlohmann::json jpeaks = nlohmann::json::array();
-  for (const auto& p : peaks) jpeaks.push_back(ToJson(p, out.stream_start()));
+  for (const auto& p : peaks) {
+    nlohmann::json jp = ToJson(p, out.stream_start());
+    // The height refitted with every arc of its drop when the drop ended, beside the live one
+    // (a bounce only heard has no arc: null).
+    jp["refit_height_m"] = nullptr;
+    for (const auto& d : detect.Summaries()) {
+      const int k = p.bounce - d.first_bounce;
+      if (std::isfinite(p.height_px) && d.sequence == p.sequence && k >= 0 &&
+          k < static_cast<int>(d.final_height_m.size()))
+        jp["refit_height_m"] = FiniteOrNull(d.final_height_m[static_cast<size_t>(k)]);
+    }
+    jpeaks.push_back(jp);
+  }
   summary["peaks"] = jpeaks;
   nlohmann::json drops = nlohmann::json::array();
   for (const auto& d : detect.Summaries()) {

@@ -281,8 +281,8 @@ class BounceDetector {
   void TryEmitApex(double t, int64_t utime, bool have_sample, std::vector<DetectorEvent>& ev);
   void EmitPeak(size_t arc_index, int64_t utime, std::vector<DetectorEvent>& ev);
   // Ball-centre coordinate along true down where it met the floor under arc j, from the
-  // drop's impacts (a line in time through their contact heights, at the apex; with `both`
-  // false only those before the apex). A ball that moves towards or away from the camera
+  // drop's impacts (a weighted line in time through their contact heights, at the apex; with
+  // `both` false only those before the apex). A ball that moves towards or away from the camera
   // lands lower or higher in the picture at each bounce (the football: 25 px over 8
   // impacts), so one floor line puts every apex off by its drift.
   double FloorUnderArcPx(size_t j, bool both) const;

@@ -44,7 +44,9 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
   // the picture, faster as it comes closer, and a line held by the old impacts lags it (the
   // shared football clip's sixth rebound was 15% low); the recent contacts say where the
   // floor is now, the older ones still steady the line (docs/ACCURACY.md, "The floor under a
-  // live apex").
+  // live apex"). Refitted (`both` true), the arc's own two contacts weigh most and each
+  // impact further from them half as much as the one before: one line through all of them
+  // cuts across a drift that quickens (the football's seventh rebound 7% low).
   //
   // An impact more than a ball's diameter below the impacts before it is not a contact: two
   // arcs that are not consecutive (a short hop between them unseen, 4 frames at 30 fps), each
@@ -53,6 +55,7 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
   const double t_apex = j < arcs_.size() ? arcs_[j].fit.t_apex : 0;
   const double below_max = std::max(10.0, 2 * RadiusPx());
   std::vector<double> ts, us, ws;  // times from the apex, contact heights, weights
+  std::vector<size_t> taken;       // their impacts' indices
   for (size_t i = 0; i < imps.size() && i < arcs_.size(); ++i) {
     if (!imps[i].ok) continue;
     if (!both && i >= j && !(j == 0 && i == 0)) continue;
@@ -63,10 +66,17 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
     }
     ts.push_back(imps[i].t - t_apex);
     us.push_back(imps[i].u);
+    taken.push_back(i);
   }
   if (ts.empty()) return calibration_.calibration.floor_centre_px();
   if (!both && j >= 1)
     for (size_t i = 0; i < ts.size(); ++i) ws.push_back(std::ldexp(1.0, -static_cast<int>(ts.size() - 1 - i)));
+  if (both)
+    for (size_t i : taken) {
+      // Arc j lies between impacts j - 1 and j.
+      const int away = i + 1 <= j ? static_cast<int>(j - 1 - i) : static_cast<int>(i - j);
+      ws.push_back(std::ldexp(1.0, -away));
+    }
   Line line = FitLine(ts, us, ws);
   // Two impacts' slope is mostly their noise (basketball): their mean then.
   if (ts.size() < 3) line.slope = 0;
