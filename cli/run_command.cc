@@ -49,6 +49,19 @@ std::string Fixed(double v, int digits) {
   return buf;
 }
 
+// "; refitted with the whole drop, m: 1 0.733, 2 0.515, ..." for the apexes a drop emitted
+// (the heights to quote: the live ones saw only the floor before them).
+std::string RefitHeights(const SequenceSummary& d) {
+  std::string line;
+  for (const BouncePeak& p : d.peaks) {
+    const int k = p.bounce - d.first_bounce;
+    if (k < 0 || k >= static_cast<int>(d.final_height_m.size())) continue;
+    const double h = d.final_height_m[static_cast<size_t>(k)];
+    if (std::isfinite(h)) line += (line.empty() ? " " : ", ") + std::to_string(p.bounce) + " " + Fixed(h, 3);
+  }
+  return line.empty() ? line : "; refitted with the whole drop, m:" + line;
+}
+
 // Fit updates arrive on the fitter's thread; the main loop publishes and records them, so
 // the bus, the files and the terminal are only ever touched from one thread.
 class FitInbox {
@@ -282,7 +295,8 @@ void RunOneClip(RunOptions o) {
                                   {e.impact.sequence, e.impact.index}));
         publish_heard_peaks();
       } else if (e.kind == DetectorEvent::Kind::kSequenceEnd) {
-        console.Info("drop ended (" + e.reason + ")");
+        const auto ended = detect.Summaries();
+        console.Info("drop ended (" + e.reason + ")" + (ended.empty() ? "" : RefitHeights(ended.back())));
         if (fit) {
           fit->Finish();
           final_sims_start = fit->simulations();
