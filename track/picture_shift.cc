@@ -55,16 +55,22 @@ PictureProfiles ProfilesOf(const cv::Mat& ycc, const PictureShiftParams& params)
   PictureProfiles out;
   out.size = ycc.size();
   const int t = params.tiles;
+  cv::Mat luma;
+  cv::extractChannel(ycc, luma, 0);
   for (int ty = 0; ty < t; ++ty)
     for (int tx = 0; tx < t; ++tx) {
       const cv::Rect r(tx * ycc.cols / t, ty * ycc.rows / t, ycc.cols / t, ycc.rows / t);
-      std::vector<float> cols(r.width, 0.0f), rows(r.height, 0.0f);
+      // Integer sums over the luma plane on its own: exact, and vectorised (a float sum over
+      // every third byte is a chain of dependent adds).
+      std::vector<int> col_sums(std::max(0, r.width), 0);
+      std::vector<float> rows(std::max(0, r.height), 0.0f);
       for (int j = 0; j < r.height; ++j) {
-        const uint8_t* q = ycc.ptr<uint8_t>(r.y + j) + 3 * r.x;
-        float sum = 0;
-        for (int i = 0; i < r.width; ++i) cols[i] += q[3 * i], sum += q[3 * i];
-        rows[j] = sum;
+        const uint8_t* q = luma.ptr<uint8_t>(r.y + j) + r.x;
+        int sum = 0;
+        for (int i = 0; i < r.width; ++i) col_sums[i] += q[i], sum += q[i];
+        rows[j] = static_cast<float>(sum);
       }
+      std::vector<float> cols(col_sums.begin(), col_sums.end());
       if (r.width > 0 && r.height > 0) {
         RemoveMean(cols, static_cast<float>(r.height));
         RemoveMean(rows, static_cast<float>(r.width));
