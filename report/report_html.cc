@@ -133,7 +133,7 @@ void PeaksSection(std::ostringstream& h, const ReportRunData& run) {
   const ReportFit* fit = run.FinalFit();
   h << "<table>\n";
   Header(h, {"bounce", "apex time (s)", "height (m)", "&plusmn; (m)", "height (px)",
-             "flight-time height (m)", "restitution from heights (-)",
+             "refitted height (m)", "flight-time height (m)", "restitution from heights (-)",
              "restitution from flights (-)", "simulated (m)", "emitted after apex (ms)"});
   for (size_t i = 0; i < run.peaks.size(); ++i) {
     const auto& p = run.peaks[i];
@@ -144,11 +144,14 @@ void PeaksSection(std::ostringstream& h, const ReportRunData& run) {
       sim = fit->simulated_m[p.bounce - 1];
     }
     Row(h, {std::to_string(p.bounce) + (p.bounce == 0 ? " (release)" : ""), Fmt(p.t_s, 4),
-            Fmt(p.height_m, 4), Fmt(sigma, 4), Fmt(p.height_px, 1), Fmt(p.flight_height_m, 4),
+            Fmt(p.height_m, 4), Fmt(sigma, 4), Fmt(p.height_px, 1), Fmt(p.refit_height_m, 4),
+            Fmt(p.flight_height_m, 4),
             Fmt(e_h[i], 3), Fmt(e_f[i], 3), Fmt(sim, 4),
             Fmt((p.emitted_t_s - p.t_s) * 1000, 0)});
   }
-  h << "</table>\n<p class=\"note\">Restitution e = sqrt(h<sub>i</sub>/h<sub>i-1</sub>); "
+  h << "</table>\n<p class=\"note\">Height: as emitted live; refitted: with every arc of its "
+       "drop once the drop ended, over the floor where its own contacts are (the height to "
+       "quote). Restitution e = sqrt(h<sub>i</sub>/h<sub>i-1</sub>); "
        "&plusmn; is one standard uncertainty (from peaks.csv, else from the calibration's "
        "scale and floor uncertainties and half a pixel).</p>\n";
 }

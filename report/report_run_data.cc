@@ -295,6 +295,32 @@ void RetimeTrack(const nlohmann::json& summary, std::vector<ReportTrackRow>* tra
   for (auto& row : *track) row.t_s = TakenAtSeconds(first + row.t_s, f, c) - first;
 }
 
+// Each peaks.csv row's refitted height (summary.json's peak of the same bounce and apex time),
+// and its flight-time height from its drop where the row has none (peaks.csv is written as
+// the apexes stream in, before their closing impacts are known).
+void TakeRefitHeights(const nlohmann::json& summary, std::vector<ReportPeak>* peaks) {
+  if (!summary.is_object() || !summary.contains("peaks") || !summary["peaks"].is_array()) return;
+  auto number = [](const nlohmann::json& j, const char* key) {
+    return j.contains(key) && j[key].is_number() ? j[key].get<double>() : kReportNaN;
+  };
+  for (ReportPeak& p : *peaks)
+    for (const auto& s : summary["peaks"]) {
+      if (!s.is_object() || number(s, "bounce") != p.bounce || !(std::abs(number(s, "t_s") - p.t_s) < 1e-3))
+        continue;
+      p.refit_height_m = number(s, "refit_height_m");
+      if (std::isfinite(p.flight_height_m) || !summary.contains("drops") || !summary["drops"].is_array()) break;
+      for (const auto& d : summary["drops"]) {
+        if (!d.is_object() || number(d, "sequence") != number(s, "sequence") || !d.contains("flight_height_m") ||
+            !d["flight_height_m"].is_array())
+          continue;
+        const double k = p.bounce - number(d, "first_bounce");
+        if (k >= 0 && k < static_cast<double>(d["flight_height_m"].size()) && d["flight_height_m"][static_cast<size_t>(k)].is_number())
+          p.flight_height_m = d["flight_height_m"][static_cast<size_t>(k)].get<double>();
+      }
+      break;
+    }
+}
+
 }  // namespace
 
 ReportRunData LoadRunDirectory(const fs::path& dir) {
@@ -322,6 +348,7 @@ ReportRunData LoadRunDirectory(const fs::path& dir) {
   if (fs::exists(dir / "waveform.csv")) run.waveform = LoadWaveform(dir / "waveform.csv");
   if (auto p = optional("summary.json")) run.summary = ParseJson(*p, ReadWholeFile(*p));
   if (run.summary) RetimeTrack(*run.summary, &run.track);
+  if (run.summary) TakeRefitHeights(*run.summary, &run.peaks);
   if (auto p = optional("coefficients.json")) {
     run.coefficients_export = ParseJson(*p, ReadWholeFile(*p));
   }

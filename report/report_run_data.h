@@ -37,6 +37,8 @@ struct ReportPeak {
   double flight_height_m = kReportNaN;  // NaN: unknown
   double emitted_t_s = kReportNaN;
   double height_sigma_m = kReportNaN;   // optional column; NaN when the file lacks it
+  // From summary.json, once its drop ended: the height refitted with all its arcs (NaN: none).
+  double refit_height_m = kReportNaN;
 };
 
 struct ReportCalibration {

@@ -146,6 +146,18 @@ TEST(ReportOfARealRun, HeightCurveMeetsTheDetectedApexes) {
     ++compared;
   }
   EXPECT_GE(compared, 4);
+  // The drop's refit and its flight times (summary.json) beside the live heights, in the table.
+  int refitted = 0;
+  for (const auto& p : run.peaks) {
+    if (p.bounce < 1 || !std::isfinite(p.refit_height_m)) continue;
+    EXPECT_NEAR(p.refit_height_m, p.height_m, 0.003) << "bounce " << p.bounce;
+    EXPECT_NEAR(p.refit_height_m, p.flight_height_m, 0.02 * p.refit_height_m + 0.002) << "bounce " << p.bounce;
+    ++refitted;
+  }
+  EXPECT_GE(refitted, 5);
+  std::ifstream html_file(dir / "run" / "report.html");
+  const std::string html((std::istreambuf_iterator<char>(html_file)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("refitted height (m)"), std::string::npos);
 }
 
 // A run with sound 30 ms late: the height figure gets the waveform strip, in the video's
