@@ -2,6 +2,7 @@
 // replayed at its recorded pace through the tracker, the detector and the fitter; every
 // message goes out on the bus (so `watch` can attach), into the output directory, and onto
 // the terminal as it happens.
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -60,6 +61,27 @@ std::string RefitHeights(const SequenceSummary& d) {
     if (std::isfinite(h)) line += (line.empty() ? " " : ", ") + std::to_string(p.bounce) + " " + Fixed(h, 3);
   }
   return line.empty() ? line : "; refitted with the whole drop, m:" + line;
+}
+
+// The drop's seen peaks again with their refitted heights, for the final fit: all but those
+// heard end to end (sent again with their flight-time height, height_px NaN) and those the
+// refit has no height for.
+std::vector<bounce_peak_t> RefittedPeaks(const SequenceSummary& d, const std::vector<bounce_peak_t>& peaks) {
+  std::vector<bounce_peak_t> out;
+  for (const bounce_peak_t& m : peaks) {
+    if (m.sequence != d.sequence || !std::isfinite(m.height_px)) continue;
+    const bool heard = std::any_of(peaks.begin(), peaks.end(), [&](const bounce_peak_t& o) {
+      return o.sequence == m.sequence && o.bounce == m.bounce && !std::isfinite(o.height_px);
+    });
+    const int k = m.bounce - d.first_bounce;
+    if (heard || k < 0 || k >= static_cast<int>(d.final_height_m.size())) continue;
+    const double h = d.final_height_m[static_cast<size_t>(k)];
+    if (!std::isfinite(h)) continue;
+    bounce_peak_t r = m;
+    r.height_m = h;
+    out.push_back(r);
+  }
+  return out;
 }
 
 // Fit updates arrive on the fitter's thread; the main loop publishes and records them, so
@@ -298,6 +320,10 @@ void RunOneClip(RunOptions o) {
         const auto ended = detect.Summaries();
         console.Info("drop ended (" + e.reason + ")" + (ended.empty() ? "" : RefitHeights(ended.back())));
         if (fit) {
+          // The final fit takes the drop's refitted heights (a bounce heard end to end keeps
+          // its flight-time height).
+          if (!ended.empty())
+            for (const bounce_peak_t& m : RefittedPeaks(ended.back(), peaks)) fit->OnPeak(m);
           fit->Finish();
           final_sims_start = fit->simulations();
           // The thorough fit takes seconds (docs/PERFORMANCE.md): say so before the silence.
