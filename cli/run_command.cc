@@ -50,14 +50,19 @@ std::string Fixed(double v, int digits) {
   return buf;
 }
 
+// Bounce `bounce`'s height refitted with every arc of drop `d` when it ended (NaN: none).
+double RefitHeight(const SequenceSummary& d, int bounce) {
+  const int k = bounce - d.first_bounce;
+  if (k < 0 || k >= static_cast<int>(d.final_height_m.size())) return std::nan("");
+  return d.final_height_m[static_cast<size_t>(k)];
+}
+
 // "; refitted with the whole drop, m: 1 0.733, 2 0.515, ..." for the apexes a drop emitted
 // (the heights to quote: the live ones saw only the floor before them).
 std::string RefitHeights(const SequenceSummary& d) {
   std::string line;
   for (const BouncePeak& p : d.peaks) {
-    const int k = p.bounce - d.first_bounce;
-    if (k < 0 || k >= static_cast<int>(d.final_height_m.size())) continue;
-    const double h = d.final_height_m[static_cast<size_t>(k)];
+    const double h = RefitHeight(d, p.bounce);
     if (std::isfinite(h)) line += (line.empty() ? " " : ", ") + std::to_string(p.bounce) + " " + Fixed(h, 3);
   }
   return line.empty() ? line : "; refitted with the whole drop, m:" + line;
@@ -73,10 +78,8 @@ std::vector<bounce_peak_t> RefittedPeaks(const SequenceSummary& d, const std::ve
     const bool heard = std::any_of(peaks.begin(), peaks.end(), [&](const bounce_peak_t& o) {
       return o.sequence == m.sequence && o.bounce == m.bounce && !std::isfinite(o.height_px);
     });
-    const int k = m.bounce - d.first_bounce;
-    if (heard || k < 0 || k >= static_cast<int>(d.final_height_m.size())) continue;
-    const double h = d.final_height_m[static_cast<size_t>(k)];
-    if (!std::isfinite(h)) continue;
+    const double h = RefitHeight(d, m.bounce);
+    if (heard || !std::isfinite(h)) continue;
     bounce_peak_t r = m;
     r.height_m = h;
     out.push_back(r);
@@ -465,22 +468,20 @@ void RunOneClip(RunOptions o) {
                                         {"first_frame_s", out.stream_start() * 1e-6}}
                        : nlohmann::json();
   nlohmann::json jpeaks = nlohmann::json::array();
+  const std::vector<SequenceSummary> summaries = detect.Summaries();
   for (const auto& p : peaks) {
     nlohmann::json jp = ToJson(p, out.stream_start());
     // The height refitted with every arc of its drop when the drop ended, beside the live one
     // (a bounce only heard has no arc: null).
     jp["refit_height_m"] = nullptr;
-    for (const auto& d : detect.Summaries()) {
-      const int k = p.bounce - d.first_bounce;
-      if (std::isfinite(p.height_px) && d.sequence == p.sequence && k >= 0 &&
-          k < static_cast<int>(d.final_height_m.size()))
-        jp["refit_height_m"] = FiniteOrNull(d.final_height_m[static_cast<size_t>(k)]);
-    }
+    for (const auto& d : summaries)
+      if (std::isfinite(p.height_px) && d.sequence == p.sequence)
+        jp["refit_height_m"] = FiniteOrNull(RefitHeight(d, p.bounce));
     jpeaks.push_back(jp);
   }
   summary["peaks"] = jpeaks;
   nlohmann::json drops = nlohmann::json::array();
-  for (const auto& d : detect.Summaries()) {
+  for (const auto& d : summaries) {
     nlohmann::json impacts = nlohmann::json::array();
     for (const auto& i : d.impacts)
       impacts.push_back({{"bounce", i.index},
