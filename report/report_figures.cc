@@ -232,14 +232,16 @@ ReportFigure BouncesFigure(const ReportRunData& run, FigureWriter& w) {
   diff << "# bounce simulated_minus_recorded_mm sigma_mm\n";
   int max_bounce = 0;
   for (const auto& p : run.peaks) {
-    if (!std::isfinite(p.height_m)) continue;
+    // The heights the final fit took (refitted, or heard), against what it simulated.
+    const double h = p.HeightToUse();
+    if (!std::isfinite(h)) continue;
     double sigma = p.height_sigma_m;
-    if (!std::isfinite(sigma) && run.calibration) sigma = ApexHeightSigmaM(p.height_m, *run.calibration);
+    if (!std::isfinite(sigma) && run.calibration) sigma = ApexHeightSigmaM(h, *run.calibration);
     if (!std::isfinite(sigma)) sigma = 0;
-    rec << Num(p.bounce - 0.08) << " " << Num(p.height_m) << " " << Num(sigma) << "\n";
+    rec << Num(p.bounce - 0.08) << " " << Num(h) << " " << Num(sigma) << "\n";
     auto it = simulated.find(p.bounce);
     if (it != simulated.end()) {
-      diff << Num(p.bounce) << " " << Num((it->second - p.height_m) * 1000) << " "
+      diff << Num(p.bounce) << " " << Num((it->second - h) * 1000) << " "
            << Num(sigma * 1000) << "\n";
     }
     max_bounce = std::max(max_bounce, p.bounce);

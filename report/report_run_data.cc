@@ -156,6 +156,8 @@ std::vector<ReportPeak> LoadPeaks(const fs::path& file) {
     p.flight_height_m = csv.Number(i, "flight_height_m");
     p.emitted_t_s = csv.Number(i, "emitted_t_s");
     p.height_sigma_m = csv.Number(i, "height_sigma_m");
+    p.heard = csv.Text(i, "heard");
+    p.fused_height_m = csv.Number(i, "fused_height_m");
     peaks.push_back(p);
   }
   return peaks;
@@ -388,14 +390,16 @@ double ApexHeightSigmaM(double height_m, const ReportCalibration& c) {
   return std::sqrt(std::pow(height_m * scale_rel, 2) + floor_m * floor_m + pixel_m * pixel_m);
 }
 
+double ReportPeak::HeightToUse() const {
+  if (!heard.empty() && std::isfinite(fused_height_m)) return fused_height_m;
+  return std::isfinite(refit_height_m) ? refit_height_m : height_m;
+}
+
 std::vector<double> RestitutionFromHeights(const std::vector<ReportPeak>& peaks) {
   std::vector<double> e(peaks.size(), kReportNaN);
   for (size_t i = 1; i < peaks.size(); ++i) {
-    const auto& a = peaks[i - 1];
-    const auto& b = peaks[i];
-    if (b.bounce == a.bounce + 1 && a.height_m > 0 && b.height_m >= 0) {
-      e[i] = std::sqrt(b.height_m / a.height_m);
-    }
+    const double a = peaks[i - 1].HeightToUse(), b = peaks[i].HeightToUse();
+    if (peaks[i].bounce == peaks[i - 1].bounce + 1 && a > 0 && b >= 0) e[i] = std::sqrt(b / a);
   }
   return e;
 }

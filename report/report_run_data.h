@@ -39,6 +39,11 @@ struct ReportPeak {
   double height_sigma_m = kReportNaN;   // optional column; NaN when the file lacks it
   // From summary.json, once its drop ended: the height refitted with all its arcs (NaN: none).
   double refit_height_m = kReportNaN;
+  std::string heard;                    // peaks.csv of a run with sound: "both", "heard only", ""
+  double fused_height_m = kReportNaN;   // the same: the flight-time height where heard
+  // The height the final fit took: heard end to end, its flight-time height; else refitted;
+  // else live.
+  double HeightToUse() const;
 };
 
 struct ReportCalibration {
@@ -127,7 +132,8 @@ double BallBottomHeightM(double cx_px, double cy_px, double h_px,
 // height_sigma_m column.
 double ApexHeightSigmaM(double height_m, const ReportCalibration& calibration);
 
-// Restitution between consecutive apexes of one drop: sqrt(h_i / h_(i-1)); NaN for
+// Restitution between consecutive apexes of one drop: sqrt(h_i / h_(i-1)) of the heights to
+// use (ReportPeak::HeightToUse); NaN for
 // bounce 0 or when the previous apex is missing.
 std::vector<double> RestitutionFromHeights(const std::vector<ReportPeak>& peaks);
 // The same from flight heights (impact-to-impact times), NaN where unknown.
