@@ -419,7 +419,16 @@ void RunOneClip(RunOptions o) {
   console.Info("sound: " + sound.Finish(seen_impacts, SecondsSince(now_utime, out.stream_start())).verdict);
   sound.WriteImpactsCsv(out.dir());
   sound.WriteWaveformCsv(out.dir());
-  sound.RewritePeaksCsv(out.dir(), peaks, out.stream_start());
+  std::vector<RunSound::AfterRefit> after_refit(peaks.size());
+  for (const auto& d : detect.Summaries())
+    for (size_t i = 0; i < peaks.size(); ++i) {
+      const bounce_peak_t& m = peaks[i];
+      const int k = m.bounce - d.first_bounce;
+      if (m.sequence != d.sequence || !std::isfinite(m.height_px) || k < 0) continue;
+      after_refit[i].refit_m = RefitHeight(d, m.bounce);
+      if (k < static_cast<int>(d.flight_height_m.size())) after_refit[i].flight_m = d.flight_height_m[static_cast<size_t>(k)];
+    }
+  sound.RewritePeaksCsv(out.dir(), peaks, after_refit, out.stream_start());
   if (fit) {
     fit->Finish();
     while (!fit->WaitIdleFor(std::chrono::milliseconds(200)))

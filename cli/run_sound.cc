@@ -229,12 +229,13 @@ void RunSound::WriteImpactsCsv(const std::filesystem::path& dir) const {
 }
 
 void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
-                               const std::vector<bounce_peak_t>& peaks, int64_t t0) const {
+                               const std::vector<bounce_peak_t>& peaks,
+                               const std::vector<AfterRefit>& after_refit, int64_t t0) const {
   const auto path = dir / "peaks.csv";
   const std::string tmp = path.string() + ".tmp";
   std::ofstream f(tmp, std::ios::trunc);
   if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
-  f << "bounce,t_s,height_m,height_px,flight_height_m,emitted_t_s,heard,fused_height_m\n";
+  f << "bounce,t_s,height_m,height_px,flight_height_m,emitted_t_s,heard,fused_height_m,refit_height_m\n";
   // Impacts heard before the picture's first seen one (the tracker locked on late) begin
   // the drop: the seen bounces move up by their count, and the picture's "release" (its
   // bounce 0) is the apex of the arc that ends at its first seen impact.
@@ -301,13 +302,16 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
     const double t_s = SecondsSince(m.apex_utime, t0);
     const HeardFlight* fl = on_arc[p].flight >= 0 ? &fused_.flights[on_arc[p].flight] : nullptr;
     if (fl) arc_seen[on_arc[p].flight] = true;
-    const double flight_h = fl ? fl->height_m : m.flight_height_m;
+    const AfterRefit after = p < after_refit.size() ? after_refit[p] : AfterRefit{};
+    const double flight_h = fl ? fl->height_m : std::isfinite(after.flight_m) ? after.flight_m : m.flight_height_m;
+    // The height to use: heard end to end, its flight time; else refitted with the whole drop.
+    const double use_h = fl ? fl->height_m : std::isfinite(after.refit_m) ? after.refit_m : m.height_m;
     const int bounce = fused_.sound_used ? impacts_before(t_s) : m.bounce - dropped + heard_before;
     std::ostringstream line;
     line << bounce << ',' << Cell(t_s, "%.6f") << ',' << Cell(m.height_m, "%.5f") << ','
          << Cell(m.height_px, "%.3f") << ',' << Cell(flight_h, "%.5f") << ','
          << Cell(SecondsSince(m.emitted_utime, t0), "%.6f") << ',' << (fl ? "both" : "") << ','
-         << Cell(fl ? fl->height_m : m.height_m, "%.5f");
+         << Cell(use_h, "%.5f") << ',' << Cell(after.refit_m, "%.5f");
     rows.emplace_back(t_s, line.str());
     last_bounce = std::max(last_bounce, bounce);
     first_t = std::min(first_t, t_s);
@@ -332,7 +336,7 @@ void RunSound::RewritePeaksCsv(const std::filesystem::path& dir,
     rows.emplace_back(fl.apex_t_s, std::to_string(bounce) + ',' + Cell(fl.apex_t_s, "%.6f") + ',' +
                                        Cell(fl.height_m, "%.5f") + ",," + Cell(fl.height_m, "%.5f") +
                                        ",,heard only," +
-                                       Cell(fl.height_m, "%.5f"));
+                                       Cell(fl.height_m, "%.5f") + ",");
   }
   std::stable_sort(rows.begin(), rows.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });

@@ -13,6 +13,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <limits>
 #include <vector>
 
 #include "bouncefit/bounce_peak_t.hpp"
@@ -62,8 +63,14 @@ class RunSound {
   void WriteImpactsCsv(const std::filesystem::path& dir) const;
   // Writes waveform.csv: the sound's peak |amplitude| per 5 ms (nothing without sound).
   void WriteWaveformCsv(const std::filesystem::path& dir) const;
+  // `after_refit[i]`: peaks[i]'s height refitted when its drop ended and its flight-time height
+  // from the drop's impacts (NaN where none; the vector may be empty).
+  struct AfterRefit {
+    double refit_m = std::numeric_limits<double>::quiet_NaN();
+    double flight_m = std::numeric_limits<double>::quiet_NaN();
+  };
   void RewritePeaksCsv(const std::filesystem::path& dir, const std::vector<bounce_peak_t>& peaks,
-                       int64_t t0_utime) const;
+                       const std::vector<AfterRefit>& after_refit, int64_t t0_utime) const;
   nlohmann::json Summary() const;
   double cpu_s() const { return cpu_s_; }
 

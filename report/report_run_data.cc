@@ -158,6 +158,7 @@ std::vector<ReportPeak> LoadPeaks(const fs::path& file) {
     p.height_sigma_m = csv.Number(i, "height_sigma_m");
     p.heard = csv.Text(i, "heard");
     p.fused_height_m = csv.Number(i, "fused_height_m");
+    p.refit_height_m = csv.Number(i, "refit_height_m");
     peaks.push_back(p);
   }
   return peaks;
@@ -297,9 +298,9 @@ void RetimeTrack(const nlohmann::json& summary, std::vector<ReportTrackRow>* tra
   for (auto& row : *track) row.t_s = TakenAtSeconds(first + row.t_s, f, c) - first;
 }
 
-// Each peaks.csv row's refitted height (summary.json's peak of the same bounce and apex time),
-// and its flight-time height from its drop where the row has none (peaks.csv is written as
-// the apexes stream in, before their closing impacts are known).
+// Each peaks.csv row's refitted height where the row has none (summary.json's peak of the same
+// bounce and apex time: runs before peaks.csv had the column), and its flight-time height
+// from its drop where the row has none.
 void TakeRefitHeights(const nlohmann::json& summary, std::vector<ReportPeak>* peaks) {
   if (!summary.is_object() || !summary.contains("peaks") || !summary["peaks"].is_array()) return;
   auto number = [](const nlohmann::json& j, const char* key) {
@@ -309,7 +310,7 @@ void TakeRefitHeights(const nlohmann::json& summary, std::vector<ReportPeak>* pe
     for (const auto& s : summary["peaks"]) {
       if (!s.is_object() || number(s, "bounce") != p.bounce || !(std::abs(number(s, "t_s") - p.t_s) < 1e-3))
         continue;
-      p.refit_height_m = number(s, "refit_height_m");
+      if (!std::isfinite(p.refit_height_m)) p.refit_height_m = number(s, "refit_height_m");
       if (std::isfinite(p.flight_height_m) || !summary.contains("drops") || !summary["drops"].is_array()) break;
       for (const auto& d : summary["drops"]) {
         if (!d.is_object() || number(d, "sequence") != number(s, "sequence") || !d.contains("flight_height_m") ||
