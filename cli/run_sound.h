@@ -8,12 +8,12 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
 #include <string>
-#include <limits>
 #include <vector>
 
 #include "bouncefit/bounce_peak_t.hpp"
