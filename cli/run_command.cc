@@ -50,11 +50,28 @@ std::string Fixed(double v, int digits) {
   return buf;
 }
 
-// Bounce `bounce`'s height refitted with every arc of drop `d` when it ended (NaN: none).
-double RefitHeight(const SequenceSummary& d, int bounce) {
+// Bounce `bounce`'s entry of one of drop `d`'s per-arc lists (NaN: none).
+double OfBounce(const SequenceSummary& d, const std::vector<double>& per_arc, int bounce) {
   const int k = bounce - d.first_bounce;
-  if (k < 0 || k >= static_cast<int>(d.final_height_m.size())) return std::nan("");
-  return d.final_height_m[static_cast<size_t>(k)];
+  if (k < 0 || k >= static_cast<int>(per_arc.size())) return std::nan("");
+  return per_arc[static_cast<size_t>(k)];
+}
+
+// Bounce `bounce`'s height refitted with every arc of drop `d` when it ended (NaN: none).
+double RefitHeight(const SequenceSummary& d, int bounce) { return OfBounce(d, d.final_height_m, bounce); }
+
+// What the drops' ends learnt of each peak: its refitted and flight-time heights (NaN: none;
+// a bounce only heard, sent again with height_px NaN, has no arc of its own).
+std::vector<RunSound::AfterRefit> AfterRefitOf(const std::vector<bounce_peak_t>& peaks,
+                                               const std::vector<SequenceSummary>& summaries) {
+  std::vector<RunSound::AfterRefit> out(peaks.size());
+  for (size_t i = 0; i < peaks.size(); ++i)
+    for (const auto& d : summaries)
+      if (d.sequence == peaks[i].sequence && std::isfinite(peaks[i].height_px)) {
+        out[i].refit_m = RefitHeight(d, peaks[i].bounce);
+        out[i].flight_m = OfBounce(d, d.flight_height_m, peaks[i].bounce);
+      }
+  return out;
 }
 
 // "; refitted with the whole drop, m: 1 0.733, 2 0.515, ..." for the apexes a drop emitted
@@ -413,21 +430,14 @@ void RunOneClip(RunOptions o) {
   if (stream_started)
     for (const auto& m : sound.EndLive(out.stream_start())) publish_impact(m);
   publish_heard_peaks();
+  const std::vector<SequenceSummary> summaries = detect.Summaries();  // every drop has ended
   std::vector<double> seen_impacts;
-  for (const auto& d : detect.Summaries())
+  for (const auto& d : summaries)
     for (const auto& i : d.impacts) seen_impacts.push_back(SecondsSince(i.utime, out.stream_start()));
   console.Info("sound: " + sound.Finish(seen_impacts, SecondsSince(now_utime, out.stream_start())).verdict);
   sound.WriteImpactsCsv(out.dir());
   sound.WriteWaveformCsv(out.dir());
-  std::vector<RunSound::AfterRefit> after_refit(peaks.size());
-  for (const auto& d : detect.Summaries())
-    for (size_t i = 0; i < peaks.size(); ++i) {
-      const bounce_peak_t& m = peaks[i];
-      const int k = m.bounce - d.first_bounce;
-      if (m.sequence != d.sequence || !std::isfinite(m.height_px) || k < 0) continue;
-      after_refit[i].refit_m = RefitHeight(d, m.bounce);
-      if (k < static_cast<int>(d.flight_height_m.size())) after_refit[i].flight_m = d.flight_height_m[static_cast<size_t>(k)];
-    }
+  const std::vector<RunSound::AfterRefit> after_refit = AfterRefitOf(peaks, summaries);
   sound.RewritePeaksCsv(out.dir(), peaks, after_refit, out.stream_start());
   if (fit) {
     fit->Finish();
@@ -477,15 +487,10 @@ void RunOneClip(RunOptions o) {
                                         {"first_frame_s", out.stream_start() * 1e-6}}
                        : nlohmann::json();
   nlohmann::json jpeaks = nlohmann::json::array();
-  const std::vector<SequenceSummary> summaries = detect.Summaries();
-  for (const auto& p : peaks) {
-    nlohmann::json jp = ToJson(p, out.stream_start());
-    // The height refitted with every arc of its drop when the drop ended, beside the live one
-    // (a bounce only heard has no arc: null).
-    jp["refit_height_m"] = nullptr;
-    for (const auto& d : summaries)
-      if (std::isfinite(p.height_px) && d.sequence == p.sequence)
-        jp["refit_height_m"] = FiniteOrNull(RefitHeight(d, p.bounce));
+  for (size_t i = 0; i < peaks.size(); ++i) {
+    nlohmann::json jp = ToJson(peaks[i], out.stream_start());
+    // The height refitted with every arc of its drop when the drop ended, beside the live one.
+    jp["refit_height_m"] = FiniteOrNull(after_refit[i].refit_m);
     jpeaks.push_back(jp);
   }
   summary["peaks"] = jpeaks;
