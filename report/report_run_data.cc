@@ -156,7 +156,6 @@ std::vector<ReportPeak> LoadPeaks(const fs::path& file) {
     p.flight_height_m = csv.Number(i, "flight_height_m");
     p.emitted_t_s = csv.Number(i, "emitted_t_s");
     p.height_sigma_m = csv.Number(i, "height_sigma_m");
-    p.heard = csv.Text(i, "heard");
     p.fused_height_m = csv.Number(i, "fused_height_m");
     p.refit_height_m = csv.Number(i, "refit_height_m");
     peaks.push_back(p);
@@ -298,32 +297,6 @@ void RetimeTrack(const nlohmann::json& summary, std::vector<ReportTrackRow>* tra
   for (auto& row : *track) row.t_s = TakenAtSeconds(first + row.t_s, f, c) - first;
 }
 
-// Each peaks.csv row's refitted height where the row has none (summary.json's peak of the same
-// bounce and apex time: runs before peaks.csv had the column), and its flight-time height
-// from its drop where the row has none.
-void TakeRefitHeights(const nlohmann::json& summary, std::vector<ReportPeak>* peaks) {
-  if (!summary.is_object() || !summary.contains("peaks") || !summary["peaks"].is_array()) return;
-  auto number = [](const nlohmann::json& j, const char* key) {
-    return j.contains(key) && j[key].is_number() ? j[key].get<double>() : kReportNaN;
-  };
-  for (ReportPeak& p : *peaks)
-    for (const auto& s : summary["peaks"]) {
-      if (!s.is_object() || number(s, "bounce") != p.bounce || !(std::abs(number(s, "t_s") - p.t_s) < 1e-3))
-        continue;
-      if (!std::isfinite(p.refit_height_m)) p.refit_height_m = number(s, "refit_height_m");
-      if (std::isfinite(p.flight_height_m) || !summary.contains("drops") || !summary["drops"].is_array()) break;
-      for (const auto& d : summary["drops"]) {
-        if (!d.is_object() || number(d, "sequence") != number(s, "sequence") || !d.contains("flight_height_m") ||
-            !d["flight_height_m"].is_array())
-          continue;
-        const double k = p.bounce - number(d, "first_bounce");
-        if (k >= 0 && k < static_cast<double>(d["flight_height_m"].size()) && d["flight_height_m"][static_cast<size_t>(k)].is_number())
-          p.flight_height_m = d["flight_height_m"][static_cast<size_t>(k)].get<double>();
-      }
-      break;
-    }
-}
-
 }  // namespace
 
 ReportRunData LoadRunDirectory(const fs::path& dir) {
@@ -351,7 +324,6 @@ ReportRunData LoadRunDirectory(const fs::path& dir) {
   if (fs::exists(dir / "waveform.csv")) run.waveform = LoadWaveform(dir / "waveform.csv");
   if (auto p = optional("summary.json")) run.summary = ParseJson(*p, ReadWholeFile(*p));
   if (run.summary) RetimeTrack(*run.summary, &run.track);
-  if (run.summary) TakeRefitHeights(*run.summary, &run.peaks);
   if (auto p = optional("coefficients.json")) {
     run.coefficients_export = ParseJson(*p, ReadWholeFile(*p));
   }
@@ -392,8 +364,7 @@ double ApexHeightSigmaM(double height_m, const ReportCalibration& c) {
 }
 
 double ReportPeak::HeightToUse() const {
-  if (!heard.empty() && std::isfinite(fused_height_m)) return fused_height_m;
-  return std::isfinite(refit_height_m) ? refit_height_m : height_m;
+  return std::isfinite(fused_height_m) ? fused_height_m : height_m;
 }
 
 std::vector<double> RestitutionFromHeights(const std::vector<ReportPeak>& peaks) {

@@ -37,12 +37,12 @@ struct ReportPeak {
   double flight_height_m = kReportNaN;  // NaN: unknown
   double emitted_t_s = kReportNaN;
   double height_sigma_m = kReportNaN;   // optional column; NaN when the file lacks it
-  // From summary.json, once its drop ended: the height refitted with all its arcs (NaN: none).
+  // Optional columns run writes at the end (NaN when the file lacks them): the height refitted
+  // with every arc of its drop, and the height to use (heard end to end, its flight-time
+  // height; else the refitted one; else the live one), which the final fit took.
   double refit_height_m = kReportNaN;
-  std::string heard;                    // peaks.csv of a run with sound: "both", "heard only", ""
-  double fused_height_m = kReportNaN;   // the same: the flight-time height where heard
-  // The height the final fit took: heard end to end, its flight-time height; else refitted;
-  // else live.
+  double fused_height_m = kReportNaN;
+  // fused_height_m, or the live height of a file without it.
   double HeightToUse() const;
 };
 

@@ -92,15 +92,14 @@ TEST(ReportRunData, RestitutionFromHeightsAndFlights) {
   EXPECT_NEAR(ef[2], 0.8, 1e-4);
 }
 
-// The heights the final fit took: a bounce heard end to end its flight-time height, else the
-// drop's refit, else the live one.
+// The heights the final fit took (peaks.csv's fused_height_m: a bounce heard end to end its
+// flight-time height, else the drop's refit), else the live one of a file without them.
 TEST(ReportRunData, RestitutionFromTheHeightsTheFitTook) {
   std::vector<ReportPeak> peaks(4);
   for (int b = 0; b < 4; ++b) peaks[b].bounce = b, peaks[b].height_m = 1.0 - 0.2 * b;
-  peaks[1].refit_height_m = 0.64;   // live 0.8
-  peaks[2].heard = "both";
-  peaks[2].fused_height_m = 0.4096; // live 0.6
-  peaks[2].refit_height_m = 0.5;    // the heard height wins
+  peaks[1].refit_height_m = peaks[1].fused_height_m = 0.64;  // live 0.8
+  peaks[2].fused_height_m = 0.4096;  // heard; live 0.6
+  peaks[2].refit_height_m = 0.5;     // the heard height wins
   const auto e = RestitutionFromHeights(peaks);
   EXPECT_NEAR(e[1], 0.8, 1e-9);
   EXPECT_NEAR(e[2], 0.8, 1e-9);
