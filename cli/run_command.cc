@@ -89,17 +89,16 @@ std::string RefitHeights(const SequenceSummary& d) {
 // heard end to end (sent again with their flight-time height, height_px NaN) and those the
 // refit has no height for.
 std::vector<bounce_peak_t> RefittedPeaks(const SequenceSummary& d, const std::vector<bounce_peak_t>& peaks) {
+  const std::vector<RunSound::AfterRefit> after = AfterRefitOf(peaks, {d});
   std::vector<bounce_peak_t> out;
-  for (const bounce_peak_t& m : peaks) {
-    if (m.sequence != d.sequence || !std::isfinite(m.height_px)) continue;
+  for (size_t i = 0; i < peaks.size(); ++i) {
+    const bounce_peak_t& m = peaks[i];
     const bool heard = std::any_of(peaks.begin(), peaks.end(), [&](const bounce_peak_t& o) {
       return o.sequence == m.sequence && o.bounce == m.bounce && !std::isfinite(o.height_px);
     });
-    const double h = RefitHeight(d, m.bounce);
-    if (heard || !std::isfinite(h)) continue;
-    bounce_peak_t r = m;
-    r.height_m = h;
-    out.push_back(r);
+    if (heard || !std::isfinite(after[i].refit_m)) continue;
+    out.push_back(m);
+    out.back().height_m = after[i].refit_m;
   }
   return out;
 }
