@@ -127,7 +127,7 @@ std::unique_ptr<FrameSource> OpenSource(const RunOptions& o, const std::string& 
     c.device = o.device;
     return std::make_unique<V4l2Camera>(c);
   }
-  return std::make_unique<VideoFileSource>(VideoFileSourceConfig{clip, false});
+  return std::make_unique<VideoFileSource>(ReadAheadConfig(clip));
 }
 
 // The clock against the ball's size, said once per change: the two scales' agreement, and

@@ -13,19 +13,11 @@
 #include <stdexcept>
 
 namespace bouncefit {
-namespace {
-
-std::string FourccText(double value) {
-  const auto v = static_cast<uint32_t>(value);
-  std::string s;
-  for (int i = 0; i < 4; ++i) {
-    const char c = static_cast<char>((v >> (8 * i)) & 0xff);
-    if (c >= 32 && c < 127 && c != ' ') s += c;
-  }
-  return s.empty() ? "?" : s;
+VideoFileSourceConfig ReadAheadConfig(std::string path) {
+  VideoFileSourceConfig c{std::move(path), false};
+  c.read_ahead = 4;
+  return c;
 }
-
-}  // namespace
 
 VideoFileSource::VideoFileSource(VideoFileSourceConfig config) : config_(std::move(config)) {
   const std::string& path = config_.path;
@@ -37,6 +29,10 @@ VideoFileSource::VideoFileSource(VideoFileSourceConfig config) : config_(std::mo
   if (!std::ifstream(path, std::ios::binary))
     throw std::runtime_error("cannot open video '" + path + "': " + std::strerror(errno));
   Open();
+  // The same on every pass of a loop: read once (a reading-ahead thread reopens the file).
+  rotation_deg_ = reader_->rotation_cw_deg();
+  info_.nominal_fps = reader_->fps();
+  info_.frame_count = reader_->frame_count();
   pending_ = Decode();
   if (!pending_)
     throw std::runtime_error("video '" + path + "' has no decodable frame (corrupt or empty?)");
@@ -48,11 +44,47 @@ VideoFileSource::VideoFileSource(VideoFileSourceConfig config) : config_(std::mo
   info_.width = pending_->image.cols;
   info_.height = pending_->image.rows;
   info_.description = "file " + std::filesystem::path(path).filename().string() + " (" +
-                      FourccText(capture_.get(cv::CAP_PROP_FOURCC)) + " " +
+                      reader_->codec_text() + " " +
                       std::to_string(info_.width) + "x" + std::to_string(info_.height) +
                       (rotation_deg_ ? ", stored turned: rotated " + std::to_string(rotation_deg_) +
                                            " deg clockwise to upright" : "") +
                       (recorded_.empty() ? ")" : ", camera times from its .times.csv)");
+  if (config_.read_ahead > 0) ahead_ = std::thread([this] { ReadAhead(); });
+}
+
+VideoFileSource::~VideoFileSource() {
+  if (!ahead_.joinable()) return;
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  changed_.notify_all();
+  ahead_.join();
+}
+
+void VideoFileSource::ReadAhead() {
+  for (;;) {
+    Produced p = ProduceCounted();
+    const bool last = !p.frame || p.error;
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return stop_ || queue_.size() < static_cast<size_t>(config_.read_ahead); });
+    if (stop_) return;
+    queue_.push_back(std::move(p));
+    finished_ = last;
+    changed_.notify_all();
+    if (last) return;
+  }
+}
+
+VideoFileSource::Produced VideoFileSource::ProduceCounted() {
+  Produced p;
+  try {
+    p.frame = Produce();
+  } catch (...) {
+    p.error = std::current_exception();
+  }
+  p.counts = {loops_, ended_short_, repaired_, undecodable_, dropped_, repeats_.repeats()};
+  return p;
 }
 
 void VideoFileSource::LoadTimes() {
@@ -76,24 +108,8 @@ void VideoFileSource::LoadTimes() {
 }
 
 void VideoFileSource::Open() {
-  capture_.release();
-  // A core prints nothing: FFmpeg's own complaints about damaged frames stay quiet (OpenCV
-  // reads this once, at its first use of FFmpeg); ours say what matters in one line. Set
-  // OPENCV_FFMPEG_LOGLEVEL yourself to see them.
-  ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
-  // FFmpeg only: it gives the container's per-frame presentation times.
-  if (!capture_.open(config_.path, cv::CAP_FFMPEG) || !capture_.isOpened())
-    throw std::runtime_error("cannot open video '" + config_.path +
-                             "': not a video file OpenCV/FFmpeg can read");
-  // OpenCV 4.6 turns tagged frames by itself, but the wrong way round (upside down): turn
-  // them ourselves. Its CAP_PROP_ORIENTATION_META is the counter-clockwise display angle.
-  capture_.set(cv::CAP_PROP_ORIENTATION_AUTO, 0);
-  const double meta = capture_.get(cv::CAP_PROP_ORIENTATION_META);
-  const int ccw = std::isfinite(meta) ? ((static_cast<int>(std::lround(meta / 90)) % 4) + 4) % 4 : 0;
-  rotation_deg_ = (360 - 90 * ccw) % 360;
-  info_.nominal_fps = capture_.get(cv::CAP_PROP_FPS);
-  const double count = capture_.get(cv::CAP_PROP_FRAME_COUNT);
-  info_.frame_count = count > 0 ? static_cast<int64_t>(count) : -1;
+  reader_.reset();
+  reader_ = std::make_unique<AvVideoReader>(config_.path, config_.decoder_threads);
   pass_first_us_ = -1;
   pass_frames_ = 0;
   pass_undecodable_ = 0;
@@ -101,39 +117,31 @@ void VideoFileSource::Open() {
 
 std::optional<Frame> VideoFileSource::Decode() {
   Frame frame;
-  bool ok = false;
-  // A damaged stretch (a phone's file with bad bytes) fails one read per damaged packet, and
-  // the reads after it decode again: read on while the container announces more frames,
-  // and count the ones lost. At a true end every further read fails at once.
-  const int64_t budget = info_.frame_count > 0 ? info_.frame_count - pass_frames_ + 1 : 8;
-  int64_t failed = 0;
-  try {
-    while (!(ok = capture_.read(frame.image) && !frame.image.empty()) && failed < budget) ++failed;
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error("video '" + config_.path + "': decoding failed after " +
-                             std::to_string(delivered_) + " frames");
-  }
-  if (!ok) return std::nullopt;
+  // A damaged stretch (a phone's file with bad bytes) loses its packets, and the pictures
+  // after it decode again: the reader skips and counts them.
+  double pos_ms = 0;
+  const int64_t damaged_before = reader_->damaged_packets();
+  const bool ok = reader_->Read(&frame.image, &pos_ms);
+  const int64_t failed = reader_->damaged_packets() - damaged_before;
   undecodable_ += failed;
   pass_undecodable_ += failed;
+  if (!ok) return std::nullopt;
   if (rotation_deg_ == 90) cv::rotate(frame.image, frame.image, cv::ROTATE_90_CLOCKWISE);
   if (rotation_deg_ == 180) cv::rotate(frame.image, frame.image, cv::ROTATE_180);
   if (rotation_deg_ == 270) cv::rotate(frame.image, frame.image, cv::ROTATE_90_COUNTERCLOCKWISE);
   frame.format = PixelFormat::kBgr24;
-  const double pos_ms = capture_.get(cv::CAP_PROP_POS_MSEC);
   const int64_t t = std::isfinite(pos_ms) ? std::llround(pos_ms * 1000.0) : -1;
   int64_t utime;
   if (pass_first_us_ < 0) {
-    // OpenCV reports a first presentation time of exactly 0 as the packet's decode time
-    // (slightly negative with B-frames): the pass starts at its first frame.
+    // The pass starts at its first frame (a time before the stream's start counts as 0).
     pass_first_us_ = std::max<int64_t>(t, 0);
     utime = pass_offset_us_;
   } else {
     utime = pass_offset_us_ + (t - pass_first_us_);
   }
   if (last_utime_ >= 0 && pass_frames_ > 0 && (t < 0 || utime <= last_utime_)) {
-    // No usable container time: frames flushed from the decoder at the end come back as 0.
-    // Continue at the last interval seen (the nominal one if none).
+    // No usable container time (none, or not after the last): continue at the last interval
+    // seen (the nominal one if none).
     const int64_t step = last_step_us_ > 0 ? last_step_us_
                          : std::llround(info_.nominal_fps > 0 ? 1e6 / info_.nominal_fps : 1e6 / 30);
     utime = last_utime_ + step;
@@ -148,6 +156,23 @@ std::optional<Frame> VideoFileSource::Decode() {
 }
 
 std::optional<Frame> VideoFileSource::Next() {
+  Produced p;
+  if (!ahead_.joinable()) {
+    p = ProduceCounted();
+  } else {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return !queue_.empty() || finished_; });
+    if (queue_.empty()) return std::nullopt;  // the end, already delivered
+    p = std::move(queue_.front());
+    queue_.pop_front();
+    changed_.notify_all();
+  }
+  shown_ = p.counts;
+  if (p.error) std::rethrow_exception(p.error);
+  return std::move(p.frame);
+}
+
+std::optional<Frame> VideoFileSource::Produce() {
   std::optional<Frame> frame;
   if (pending_) {
     frame = std::move(pending_);
@@ -174,7 +199,7 @@ std::optional<Frame> VideoFileSource::Next() {
   }
   ++decoded_;
   // A recording of ours carries the camera's own times: every frame is an exposure.
-  if (config_.skip_repeats && recorded_.empty() && repeats_.IsRepeat(frame->image)) return Next();
+  if (config_.skip_repeats && recorded_.empty() && repeats_.IsRepeat(frame->image)) return Produce();
   frame->index = decoded_ - 1;
   frame->sequence = decoded_ - 1;
   if (!recorded_.empty()) {
@@ -187,7 +212,6 @@ std::optional<Frame> VideoFileSource::Next() {
       last_utime_ = frame->utime;
     }
   }
-  ++delivered_;
   return frame;
 }
 

@@ -5,8 +5,12 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include "replay/video_file_source.h"
 #include "tests/test_support.h"
@@ -98,8 +102,9 @@ TEST(VideoFileSource, RealVariableRateClipKeepsItsContainerTimes) {
   const auto dir = testing::RealClipsDir();
   if (dir.empty()) GTEST_SKIP() << "shared real clips not found (../shared/real-clips)";
   // ffprobe: 188 frames; the second at 15.000 ms (nominal 60 fps would say 16.667), the last
-  // at 3115.000 ms (nominal: 3116.667). OpenCV returns no time for the last two frames
-  // (flushed from the H.264 decoder): they continue at the last interval.
+  // at 3115.000 ms (nominal: 3116.667). The last two pictures come out of the H.264 decoder
+  // only when it is flushed at the end: they keep their own presentation times too (OpenCV's
+  // reader gave them none, and they had to be repaired).
   // Every picture, the ones it repeats included (see PicturesTheFileRepeatsComeOutOnce).
   VideoFileSource source({(dir / "pingpong_ruler_60fps.mov").string(), false, false});
   std::vector<int64_t> t;
@@ -107,8 +112,9 @@ TEST(VideoFileSource, RealVariableRateClipKeepsItsContainerTimes) {
   ASSERT_EQ(t.size(), 188u);
   EXPECT_NEAR(t[1], 15000, 50);
   EXPECT_NEAR(t[2], 31667, 50);
+  EXPECT_NEAR(t[186], 3098333, 50);
   EXPECT_NEAR(t.back(), 3115000, 50);
-  EXPECT_EQ(source.repaired_times(), 2);
+  EXPECT_EQ(source.repaired_times(), 0);
 }
 
 // The first frame as ffmpeg's own player logic shows it (it honours the rotation tag).
@@ -339,6 +345,46 @@ TEST(VideoFileSource, DamagedStretchIsSkippedAndTheFramesAfterItAreRead) {
   EXPECT_EQ(n + source.undecodable_frames(), 60);
   EXPECT_EQ(last_index, 59);  // the file's last frame, after the damage
   EXPECT_FALSE(source.ended_short());
+}
+
+// Reading ahead on a thread of its own (as `run` reads a file; here with one decoder thread
+// too) gives the same frames with the same times and counts as decoding in Next(): a real
+// phone clip with pictures it repeats, and a truncated file; and a source destroyed while its
+// thread waits with a full queue ends at once.
+std::vector<std::pair<int64_t, double>> FramesOf(VideoFileSource& source) {
+  std::vector<std::pair<int64_t, double>> out;
+  while (auto f = source.Next()) out.emplace_back(f->utime, cv::sum(f->image)[0] + 7 * cv::sum(f->image)[2]);
+  return out;
+}
+
+TEST(VideoFileSource, ReadingAheadGivesTheSameFramesTimesAndCounts) {
+  const auto scratch = testing::ScratchDir("video_file_source_ahead");
+  std::vector<std::string> clips = {CutCopy(WriteClip(scratch, 60, 120), scratch / "half.avi", 50)};
+  if (const auto dir = testing::RealClipsDir(); !dir.empty())
+    clips.push_back((dir / "pingpong_ruler_60fps.mov").string());
+  for (const std::string& clip : clips) {
+    VideoFileSourceConfig plain{clip, false};
+    VideoFileSourceConfig ahead = plain;
+    ahead.read_ahead = 3;
+    ahead.decoder_threads = 1;
+    VideoFileSource a(plain), b(ahead);
+    const auto fa = FramesOf(a), fb = FramesOf(b);
+    EXPECT_EQ(fa, fb) << clip;
+    EXPECT_GT(fa.size(), 20u);
+    EXPECT_EQ(a.ended_short(), b.ended_short()) << clip;
+    EXPECT_EQ(a.repeated_frames(), b.repeated_frames()) << clip;
+    EXPECT_EQ(a.undecodable_frames(), b.undecodable_frames()) << clip;
+    EXPECT_FALSE(b.Next()) << "the end stays the end";
+  }
+  VideoFileSourceConfig ahead{WriteClip(scratch, 60, 120), false};
+  ahead.read_ahead = 2;
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    VideoFileSource c(ahead);
+    ASSERT_TRUE(c.Next());
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // its queue fills, it waits
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(2));
 }
 
 }  // namespace
