@@ -130,7 +130,7 @@ SegBlob SegmentNear(const cv::Mat& ycc, cv::Point2d centre, double half, IsBall 
     for (int i = 0; i < win.width; ++i, p += 3) q[i] = is_ball(p) ? 255 : 0;
   }
   cv::Mat sl, ss, sc;
-  const int sn = cv::connectedComponentsWithStats(seg, sl, ss, sc, 8, CV_32S);
+  const int sn = ComponentsWithStats(seg, &sl, &ss, &sc);
   int best = 0;
   double best_key = 0;
   std::vector<int> overlap(sn, 0);

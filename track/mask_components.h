@@ -6,6 +6,12 @@
 
 namespace bouncefit {
 
+// cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S), the same
+// results for every component (the background, label 0, gets zeros), faster: OpenCV's
+// statistics cost 5-7x its labelling (137 against 21 us on a 141 px square mask), where one
+// pass over the labels' runs gathers them.
+int ComponentsWithStats(const cv::Mat& mask, cv::Mat* labels, cv::Mat* stats, cv::Mat* centroids);
+
 // 8-connected components of `mask` (CV_8U, non-zero = set). *box: the bounding box of the set
 // pixels (empty: none); *labels: CV_32S of the box's size, the labels of its pixels (mask pixel
 // (x, y) is labels(y - box.y, x - box.x)); *stats and *centroids as
