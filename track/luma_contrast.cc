@@ -84,17 +84,7 @@ void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
   }
   diff -= background;
   diff -= offset_;
-  if (!soft_change_.empty()) {
-    // The soft change, bilinear from the small copy, for this rect only. A small pixel k
-    // covers frame pixels [8k, 8k + 8); an output pixel i covers [x0 + step i, + step).
-    const double s = 1.0 / kSoftScale;
-    const cv::Matx23d to_small(step * s, 0, (rect.x + 0.5 * step) * s - 0.5, 0, step * s,
-                               (rect.y + 0.5 * step) * s - 0.5);
-    cv::Mat soft;
-    cv::warpAffine(soft_change_, soft, to_small, diff.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                   cv::BORDER_REPLICATE);
-    diff -= soft;
-  }
+  if (!soft_change_.empty()) SubtractSoftChange(rect, step, &diff);
   if (params_.polarity < 0) diff = -diff;
   if (params_.polarity == 0) diff = cv::abs(diff);
   out->u = diff;
@@ -104,6 +94,42 @@ void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
   cv::max(out->u, -c, out->u);
   out->y = cv::Mat(out->u.size(), CV_32F, cv::Scalar(kContrastLuma));
   out->v = cv::Mat::zeros(out->u.size(), CV_32F);
+}
+
+void LumaContrast::SubtractSoftChange(cv::Rect rect, int step, cv::Mat* diff) const {
+  // The soft change, bilinear from the small copy (edges repeated), for this rect only. A
+  // small pixel k covers frame pixels [8k, 8k + 8); an output pixel i covers [x0 + step i,
+  // + step). Separable: each column's and each row's two source pixels and weights once
+  // (cv::warpAffine took 86 of a 140 px window's 155 us).
+  struct Tap {
+    int a, b;
+    float w;  // weight of b; a gets 1 - w
+  };
+  auto taps = [&](int n, int origin, int size) {
+    std::vector<Tap> t(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      const double x = (origin + step * (i + 0.5)) / kSoftScale - 0.5;
+      const double x0 = std::floor(x);
+      const int a = static_cast<int>(x0);
+      t[static_cast<size_t>(i)] = {std::clamp(a, 0, size - 1), std::clamp(a + 1, 0, size - 1),
+                                   static_cast<float>(x - x0)};
+    }
+    return t;
+  };
+  const std::vector<Tap> cols = taps(diff->cols, rect.x, soft_change_.cols);
+  const std::vector<Tap> rows = taps(diff->rows, rect.y, soft_change_.rows);
+  for (int j = 0; j < diff->rows; ++j) {
+    const Tap& r = rows[static_cast<size_t>(j)];
+    const float* sa = soft_change_.ptr<float>(r.a);
+    const float* sb = soft_change_.ptr<float>(r.b);
+    float* d = diff->ptr<float>(j);
+    for (int i = 0; i < diff->cols; ++i) {
+      const Tap& c = cols[static_cast<size_t>(i)];
+      const float top = sa[c.a] + c.w * (sa[c.b] - sa[c.a]);
+      const float bottom = sb[c.a] + c.w * (sb[c.b] - sb[c.a]);
+      d[i] -= top + r.w * (bottom - top);
+    }
+  }
 }
 
 double LumaContrast::MovedFraction(cv::Rect2f box) const {

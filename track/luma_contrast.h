@@ -65,6 +65,9 @@ class LumaContrast {
 
  private:
   static constexpr int kSoftScale = 8;  // the drift and soft-change copies are this much smaller
+  // Takes the soft change (bilinear from its small copy) from `diff`, the contrast of `rect`
+  // decimated by `step`.
+  void SubtractSoftChange(cv::Rect rect, int step, cv::Mat* diff) const;
   LumaContrastParams params_;
   cv::Mat grey_, previous_;  // CV_8U: this frame's luma and the previous frame's
   cv::Mat background_;       // CV_32F, frame size
