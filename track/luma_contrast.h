@@ -74,7 +74,8 @@ class LumaContrast {
   cv::Mat soft_now_, soft_background_;  // CV_32F, kSoftScale smaller
   cv::Mat soft_change_;      // CV_32F, kSoftScale smaller: the soft part of the difference, removed
   float offset_ = 0;         // the whole frame's drift against the background, luma
-  cv::Mat keep_mask_, soft_keep_mask_;  // CV_8U: where the background is updated
+  cv::Mat keep_mask_, saved_;  // the keep-out disc (CV_8U) and the background under it, its box
+  cv::Mat soft_keep_mask_;     // CV_8U: where the small copy is updated
 };
 
 }  // namespace bouncefit
