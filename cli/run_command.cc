@@ -85,20 +85,21 @@ std::string RefitHeights(const SequenceSummary& d) {
   return line.empty() ? line : "; refitted with the whole drop, m:" + line;
 }
 
-// The drop's seen peaks again with their refitted heights, for the final fit: all but those
-// heard end to end (sent again with their flight-time height, height_px NaN) and those the
-// refit has no height for.
-std::vector<bounce_peak_t> RefittedPeaks(const SequenceSummary& d, const std::vector<bounce_peak_t>& peaks) {
+// The drop's seen peaks again with their refitted heights (height_px at the live apex's scale),
+// emitted at `now_utime`: all but those heard end to end (already sent again with their
+// flight-time height) and those the refit has no height for.
+std::vector<bounce_peak_t> RefittedPeaks(const SequenceSummary& d, const std::vector<bounce_peak_t>& peaks,
+                                         const RunSound& sound, int64_t now_utime) {
   const std::vector<RunSound::AfterRefit> after = AfterRefitOf(peaks, {d});
   std::vector<bounce_peak_t> out;
   for (size_t i = 0; i < peaks.size(); ++i) {
     const bounce_peak_t& m = peaks[i];
-    const bool heard = std::any_of(peaks.begin(), peaks.end(), [&](const bounce_peak_t& o) {
-      return o.sequence == m.sequence && o.bounce == m.bounce && !std::isfinite(o.height_px);
-    });
-    if (heard || !std::isfinite(after[i].refit_m)) continue;
+    if (sound.WasHeard(m.sequence, m.bounce) || !std::isfinite(after[i].refit_m)) continue;
     out.push_back(m);
-    out.back().height_m = after[i].refit_m;
+    bounce_peak_t& r = out.back();
+    r.height_px = m.height_m > 0 ? m.height_px * after[i].refit_m / m.height_m : NAN;
+    r.height_m = after[i].refit_m;
+    r.utime = r.emitted_utime = now_utime;
   }
   return out;
 }
@@ -338,11 +339,16 @@ void RunOneClip(RunOptions o) {
       } else if (e.kind == DetectorEvent::Kind::kSequenceEnd) {
         const auto ended = detect.Summaries();
         console.Info("drop ended (" + e.reason + ")" + (ended.empty() ? "" : RefitHeights(ended.back())));
+        // The refitted heights go out as BOUNCE_PEAK again (a fit node or a watcher on the
+        // bus, the log), and the final fit takes them (a bounce heard end to end keeps its
+        // flight-time height).
+        if (!ended.empty())
+          for (const bounce_peak_t& m : RefittedPeaks(ended.back(), peaks, sound, now_utime)) {
+            bus.Publish(o.channels.bounce_peak, m);
+            out.Log(o.channels.bounce_peak, m);
+            if (fit) fit->OnPeak(m);
+          }
         if (fit) {
-          // The final fit takes the drop's refitted heights (a bounce heard end to end keeps
-          // its flight-time height).
-          if (!ended.empty())
-            for (const bounce_peak_t& m : RefittedPeaks(ended.back(), peaks)) fit->OnPeak(m);
           fit->Finish();
           final_sims_start = fit->simulations();
           // The thorough fit takes seconds (docs/PERFORMANCE.md): say so before the silence.

@@ -56,6 +56,8 @@ class RunSound {
   // with the flight-time height as height_m and flight_height_m (utime: now).
   std::vector<bounce_peak_t> HeardPeaks(const std::vector<bounce_peak_t>& published,
                                         int64_t t0_utime, int64_t now_utime);
+  // Whether HeardPeaks has sent this bounce again with its flight-time height.
+  bool WasHeard(int sequence, int bounce) const { return heard_peaks_.count({sequence, bounce}) > 0; }
   // End: decodes the rest, fuses with the seen impacts (video clock, s).
   const FusionResult& Finish(const std::vector<double>& seen_t_s, double video_end_s);
 
