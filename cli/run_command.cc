@@ -85,25 +85,6 @@ std::string RefitHeights(const SequenceSummary& d) {
   return line.empty() ? line : "; refitted with the whole drop, m:" + line;
 }
 
-// The drop's seen peaks again with their refitted heights (height_px at the live apex's scale),
-// emitted at `now_utime`: all but those heard end to end (already sent again with their
-// flight-time height) and those the refit has no height for.
-std::vector<bounce_peak_t> RefittedPeaks(const SequenceSummary& d, const std::vector<bounce_peak_t>& peaks,
-                                         const RunSound& sound, int64_t now_utime) {
-  const std::vector<RunSound::AfterRefit> after = AfterRefitOf(peaks, {d});
-  std::vector<bounce_peak_t> out;
-  for (size_t i = 0; i < peaks.size(); ++i) {
-    const bounce_peak_t& m = peaks[i];
-    if (sound.WasHeard(m.sequence, m.bounce) || !std::isfinite(after[i].refit_m)) continue;
-    out.push_back(m);
-    bounce_peak_t& r = out.back();
-    r.height_px = m.height_m > 0 ? m.height_px * after[i].refit_m / m.height_m : NAN;
-    r.height_m = after[i].refit_m;
-    r.utime = r.emitted_utime = now_utime;
-  }
-  return out;
-}
-
 // Fit updates arrive on the fitter's thread; the main loop publishes and records them, so
 // the bus, the files and the terminal are only ever touched from one thread.
 class FitInbox {
@@ -262,6 +243,7 @@ void RunOneClip(RunOptions o) {
 
   DetectNodeConfig dc;
   dc.channels = o.channels;
+  dc.publish_refits = false;  // sent below, but for the bounces heard end to end
   dc.detector.calibration.ball_diameter_m = ball.diameter_m;
   dc.detector.calibration.px_per_m = o.px_per_m;
   dc.detector.calibration.drop_height_m = o.drop_height_m;
@@ -343,7 +325,8 @@ void RunOneClip(RunOptions o) {
         // bus, the log), and the final fit takes them (a bounce heard end to end keeps its
         // flight-time height).
         if (!ended.empty())
-          for (const bounce_peak_t& m : RefittedPeaks(ended.back(), peaks, sound, now_utime)) {
+          for (const bounce_peak_t& m : RefittedPeakMsgs(ended.back(), now_utime)) {
+            if (sound.WasHeard(m.sequence, m.bounce)) continue;
             bus.Publish(o.channels.bounce_peak, m);
             out.Log(o.channels.bounce_peak, m);
             if (fit) fit->OnPeak(m);

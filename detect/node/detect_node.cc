@@ -1,6 +1,7 @@
 #include "detect/node/detect_node.h"
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "msgs/lcm_bus.h"
@@ -57,6 +58,22 @@ void DetectNode::Subscribe() {
                               [this](const ball_box_t& box) { OnBox(box); });
 }
 
+std::vector<bounce_peak_t> RefittedPeakMsgs(const SequenceSummary& d, int64_t now_utime) {
+  std::vector<bounce_peak_t> out;
+  for (const BouncePeak& p : d.peaks) {
+    const int k = p.bounce - d.first_bounce;
+    if (k < 0 || k >= static_cast<int>(d.final_height_m.size())) continue;
+    const double refit = d.final_height_m[static_cast<size_t>(k)];
+    if (!std::isfinite(refit)) continue;
+    bounce_peak_t m = ToBouncePeakMsg(p);
+    m.height_px = m.height_m > 0 ? m.height_px * refit / m.height_m : NAN;
+    m.height_m = refit;
+    m.utime = m.emitted_utime = now_utime;
+    out.push_back(m);
+  }
+  return out;
+}
+
 std::vector<DetectorEvent> DetectNode::OnBox(const ball_box_t& box) {
   return OnObservation(FromBallBox(box));
 }
@@ -111,6 +128,11 @@ void DetectNode::Publish(const std::vector<DetectorEvent>& events) {
         break;
       case DetectorEvent::Kind::kSequenceEnd:
         ++stats_.sequences_ended;
+        if (bus_ && config_.publish_refits && !detector_->detector().Summaries().empty())
+          for (const bounce_peak_t& m : RefittedPeakMsgs(detector_->detector().Summaries().back(), last_utime_)) {
+            bus_->Publish(config_.channels.bounce_peak, m);
+            ++stats_.peaks;
+          }
         break;
       case DetectorEvent::Kind::kImpact:
         break;
