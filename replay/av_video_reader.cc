@@ -95,6 +95,7 @@ void AvVideoReader::Close() {
 }
 
 bool AvVideoReader::Read(cv::Mat* bgr, double* pts_ms) {
+  int drain_errors = 0;
   for (;;) {
     int r = avcodec_receive_frame(codec_, picture_);
     if (r == 0) {
@@ -109,19 +110,32 @@ bool AvVideoReader::Read(cv::Mat* bgr, double* pts_ms) {
     }
     if (r == AVERROR_EOF) return false;
     if (r != AVERROR(EAGAIN)) {
-      ++damaged_;  // a picture that failed to decode: the next ones may not
-      if (draining_) return false;
-      continue;
+      // A picture that failed to decode: the next ones may not. Fed the next packet first,
+      // so that a decoder repeating its error cannot hold the reading in place.
+      ++damaged_;
+      if (draining_ && ++drain_errors > 64) return false;
+      if (draining_) continue;
+    } else if (draining_) {
+      return false;
     }
-    if (draining_) return false;
-    r = av_read_frame(format_, packet_);
-    if (r < 0) {
-      // The end of the file (or of what is readable of it): take what the decoder still holds.
-      avcodec_send_packet(codec_, nullptr);
-      draining_ = true;
-      continue;
+    if (!packet_held_) {
+      r = av_read_frame(format_, packet_);
+      if (r < 0) {
+        // The end of the file (or of what is readable of it): take what the decoder still holds.
+        avcodec_send_packet(codec_, nullptr);
+        draining_ = true;
+        continue;
+      }
     }
-    if (packet_->stream_index == stream_ && avcodec_send_packet(codec_, packet_) < 0) ++damaged_;
+    packet_held_ = false;
+    if (packet_->stream_index == stream_) {
+      r = avcodec_send_packet(codec_, packet_);
+      if (r == AVERROR(EAGAIN)) {
+        packet_held_ = true;  // the decoder has pictures to give first: this packet next time
+        continue;
+      }
+      if (r < 0) ++damaged_;
+    }
     av_packet_unref(packet_);
   }
 }

@@ -52,6 +52,7 @@ class AvVideoReader {
   int64_t start_ = 0;          // the stream's start time, its time base
   double time_base_s_ = 0;
   bool draining_ = false;
+  bool packet_held_ = false;  // packet_ read but not yet taken by the decoder
   double fps_ = 0;
   int64_t frame_count_ = -1;
   int rotation_cw_deg_ = 0;
