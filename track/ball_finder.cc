@@ -355,7 +355,7 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
     c.t = history_[seen_now ? nc : nb].t;
     const double area = std::numbers::pi * in_b.r * in_b.r;
     const double contrast_norm = c.by_luma ? c.contrast / kLumaContrastUnit : c.contrast / kChromaContrastUnit;
-    c.score = c.roundness * std::min(2.0, contrast_norm) * std::sqrt(area);
+    c.score = c.roundness * std::min(2.0, contrast_norm) * std::sqrt(area) * s;  // frame pixels: finders of any size compare
     out.push_back(c);
   }
   std::sort(out.begin(), out.end(), [](const BallCandidate& a, const BallCandidate& b) { return a.score > b.score; });

@@ -39,7 +39,7 @@ struct BallCandidate {
   ColorModel color;            // !by_luma: its colour
   double contrast = 0;         // against its surroundings: chroma/luma, or luma 0-255
   double roundness = 0;        // 0-1
-  double score = 0;
+  double score = 0;            // roundness x contrast x sqrt(area), frame pixels
   std::string Why() const;     // "moving round blob, colour ... against its surroundings ..."
 };
 

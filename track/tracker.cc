@@ -44,6 +44,8 @@ bool TrackerConfig::IsValid(std::string* error) const {
   if (centre.rays < 8 || centre.rays > 1024) return fail("rays must be 8-1024");
   if (adapt_rate < 0 || adapt_rate > 1) return fail("adapt rate must be 0-1");
   if (finder.max_work_pixels < 1000) return fail("finder work size must be >= 1000 pixels");
+  if (still_review_work_pixels != 0 && still_review_work_pixels < 1000)
+    return fail("still-review work size must be 0 or >= 1000 pixels");
   if (finder.lag_s < 0) return fail("finder lag must be >= 0 s");
   if (!(auto_review_s >= 0)) return fail("review interval must be >= 0 s");
   if (luma.polarity < -1 || luma.polarity > 1) return fail("luma polarity must be -1, 0 or +1");
@@ -53,9 +55,17 @@ bool TrackerConfig::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+BallFinderParams StillReviewParams(const TrackerConfig& c) {
+  BallFinderParams p = c.finder;
+  if (c.still_review_work_pixels > 0) p.max_work_pixels = std::min(p.max_work_pixels, c.still_review_work_pixels);
+  return p;
+}
+}  // namespace
+
 Tracker::Tracker(TrackerConfig config)
     : config_(std::move(config)), predictor_(config_.motion), finder_(config_.finder, config_.color),
-      arc_(config_.arc) {
+      still_finder_(StillReviewParams(config_), config_.color), arc_(config_.arc) {
   std::string error;
   if (!config_.IsValid(&error)) throw std::invalid_argument("tracker: " + error);
   how_ = "no colour chosen yet";
@@ -178,6 +188,7 @@ bool Tracker::ChooseColor(const Frame& frame) {
 bool Tracker::AutoChoose(const Frame& frame) {
   const double t = static_cast<double>(frame.utime) * 1e-6;
   const auto cands = finder_.Find(frame, roi_);
+  still_finder_.Remember(frame, roi_);
   for (const BallCandidate& c : cands)
     if (!Rejected(c, t)) {
       Adopt(c);
@@ -256,9 +267,25 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   const bool due = t - last_review_t_ >= config_.auto_review_s;
   if (drop.empty() && !by_luma && (!still || !due)) {
     finder_.Remember(frame, roi_);
+    still_finder_.Remember(frame, roi_);
     return;
   }
   last_review_t_ = t;
+  // A held lock only asks whether something else moves like a ball. Smaller frames look
+  // first: only if they show a candidate of even a quarter of the strength a switch needs
+  // does the finder look at its own size, and decide as always.
+  if (drop.empty() && !by_luma) {
+    bool worth_a_look = false;
+    for (const BallCandidate& c : still_finder_.Find(frame, roi_))
+      worth_a_look = worth_a_look || (!Rejected(c, t) && std::hypot(c.x - here_x, c.y - here_y) >= 3 * std::max(here_r, c.r) &&
+                                      c.score >= 0.25 * 0.5 * chosen_.score);
+    if (!worth_a_look) {
+      finder_.Remember(frame, roi_);
+      return;
+    }
+  } else {
+    still_finder_.Remember(frame, roi_);
+  }
   const std::vector<BallCandidate> found = finder_.Find(frame, roi_);
   for (const BallCandidate& c : found) {
     const bool same = std::hypot(c.x - here_x, c.y - here_y) < 3 * std::max(here_r, c.r);

@@ -75,6 +75,10 @@ struct TrackerConfig {
   // from a still decoy to the dropped ball waits at most this long. A new choice is
   // reviewed at once. s.
   double auto_review_s = 0.05;
+  // Those reviews of a still lock look at frames shrunk to at most this many pixels (0: the
+  // finder's own size): most of a held ball's tracking time went to them, at full size on a
+  // small clip (docs/PERFORMANCE.md).
+  int still_review_work_pixels = 50000;
 
   // False with a one-line reason if a value is out of range.
   bool IsValid(std::string* error) const;
@@ -151,6 +155,7 @@ class Tracker {
   std::vector<Remembered> distractors_;
   std::vector<Blob> last_candidates_;
   BallFinder finder_;
+  BallFinder still_finder_;  // the reviews of a still lock (still_review_work_pixels)
   ArcCheck arc_;
   bool auto_ = false;            // automatic choice, not yet confirmed by a ballistic arc
   BallCandidate chosen_;         // the automatic choice in force
