@@ -274,11 +274,15 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   // A held lock only asks whether something else moves like a ball. Smaller frames look
   // first: only if they show a candidate of even a quarter of the strength a switch needs
   // does the finder look at its own size, and decide as always.
-  if (drop.empty() && !by_luma) {
+  // A brightness lock looks every frame for the same ball with a colour of its own: any
+  // candidate by colour near it is worth the look too.
+  if (drop.empty()) {
     bool worth_a_look = false;
-    for (const BallCandidate& c : still_finder_.Find(frame, roi_))
-      worth_a_look = worth_a_look || (!Rejected(c, t) && std::hypot(c.x - here_x, c.y - here_y) >= 3 * std::max(here_r, c.r) &&
-                                      c.score >= 0.25 * 0.5 * chosen_.score);
+    for (const BallCandidate& c : still_finder_.Find(frame, roi_)) {
+      const double d = std::hypot(c.x - here_x, c.y - here_y), near = 3 * std::max(here_r, c.r);
+      worth_a_look = worth_a_look || (by_luma && !c.by_luma && d < 1.5 * near) ||
+                     (still && !Rejected(c, t) && d >= near && c.score >= 0.25 * 0.5 * chosen_.score);
+    }
     if (!worth_a_look) {
       finder_.Remember(frame, roi_);
       return;
