@@ -271,11 +271,11 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
     return;
   }
   last_review_t_ = t;
-  // A held lock only asks whether something else moves like a ball. Smaller frames look
-  // first: only if they show a candidate of even a quarter of the strength a switch needs
-  // does the finder look at its own size, and decide as always.
-  // A brightness lock looks every frame for the same ball with a colour of its own: any
-  // candidate by colour near it is worth the look too.
+  // With the lock holding, a review only asks whether something else moves like a ball (a
+  // still lock) or the same ball shows a colour of its own (a brightness lock). Smaller
+  // frames look first: only a candidate there that could matter (elsewhere, a quarter of the
+  // strength a switch needs; by colour, near a brightness lock) sends the finder to its own
+  // size, which decides as always.
   if (drop.empty()) {
     bool worth_a_look = false;
     for (const BallCandidate& c : still_finder_.Find(frame, roi_)) {
