@@ -50,26 +50,16 @@ std::string Fixed(double v, int digits) {
   return buf;
 }
 
-// Bounce `bounce`'s entry of one of drop `d`'s per-arc lists (NaN: none).
-double OfBounce(const SequenceSummary& d, const std::vector<double>& per_arc, int bounce) {
-  const int k = bounce - d.first_bounce;
-  if (k < 0 || k >= static_cast<int>(per_arc.size())) return std::nan("");
-  return per_arc[static_cast<size_t>(k)];
-}
-
-// Bounce `bounce`'s height refitted with every arc of drop `d` when it ended (NaN: none).
-double RefitHeight(const SequenceSummary& d, int bounce) { return OfBounce(d, d.final_height_m, bounce); }
-
-// What the drops' ends learnt of each peak: its refitted and flight-time heights (NaN: none;
-// a bounce only heard, sent again with height_px NaN, has no arc of its own).
+// What the drops' ends learnt of each peak the picture emitted: its refitted and flight-time
+// heights (NaN: none).
 std::vector<RunSound::AfterRefit> AfterRefitOf(const std::vector<bounce_peak_t>& peaks,
                                                const std::vector<SequenceSummary>& summaries) {
   std::vector<RunSound::AfterRefit> out(peaks.size());
   for (size_t i = 0; i < peaks.size(); ++i)
     for (const auto& d : summaries)
-      if (d.sequence == peaks[i].sequence && std::isfinite(peaks[i].height_px)) {
-        out[i].refit_m = RefitHeight(d, peaks[i].bounce);
-        out[i].flight_m = OfBounce(d, d.flight_height_m, peaks[i].bounce);
+      if (d.sequence == peaks[i].sequence) {
+        out[i].refit_m = d.FinalHeightOf(peaks[i].bounce);
+        out[i].flight_m = d.FlightHeightOf(peaks[i].bounce);
       }
   return out;
 }
@@ -79,7 +69,7 @@ std::vector<RunSound::AfterRefit> AfterRefitOf(const std::vector<bounce_peak_t>&
 std::string RefitHeights(const SequenceSummary& d) {
   std::string line;
   for (const BouncePeak& p : d.peaks) {
-    const double h = RefitHeight(d, p.bounce);
+    const double h = d.FinalHeightOf(p.bounce);
     if (std::isfinite(h)) line += (line.empty() ? " " : ", ") + std::to_string(p.bounce) + " " + Fixed(h, 3);
   }
   return line.empty() ? line : "; refitted with the whole drop, m:" + line;

@@ -83,11 +83,21 @@ struct SequenceSummary {
   int first_bounce = 0;                  // bounce number of arc 0 (1: began mid-bounce)
   std::vector<double> final_height_m;    // per arc, after the final refit
   std::vector<double> flight_height_m;   // per arc: g dt^2/8 (NaN for 0 / unknown)
+  // Bounce `bounce`'s entry of those per-arc lists (NaN: no arc of this drop).
+  double FinalHeightOf(int bounce) const { return OfBounce(final_height_m, bounce); }
+  double FlightHeightOf(int bounce) const { return OfBounce(flight_height_m, bounce); }
   std::vector<BounceImpact> impacts;
   // Trend of restitution with impact speed: e = intercept + slope * v (NaN: < 2 impacts).
   double restitution_intercept = std::numeric_limits<double>::quiet_NaN();
   double restitution_slope_per_mps = std::numeric_limits<double>::quiet_NaN();
   Calibration calibration;
+
+ private:
+  double OfBounce(const std::vector<double>& per_arc, int bounce) const {
+    const int k = bounce - first_bounce;
+    return k >= 0 && k < static_cast<int>(per_arc.size()) ? per_arc[static_cast<size_t>(k)]
+                                                           : std::numeric_limits<double>::quiet_NaN();
+  }
 };
 
 struct BounceDetectorConfig {

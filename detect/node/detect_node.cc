@@ -61,9 +61,7 @@ void DetectNode::Subscribe() {
 std::vector<bounce_peak_t> RefittedPeakMsgs(const SequenceSummary& d, int64_t now_utime) {
   std::vector<bounce_peak_t> out;
   for (const BouncePeak& p : d.peaks) {
-    const int k = p.bounce - d.first_bounce;
-    if (k < 0 || k >= static_cast<int>(d.final_height_m.size())) continue;
-    const double refit = d.final_height_m[static_cast<size_t>(k)];
+    const double refit = d.FinalHeightOf(p.bounce);
     if (!std::isfinite(refit)) continue;
     bounce_peak_t m = ToBouncePeakMsg(p);
     m.height_px = m.height_m > 0 ? m.height_px * refit / m.height_m : NAN;
