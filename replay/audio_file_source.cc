@@ -7,7 +7,6 @@ extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <libavutil/channel_layout.h>
-#include <libavutil/log.h>
 #include <libavutil/opt.h>
 #include <libswresample/swresample.h>
 }
@@ -44,7 +43,7 @@ struct AudioFileSource::Impl {
   }
 
   void Open() {
-    av_log_set_level(AV_LOG_ERROR);  // phones' containers draw warnings that change nothing
+    QuietFfmpegLog();
     int rc = avformat_open_input(&format, path.c_str(), nullptr, nullptr);
     if (rc < 0) throw std::runtime_error("cannot open '" + path + "': " + FfmpegErrorText(rc));
     rc = avformat_find_stream_info(format, nullptr);
@@ -54,7 +53,7 @@ struct AudioFileSource::Impl {
     stream = av_find_best_stream(format, AVMEDIA_TYPE_AUDIO, -1, -1, &decoder, 0);
     if (stream < 0) return;  // no sound: has_audio() false
     if (!decoder) throw std::runtime_error("'" + path + "': no decoder for its sound track");
-    // OpenCV's frame times (video_file_source) count from the video stream's start time.
+    // The video's frame times (av_video_reader) count from the video stream's start time.
     zero_s = video >= 0 ? StreamStart(format->streams[video]) : 0.0;
     AVStream* s = format->streams[stream];
     next_t_s = StreamStart(s) - zero_s;

@@ -34,8 +34,7 @@ AvVideoReader::AvVideoReader(const std::string& path, int threads) : path_(path)
   auto fail = [&](const std::string& why) {
     throw std::runtime_error("cannot open video '" + path + "': " + why);
   };
-  // FFmpeg's own complaints about damaged frames stay quiet: ours count them in one line.
-  av_log_set_level(AV_LOG_QUIET);
+  QuietFfmpegLog();
   int r = avformat_open_input(&format_, path.c_str(), nullptr, nullptr);
   if (r < 0) fail("not a video file FFmpeg can read (" + FfmpegErrorText(r) + ")");
   if ((r = avformat_find_stream_info(format_, nullptr)) < 0) {

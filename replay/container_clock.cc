@@ -8,6 +8,8 @@ extern "C" {
 #include <libavutil/dict.h>
 }
 
+#include "replay/ffmpeg_error.h"
+
 namespace bouncefit {
 namespace {
 
@@ -34,7 +36,7 @@ double TagFps(const AVDictionary* d, std::string* tag) {
 ContainerClock ReadContainerClock(const std::string& path) {
   ContainerClock c;
   AVFormatContext* ctx = nullptr;
-  av_log_set_level(AV_LOG_QUIET);
+  QuietFfmpegLog();
   if (avformat_open_input(&ctx, path.c_str(), nullptr, nullptr) != 0) return c;
   if (avformat_find_stream_info(ctx, nullptr) >= 0) {
     for (unsigned i = 0; i < ctx->nb_streams; ++i) {

@@ -2,6 +2,7 @@
 
 extern "C" {
 #include <libavutil/error.h>
+#include <libavutil/log.h>
 }
 
 namespace bouncefit {
@@ -11,5 +12,7 @@ std::string FfmpegErrorText(int code) {
   av_strerror(code, buf, sizeof buf);
   return buf;
 }
+
+void QuietFfmpegLog() { av_log_set_level(AV_LOG_QUIET); }
 
 }  // namespace bouncefit

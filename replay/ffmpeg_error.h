@@ -1,9 +1,13 @@
 #pragma once
-// FFmpeg's error codes as text, for one-line error messages.
+// FFmpeg's error codes as text, for one-line error messages; its own log kept quiet.
 #include <string>
 
 namespace bouncefit {
 
 std::string FfmpegErrorText(int code);
+
+// FFmpeg's own messages (a damaged frame's, a phone container's warnings) stay quiet, for the
+// whole process: ours say what matters in one line. Every reader of FFmpeg's calls it.
+void QuietFfmpegLog();
 
 }  // namespace bouncefit

@@ -222,6 +222,34 @@ TEST(Run, BadInputIsOneLineErrorAndNonZero) {
   EXPECT_NE(out.find("no bounce found"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir / "out_card" / "track.csv"));
 
+  // A damaged first picture in a clip with a sound track: FFmpeg's own complaints ("[h264 @
+  // 0x...] error while decoding MB ...") stay quiet with the sound read beside the pictures,
+  // as without it (they were printed); the run goes on to its end.
+  const fs::path sounded = dir / "card_with_sound.mp4", damaged = dir / "card_damaged.mp4";
+  ASSERT_EQ(RunCommand("ffmpeg -v error -y -f lavfi -i testsrc=s=320x240:r=30 -f lavfi -i sine=f=440 -t 3 "
+                       "-c:v libx264 -pix_fmt yuv420p -c:a aac '" + sounded.string() + "'", &out),
+            0)
+      << out;
+  ASSERT_EQ(RunCommand("ffprobe -v error -select_streams v:0 -read_intervals %+#1 -show_entries packet=pos,size "
+                       "-of default=nw=1 '" + sounded.string() + "'", &out),
+            0)
+      << out;
+  std::smatch pos, size;
+  ASSERT_TRUE(std::regex_search(out, pos, std::regex("pos=(\\d+)")) && std::regex_search(out, size, std::regex("size=(\\d+)")))
+      << out;
+  {
+    std::ifstream in(sounded, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const size_t from = std::stoul(pos[1]) + std::stoul(size[1]) / 4;
+    ASSERT_LT(from + 64, bytes.size());
+    uint32_t x = 1;  // 64 bytes of noise a quarter into the first picture's data
+    for (size_t i = from; i < from + 64; ++i) x = x * 1103515245u + 12345u, bytes[i] = static_cast<char>((x >> 16) & 0xff);
+    std::ofstream(damaged, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  EXPECT_EQ(RunOn(damaged, dir / "out_damaged", &out), 0) << out;
+  EXPECT_EQ(out.find(" @ 0x"), std::string::npos) << out;
+  EXPECT_NE(out.find("no bounce found"), std::string::npos) << out;
+
   // A picture too small to hold a ball: said so, not "ROI lies outside the 4x4 frame".
   const fs::path tiny = dir / "tiny.avi";
   MakeLavfiClip("testsrc=s=4x4:r=30", 1, "-c:v mjpeg", tiny);
