@@ -13,6 +13,9 @@ enum class PixelFormat {
 
 struct Frame {
   cv::Mat image;                       // may share memory with the source: copy to keep
+  // The image's memory is this frame's alone (the source never writes to it again): a
+  // consumer may keep the image itself, without a copy.
+  bool owns_image = false;
   PixelFormat format = PixelFormat::kBgr24;
   int64_t utime = 0;                   // capture time, microseconds (stream or driver clock)
   int64_t index = 0;                   // frames delivered so far by this source, from 0

@@ -450,6 +450,7 @@ std::optional<Frame> V4l2Camera::ToFrame(const uint8_t* data, std::size_t size, 
     if (frame.image.empty()) return std::nullopt;
     frame.format = PixelFormat::kBgr24;
   }
+  frame.owns_image = true;  // a copy or a decode of the driver's buffer, never written again
   return frame;
 }
 

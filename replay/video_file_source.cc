@@ -130,6 +130,7 @@ std::optional<Frame> VideoFileSource::Decode() {
   if (rotation_deg_ == 180) cv::rotate(frame.image, frame.image, cv::ROTATE_180);
   if (rotation_deg_ == 270) cv::rotate(frame.image, frame.image, cv::ROTATE_90_COUNTERCLOCKWISE);
   frame.format = PixelFormat::kBgr24;
+  frame.owns_image = true;  // a fresh picture each Read
   const int64_t t = std::isfinite(pos_ms) ? std::llround(pos_ms * 1000.0) : -1;
   int64_t utime;
   if (pass_first_us_ < 0) {

@@ -210,6 +210,53 @@ TEST(BallFinder, FramesOnlyRememberedGiveTheSameCandidatesAsFramesSearched) {
   EXPECT_GE(found, 12) << "the ball itself is found where the finder searched";
 }
 
+// A frame whose memory is its own (Frame::owns_image, as a file or a camera delivers) is kept
+// without a copy; one whose source reuses its buffer is copied. Mixed, the finder compares
+// the frames it saw and never writes to a frame's own memory (its buffers are reused only
+// where it copied).
+TEST(BallFinder, KeepsFramesOwnImagesWithoutWritingToThemAndCopiesTheOthers) {
+  SynthSceneConfig sc;
+  sc.width = 320, sc.height = 240, sc.floor_y_px = 220;
+  const SynthScene scene(sc);
+  BallFinder every(BallFinderParams{}, ColorModelParams{}), some(BallFinderParams{}, ColorModelParams{});
+  const cv::Rect roi(0, 0, sc.width, sc.height);
+  cv::Mat reused;  // a source's one buffer, written again for every frame it does not give away
+  std::vector<std::pair<cv::Mat, cv::Mat>> owned;  // each owned image, and a copy of it
+  int compared = 0;
+  for (int i = 0; i < 60; ++i) {
+    const double t = i / 60.0;
+    BallShape ball;
+    ball.x = 100 + 60 * t, ball.y = 30 + 0.5 * 900 * (t - 0.5) * (t - 0.5), ball.a = ball.b = 9;
+    Frame f;
+    f.utime = static_cast<int64_t>(std::llround(t * 1e6));
+    f.owns_image = i % 3 != 0;
+    if (f.owns_image) {
+      scene.Render({ball}, &f.image);
+      owned.emplace_back(f.image, f.image.clone());
+    } else {
+      scene.Render({ball}, &reused);
+      f.image = reused;
+    }
+    Frame fresh = f;
+    fresh.image = f.image.clone();
+    fresh.owns_image = false;
+    const std::vector<BallCandidate> a = every.Find(fresh, roi);
+    if (i % 5 < 3) {
+      some.Remember(f, roi);
+      continue;
+    }
+    const std::vector<BallCandidate> b = some.Find(f, roi);
+    if (!a.empty()) ++compared;
+    ASSERT_EQ(a.size(), b.size()) << "frame " << i;
+    for (size_t k = 0; k < a.size(); ++k) {
+      EXPECT_EQ(a[k].x, b[k].x) << "frame " << i;
+      EXPECT_EQ(a[k].y, b[k].y) << "frame " << i;
+    }
+  }
+  EXPECT_GE(compared, 15) << "the finder must have found the ball to compare";
+  for (const auto& [image, copy] : owned) EXPECT_EQ(cv::norm(image, copy, cv::NORM_INF), 0);
+}
+
 // Boxes measured on real clips. Two 20 fps ping-pong clips (ball radius 6 and 9 px): the
 // ball merged with a strip of floor at its impact (165 x 17 px, falling at 36 px a frame),
 // then the strip alone (37 x 6 px; 28 x 6 and 35 x 5 px) that the lock slid off with for

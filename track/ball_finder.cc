@@ -184,8 +184,9 @@ BallFinder::Work& BallFinder::Push(const Frame& frame, cv::Rect roi) {
     shrink_ *= 2;
   Work w;
   if (history_.size() >= kHistory) {
-    // Reuse the oldest frame's buffers: fresh ones of this size cost page faults each time.
-    w.raw = std::move(history_.front().raw);
+    // Reuse the oldest frame's buffers: fresh ones of this size cost page faults each time
+    // (not a frame's own memory: that is the frame's, never written here).
+    if (!history_.front().raw_borrowed) w.raw = std::move(history_.front().raw);
     w.spare = std::move(history_.front().ycc);
     history_.pop_front();
   }
@@ -196,9 +197,16 @@ BallFinder::Work& BallFinder::Push(const Frame& frame, cv::Rect roi) {
 }
 
 void BallFinder::Remember(const Frame& frame, cv::Rect roi) {
-  // A copy (the source may reuse the frame's memory), shrunk and converted only if a Find
-  // compares it: most frames of a holding lock never are.
-  frame.image(roi).copyTo(Push(frame, roi).raw);
+  // Kept as delivered, shrunk and converted only if a Find compares it: most frames of a
+  // holding lock never are. A copy, unless the frame's memory is its own (a copy of every
+  // frame, twice, was an eighth of a held ball's tracking time).
+  Work& w = Push(frame, roi);
+  if (frame.owns_image) {
+    w.raw = frame.image(roi);
+    w.raw_borrowed = true;
+  } else {
+    frame.image(roi).copyTo(w.raw);
+  }
 }
 
 const cv::Mat& BallFinder::Ycc(Work& w) {

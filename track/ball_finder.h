@@ -57,6 +57,7 @@ class BallFinder {
  private:
   struct Work {
     cv::Mat raw;  // the frame's region of interest, as delivered
+    bool raw_borrowed = false;  // raw is the frame's own memory (Frame::owns_image), not a copy
     PixelFormat format = PixelFormat::kBgr24;
     cv::Mat ycc;  // CV_8UC3 Y, Cr, Cb at reduced resolution, once a Find needed it
     PictureProfiles profiles;  // of ycc, once a Find needed them (a hand-held camera's shift)
