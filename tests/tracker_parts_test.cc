@@ -174,15 +174,24 @@ TEST(ColorModel, TheSurroundingsKeptOutStayBeyondTheTolerance) {
 }
 
 
+// A 320x240 scene and two finders fed the same frames in different ways.
+struct TwoFinders {
+  static SynthSceneConfig Config() {
+    SynthSceneConfig sc;
+    sc.width = 320, sc.height = 240, sc.floor_y_px = 220;
+    return sc;
+  }
+  SynthScene scene{Config()};
+  BallFinder every{BallFinderParams{}, ColorModelParams{}}, some{BallFinderParams{}, ColorModelParams{}};
+  cv::Rect roi{0, 0, 320, 240};
+};
+
 // A lock that holds only feeds frames to the finder's history (BallFinder::Remember); the
 // finder called again later must compare the same frames and find the same ball as one that
 // searched every frame (the history converted lazily, buffers reused).
 TEST(BallFinder, FramesOnlyRememberedGiveTheSameCandidatesAsFramesSearched) {
-  SynthSceneConfig sc;
-  sc.width = 320, sc.height = 240, sc.floor_y_px = 220;
-  const SynthScene scene(sc);
-  BallFinder every(BallFinderParams{}, ColorModelParams{}), some(BallFinderParams{}, ColorModelParams{});
-  const cv::Rect roi(0, 0, sc.width, sc.height);
+  TwoFinders two;
+  auto& [scene, every, some, roi] = two;
   int compared = 0, found = 0;
   for (int i = 0; i < 40; ++i) {
     const double t = i / 60.0;
@@ -215,11 +224,8 @@ TEST(BallFinder, FramesOnlyRememberedGiveTheSameCandidatesAsFramesSearched) {
 // the frames it saw and never writes to a frame's own memory (its buffers are reused only
 // where it copied).
 TEST(BallFinder, KeepsFramesOwnImagesWithoutWritingToThemAndCopiesTheOthers) {
-  SynthSceneConfig sc;
-  sc.width = 320, sc.height = 240, sc.floor_y_px = 220;
-  const SynthScene scene(sc);
-  BallFinder every(BallFinderParams{}, ColorModelParams{}), some(BallFinderParams{}, ColorModelParams{});
-  const cv::Rect roi(0, 0, sc.width, sc.height);
+  TwoFinders two;
+  auto& [scene, every, some, roi] = two;
   cv::Mat reused;  // a source's one buffer, written again for every frame it does not give away
   std::vector<std::pair<cv::Mat, cv::Mat>> owned;  // each owned image, and a copy of it
   int compared = 0;
