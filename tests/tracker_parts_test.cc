@@ -10,6 +10,7 @@
 #include "synth/synth_scene.h"
 #include "track/ball_extent.h"
 #include "track/ball_finder.h"
+#include "track/change_map.h"
 #include "track/circle_fit.h"
 #include "track/color_model.h"
 #include "track/mask_components.h"
@@ -173,6 +174,31 @@ TEST(ColorModel, TheSurroundingsKeptOutStayBeyondTheTolerance) {
                                        0.75 * std::hypot(read.nu() - wall_u, read.nv() - wall_v)) + 1e-9);
 }
 
+
+// The finder's change map and its noise median, against OpenCV's absdiff and a sort, on
+// random pictures of widths around the 16-pixel steps (and large differences, where the
+// sum saturates).
+TEST(ChangeMap, WhatAbsdiffAndASaturatedSumGive) {
+  cv::RNG rng(7);
+  for (const cv::Size size : {cv::Size(1, 1), cv::Size(15, 3), cv::Size(16, 4), cv::Size(17, 9), cv::Size(301, 37)}) {
+    cv::Mat a(size, CV_8UC3), b(size, CV_8UC3);
+    rng.fill(a, cv::RNG::UNIFORM, 0, 256);
+    rng.fill(b, cv::RNG::UNIFORM, 0, 256);
+    cv::Mat d, d3;
+    ChangeMap(a, b, d);
+    cv::absdiff(a, b, d3);
+    std::vector<float> sample;
+    for (int j = 0; j < size.height; ++j)
+      for (int i = 0; i < size.width; ++i) {
+        const cv::Vec3b v = d3.at<cv::Vec3b>(j, i);
+        ASSERT_EQ(d.at<uint8_t>(j, i), std::min(255, v[0] + v[1] + v[2])) << size << " at " << i << "," << j;
+        if (j % 4 == 0 && i % 4 == 0) sample.push_back(d.at<uint8_t>(j, i));
+      }
+    std::nth_element(sample.begin(), sample.begin() + static_cast<long>(sample.size() / 2), sample.end());
+    EXPECT_EQ(MedianOfEvery4th(d), sample[sample.size() / 2]) << size;
+  }
+  EXPECT_EQ(MedianOfEvery4th(cv::Mat(0, 0, CV_8U)), 0);
+}
 
 // A 320x240 scene and two finders fed the same frames in different ways.
 struct TwoFinders {

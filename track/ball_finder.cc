@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "track/change_map.h"
 #include "track/mask_components.h"
 
 namespace bouncefit {
@@ -23,17 +24,6 @@ double MedianOf(std::vector<float>& v) {
   auto mid = v.begin() + static_cast<long>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
-}
-
-// |dY| + |dCr| + |dCb| of two CV_8UC3 images, saturated to 255, into `d` (`d3`: scratch).
-void ChangeOf(const cv::Mat& a, const cv::Mat& b, cv::Mat& d3, cv::Mat& d) {
-  d.create(a.size(), CV_8U);
-  cv::absdiff(a, b, d3);
-  for (int j = 0; j < d3.rows; ++j) {
-    const uint8_t* p = d3.ptr<uint8_t>(j);
-    uint8_t* q = d.ptr<uint8_t>(j);
-    for (int i = 0; i < d3.cols; ++i, p += 3) q[i] = static_cast<uint8_t>(std::min(255, p[0] + p[1] + p[2]));
-  }
 }
 
 struct Stats {
@@ -222,12 +212,12 @@ const PictureProfiles& BallFinder::Profiles(Work& w) {
 void BallFinder::ChangeAgainst(const cv::Mat& b, const cv::Mat& other, const PictureShift& shift,
                                cv::Mat& d) {
   if (!shift.moved()) {
-    ChangeOf(b, other, d3_, d);
+    ChangeMap(b, other, d);
     return;
   }
   const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, shift.dx, 0, 1, shift.dy);
   cv::warpAffine(other, moved_, m, other.size(), cv::INTER_NEAREST, cv::BORDER_REPLICATE);
-  ChangeOf(b, moved_, d3_, d);
+  ChangeMap(b, moved_, d);
 }
 
 void BallFinder::ToYcc(const cv::Mat& image, PixelFormat format, cv::Mat* ycc) {
@@ -265,10 +255,7 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
   const cv::Mat& dbc = dbc_;
 
   // Noise sets the threshold: most of the frame is still, so the median change is noise.
-  std::vector<float> sample;
-  for (int j = 0; j < dbc.rows; j += 4)
-    for (int i = 0; i < dbc.cols; i += 4) sample.push_back(dbc.at<uint8_t>(j, i));
-  const double th = std::max(params_.min_change, 3 * MedianOf(sample) + 6);
+  const double th = std::max(params_.min_change, 3.0 * MedianOfEvery4th(dbc) + 6);
   cv::Mat changed = dbc > th, moved = (dba > th) & changed;
   if (cv::countNonZero(changed) > params_.max_changed_share * changed.total()) return out;
   cv::morphologyEx(moved, moved, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));

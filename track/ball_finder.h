@@ -76,7 +76,7 @@ class BallFinder {
   std::deque<Work> history_;
   cv::Rect roi_;
   int shrink_ = 1;
-  cv::Mat bgr_, small_, d3_, dba_, dbc_, labels_, moved_;  // scratch, kept to spare the allocations
+  cv::Mat bgr_, small_, dba_, dbc_, labels_, moved_;  // scratch, kept to spare the allocations
 };
 
 }  // namespace bouncefit

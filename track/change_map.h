@@ -1,0 +1,17 @@
+#pragma once
+// What changed between two frames, in the finder's small YCrCb copies, and the noise of it.
+#include <opencv2/core.hpp>
+
+namespace bouncefit {
+
+// |dY| + |dCr| + |dCb| of two CV_8UC3 images of one size, saturated to 255, into `d`
+// (CV_8U). 16 pixels a step with OpenCV's universal intrinsics: the per-pixel loop after
+// cv::absdiff was a sixth of a held lock's tracking, in instructions.
+void ChangeMap(const cv::Mat& a, const cv::Mat& b, cv::Mat& d);
+
+// The median of every 4th pixel of every 4th row of a CV_8U image (the upper of an even
+// count's middle two; 0 for none), from their histogram (a sort of the sample took 4% of a
+// held lock's tracking time).
+int MedianOfEvery4th(const cv::Mat& d);
+
+}  // namespace bouncefit
