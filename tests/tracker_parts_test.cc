@@ -175,6 +175,34 @@ TEST(ColorModel, TheSurroundingsKeptOutStayBeyondTheTolerance) {
 }
 
 
+// The YCbCr planes of a BGR region, 16 pixels a step and the rest one by one, against the
+// BT.601 formula in the same float operations, on random pixels, at offsets and widths around
+// the steps.
+TEST(ExtractYcc, BgrPixelsGiveTheFormulasFloatsExactly) {
+  cv::RNG rng(11);
+  cv::Mat image(40, 90, CV_8UC3);
+  rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+  Frame frame;
+  frame.image = image;
+  const float kr = 0.299f, kg = 0.587f, kb = 0.114f;
+  const float cb = 0.5f / (1.0f - kb), cr = 0.5f / (1.0f - kr);
+  for (const cv::Rect rect : {cv::Rect(0, 0, 90, 40), cv::Rect(3, 5, 15, 7), cv::Rect(1, 2, 16, 3),
+                              cv::Rect(7, 0, 33, 40), cv::Rect(89, 39, 1, 1)}) {
+    YccPlanes p;
+    ExtractYcc(frame, rect, 1, 0, &p);
+    ASSERT_EQ(p.y.size(), rect.size());
+    for (int j = 0; j < rect.height; ++j)
+      for (int i = 0; i < rect.width; ++i) {
+        const cv::Vec3b px = image.at<cv::Vec3b>(rect.y + j, rect.x + i);
+        const float b = px[0], g = px[1], r = px[2];
+        const float y = kr * r + kg * g + kb * b;
+        ASSERT_EQ(p.y.at<float>(j, i), y) << rect << " at " << i << "," << j;
+        ASSERT_EQ(p.u.at<float>(j, i), (b - y) * cb) << rect << " at " << i << "," << j;
+        ASSERT_EQ(p.v.at<float>(j, i), (r - y) * cr) << rect << " at " << i << "," << j;
+      }
+  }
+}
+
 // The finder's change map and its noise median, against OpenCV's absdiff and a sort, on
 // random pictures of widths around the 16-pixel steps (and large differences, where the
 // sum saturates).

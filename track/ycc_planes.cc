@@ -1,5 +1,6 @@
 #include "track/ycc_planes.h"
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -30,6 +31,21 @@ void CheckFrameFormat(const Frame& frame) {
 
 namespace {
 
+#if CV_SIMD128
+// 16 bytes as four vectors of four floats, in order.
+void ToFloats(const cv::v_uint8x16& x, cv::v_float32x4 out[4]) {
+  cv::v_uint16x8 lo, hi;
+  cv::v_expand(x, lo, hi);
+  cv::v_uint32x4 a, b, c, d;
+  cv::v_expand(lo, a, b);
+  cv::v_expand(hi, c, d);
+  out[0] = cv::v_cvt_f32(cv::v_reinterpret_as_s32(a));
+  out[1] = cv::v_cvt_f32(cv::v_reinterpret_as_s32(b));
+  out[2] = cv::v_cvt_f32(cv::v_reinterpret_as_s32(c));
+  out[3] = cv::v_cvt_f32(cv::v_reinterpret_as_s32(d));
+}
+#endif
+
 void ExtractBgr(const cv::Mat& img, cv::Rect r, int step, YccPlanes* out) {
   const int w = r.width / step, h = r.height / step;
   const float norm = 1.0f / static_cast<float>(step * step);
@@ -39,7 +55,27 @@ void ExtractBgr(const cv::Mat& img, cv::Rect r, int step, YccPlanes* out) {
     float* pv = out->v.ptr<float>(j);
     if (step == 1) {
       const uint8_t* s = img.ptr<uint8_t>(r.y + j) + 3 * r.x;
-      for (int i = 0; i < w; ++i, s += 3) {
+      int i = 0;
+#if CV_SIMD128
+      // 16 pixels a step with OpenCV's universal intrinsics (the compiler left this loop
+      // scalar: a quarter of a close-up ball's tracking, in instructions). The same products
+      // and sums in the same order as below: the same floats.
+      const cv::v_float32x4 kr = cv::v_setall_f32(kKr), kg = cv::v_setall_f32(kKg), kb = cv::v_setall_f32(kKb);
+      const cv::v_float32x4 cb = cv::v_setall_f32(kCbScale), cr = cv::v_setall_f32(kCrScale);
+      for (; i + 16 <= w; i += 16, s += 48) {
+        cv::v_uint8x16 b8, g8, r8;
+        cv::v_load_deinterleave(s, b8, g8, r8);
+        cv::v_float32x4 b[4], g[4], rr[4];
+        ToFloats(b8, b), ToFloats(g8, g), ToFloats(r8, rr);
+        for (int q = 0; q < 4; ++q) {
+          const cv::v_float32x4 yy = kr * rr[q] + kg * g[q] + kb * b[q];
+          cv::v_store(py + i + 4 * q, yy);
+          cv::v_store(pu + i + 4 * q, (b[q] - yy) * cb);
+          cv::v_store(pv + i + 4 * q, (rr[q] - yy) * cr);
+        }
+      }
+#endif
+      for (; i < w; ++i, s += 3) {
         const float b = s[0], g = s[1], rr = s[2];
         const float yy = kKr * rr + kKg * g + kKb * b;
         py[i] = yy;
