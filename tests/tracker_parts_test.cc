@@ -15,6 +15,7 @@
 #include "track/color_model.h"
 #include "track/mask_components.h"
 #include "track/motion_predictor.h"
+#include "track/shrink.h"
 #include "track/ycc_planes.h"
 
 namespace bouncefit {
@@ -200,6 +201,28 @@ TEST(ExtractYcc, BgrPixelsGiveTheFormulasFloatsExactly) {
         ASSERT_EQ(p.u.at<float>(j, i), (b - y) * cb) << rect << " at " << i << "," << j;
         ASSERT_EQ(p.v.at<float>(j, i), (r - y) * cr) << rect << " at " << i << "," << j;
       }
+  }
+}
+
+// The finder's shrink by a non-integer factor: cv::resize's INTER_AREA result, bit for bit,
+// for the shared clips' frame and work sizes and 200 random ones (factors 1 to 400).
+TEST(ShrinkByArea, WhatCvResizeInterAreaGivesBitForBit) {
+  std::vector<std::pair<cv::Size, cv::Size>> cases = {
+      {{634, 1750}, {158, 437}}, {{634, 1750}, {79, 218}}, {{638, 360}, {159, 90}},
+      {{864, 1034}, {216, 258}}, {{864, 1034}, {108, 129}}, {{1920, 1080}, {480, 270}},
+      {{7, 5}, {2, 2}}, {{100, 3}, {33, 1}}, {{5, 5}, {5, 5}}, {{8, 8}, {4, 4}}};
+  cv::RNG rng(5);
+  for (int i = 0; i < 200; ++i) {
+    const int w = rng.uniform(1, 400), h = rng.uniform(1, 300);
+    cases.push_back({{w, h}, {rng.uniform(1, w + 1), rng.uniform(1, h + 1)}});
+  }
+  for (const auto& [from, to] : cases) {
+    cv::Mat image(from, CV_8UC3), ours, theirs;
+    rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+    cv::resize(image, theirs, to, 0, 0, cv::INTER_AREA);
+    ShrinkByArea(image, &ours, to);
+    ASSERT_EQ(ours.size(), theirs.size()) << from << " -> " << to;
+    ASSERT_EQ(cv::norm(ours, theirs, cv::NORM_INF), 0) << from << " -> " << to;
   }
 }
 

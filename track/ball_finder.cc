@@ -9,6 +9,7 @@
 
 #include "track/change_map.h"
 #include "track/mask_components.h"
+#include "track/shrink.h"
 
 namespace bouncefit {
 
@@ -224,7 +225,7 @@ void BallFinder::ToYcc(const cv::Mat& image, PixelFormat format, cv::Mat* ycc) {
   cv::Mat bgr = image;
   if (format == PixelFormat::kYuyv) cv::cvtColor(image, bgr_, cv::COLOR_YUV2BGR_YUYV), bgr = bgr_;
   if (shrink_ > 1)
-    cv::resize(bgr, small_, cv::Size(image.cols / shrink_, image.rows / shrink_), 0, 0, cv::INTER_AREA);
+    ShrinkByArea(bgr, &small_, cv::Size(image.cols / shrink_, image.rows / shrink_));  // cv::INTER_AREA's
   else
     cv::GaussianBlur(bgr, small_, cv::Size(3, 3), 0.8);
   cv::cvtColor(small_, *ycc, cv::COLOR_BGR2YCrCb);

@@ -1,6 +1,12 @@
 #include "track/shrink.h"
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <vector>
 
 #include <stdexcept>
 
@@ -22,6 +28,121 @@ void ShrinkByBlocks(const cv::Mat& src, cv::Mat* dst, int factor) {
     const cv::Size next = f == 2 ? target : cv::Size(from->cols / 2, from->rows / 2);
     cv::resize(*from, to, next, 0, 0, cv::INTER_LINEAR);
     from = &to;
+  }
+}
+
+namespace {
+
+struct AreaTap {
+  int s;        // source pixel
+  float alpha;  // its weight
+};
+
+// The source pixels each output pixel of an n -> m area shrink covers, with weights, in the
+// order OpenCV's resize lists them (imgproc's area table: the cell's cut first pixel, its
+// whole ones, its cut last one; weights of the cell width, float). *first gets m + 1 offsets.
+std::vector<AreaTap> AreaTaps(int n, int m, std::vector<int>* first) {
+  const double scale = 1.0 / (static_cast<double>(m) / n);  // as cv::resize derives it
+  std::vector<AreaTap> taps;
+  first->assign(1, 0);
+  for (int d = 0; d < m; ++d) {
+    const double f1 = d * scale, f2 = f1 + scale;
+    const double cell = std::min(scale, n - f1);
+    const int s2 = std::min(static_cast<int>(std::floor(f2)), n - 1);
+    const int s1 = std::min(static_cast<int>(std::ceil(f1)), s2);
+    if (s1 - f1 > 1e-3) taps.push_back({s1 - 1, static_cast<float>((s1 - f1) / cell)});
+    for (int s = s1; s < s2; ++s) taps.push_back({s, static_cast<float>(1.0 / cell)});
+    if (f2 - s2 > 1e-3) taps.push_back({s2, static_cast<float>(std::min(std::min(f2 - s2, 1.0), cell) / cell)});
+    first->push_back(static_cast<int>(taps.size()));
+  }
+  return taps;
+}
+
+#if CV_SIMD128
+// A pixel's three bytes (and the next pixel's first: a dropped lane) as four floats.
+inline cv::v_float32x4 PixelFloats(const uint8_t* p) {
+  uint32_t bytes;
+  std::memcpy(&bytes, p, 4);
+  const cv::v_uint32x4 px = cv::v_expand_low(cv::v_expand_low(cv::v_reinterpret_as_u8(cv::v_setall_u32(bytes))));
+  return cv::v_cvt_f32(cv::v_reinterpret_as_s32(px));
+}
+#endif
+
+// Output pixel d's sums from its taps [k, end), continuing `a` (3 floats).
+inline void TapSums(const uint8_t* row, const std::vector<AreaTap>& taps, int k, int end, float a[3]) {
+  for (; k < end; ++k) {
+    const AreaTap& t = taps[static_cast<size_t>(k)];
+    const uint8_t* p = row + 3 * t.s;
+    a[0] = a[0] + p[0] * t.alpha, a[1] = a[1] + p[1] * t.alpha, a[2] = a[2] + p[2] * t.alpha;
+  }
+}
+
+// One source row's horizontal sums, 3 floats an output pixel: pixel x alpha over the pixel's
+// taps in order, from 0 (OpenCV's buffer). All three channels in one vector (the fourth lane
+// reads the next pixel's first byte and is dropped), two output pixels side by side (their
+// sums do not wait on each other); a tap on the row's last pixel, which has no next byte,
+// one channel at a time.
+void RowSums(const uint8_t* row, int cols, const std::vector<AreaTap>& taps,
+             const std::vector<int>& first, float* out) {
+  const int m = static_cast<int>(first.size()) - 1;
+  int d = 0;
+#if CV_SIMD128
+  for (; d + 1 < m; d += 2) {
+    int k0 = first[static_cast<size_t>(d)], k1 = first[static_cast<size_t>(d) + 1];
+    const int e0 = k1, e1 = first[static_cast<size_t>(d) + 2];
+    if (taps[static_cast<size_t>(e1) - 1].s >= cols - 1) break;  // the row's end: below
+    cv::v_float32x4 a0 = cv::v_setzero_f32(), a1 = cv::v_setzero_f32();
+    for (; k0 < e0 && k1 < e1; ++k0, ++k1) {
+      a0 = a0 + PixelFloats(row + 3 * taps[static_cast<size_t>(k0)].s) * cv::v_setall_f32(taps[static_cast<size_t>(k0)].alpha);
+      a1 = a1 + PixelFloats(row + 3 * taps[static_cast<size_t>(k1)].s) * cv::v_setall_f32(taps[static_cast<size_t>(k1)].alpha);
+    }
+    for (; k0 < e0; ++k0)
+      a0 = a0 + PixelFloats(row + 3 * taps[static_cast<size_t>(k0)].s) * cv::v_setall_f32(taps[static_cast<size_t>(k0)].alpha);
+    for (; k1 < e1; ++k1)
+      a1 = a1 + PixelFloats(row + 3 * taps[static_cast<size_t>(k1)].s) * cv::v_setall_f32(taps[static_cast<size_t>(k1)].alpha);
+    float l0[4], l1[4];
+    cv::v_store(l0, a0);
+    cv::v_store(l1, a1);
+    std::memcpy(out + 3 * d, l0, 3 * sizeof(float));
+    std::memcpy(out + 3 * d + 3, l1, 3 * sizeof(float));
+  }
+#endif
+  for (; d < m; ++d) {
+    float a[3] = {0, 0, 0};
+    TapSums(row, taps, first[static_cast<size_t>(d)], first[static_cast<size_t>(d) + 1], a);
+    std::memcpy(out + 3 * d, a, 3 * sizeof(float));
+  }
+}
+
+}  // namespace
+
+void ShrinkByArea(const cv::Mat& src, cv::Mat* dst, cv::Size size) {
+  const double sx = 1.0 / (static_cast<double>(size.width) / src.cols);
+  const double sy = 1.0 / (static_cast<double>(size.height) / src.rows);
+  const bool whole = std::abs(sx - std::lround(sx)) < DBL_EPSILON && std::abs(sy - std::lround(sy)) < DBL_EPSILON;
+  if (src.type() != CV_8UC3 || size.width < 1 || size.height < 1 || sx < 1 || sy < 1 || whole) {
+    cv::resize(src, *dst, size, 0, 0, cv::INTER_AREA);
+    return;
+  }
+  std::vector<int> xfirst, yfirst;
+  const std::vector<AreaTap> xtaps = AreaTaps(src.cols, size.width, &xfirst);
+  const std::vector<AreaTap> ytaps = AreaTaps(src.rows, size.height, &yfirst);
+  dst->create(size, CV_8UC3);
+  const size_t n = 3 * static_cast<size_t>(size.width);
+  std::vector<float> row(n), sum(n);
+  int row_of = -1;  // the source row `row` holds (a row two output rows share is summed once)
+  for (int d = 0; d < size.height; ++d) {
+    for (int k = yfirst[static_cast<size_t>(d)]; k < yfirst[static_cast<size_t>(d) + 1]; ++k) {
+      const AreaTap& t = ytaps[static_cast<size_t>(k)];
+      if (t.s != row_of) RowSums(src.ptr<uint8_t>(t.s), src.cols, xtaps, xfirst, row.data()), row_of = t.s;
+      // beta x row, then + beta x row: OpenCV's vertical sum (its first 0 + x is x).
+      if (k == yfirst[static_cast<size_t>(d)])
+        for (size_t i = 0; i < n; ++i) sum[i] = t.alpha * row[i];
+      else
+        for (size_t i = 0; i < n; ++i) sum[i] += t.alpha * row[i];
+    }
+    uint8_t* out = dst->ptr<uint8_t>(d);
+    for (size_t i = 0; i < n; ++i) out[i] = cv::saturate_cast<uint8_t>(sum[i]);
   }
 }
 
