@@ -58,59 +58,40 @@ std::vector<AreaTap> AreaTaps(int n, int m, std::vector<int>* first) {
   return taps;
 }
 
-#if CV_SIMD128
-// A pixel's three bytes (and the next pixel's first: a dropped lane) as four floats.
-inline cv::v_float32x4 PixelFloats(const uint8_t* p) {
-  uint32_t bytes;
-  std::memcpy(&bytes, p, 4);
-  const cv::v_uint32x4 px = cv::v_expand_low(cv::v_expand_low(cv::v_reinterpret_as_u8(cv::v_setall_u32(bytes))));
-  return cv::v_cvt_f32(cv::v_reinterpret_as_s32(px));
-}
-#endif
-
-// Output pixel d's sums from its taps [k, end), continuing `a` (3 floats).
-inline void TapSums(const uint8_t* row, const std::vector<AreaTap>& taps, int k, int end, float a[3]) {
-  for (; k < end; ++k) {
-    const AreaTap& t = taps[static_cast<size_t>(k)];
-    const uint8_t* p = row + 3 * t.s;
-    a[0] = a[0] + p[0] * t.alpha, a[1] = a[1] + p[1] * t.alpha, a[2] = a[2] + p[2] * t.alpha;
-  }
-}
-
 // One source row's horizontal sums, 3 floats an output pixel: pixel x alpha over the pixel's
-// taps in order, from 0 (OpenCV's buffer). All three channels in one vector (the fourth lane
-// reads the next pixel's first byte and is dropped), two output pixels side by side (their
-// sums do not wait on each other); a tap on the row's last pixel, which has no next byte,
-// one channel at a time.
+// taps in order, from 0 (OpenCV's buffer). The row is made floats first (`floats`: 3 cols + 1,
+// the last a pad), so that a tap is one 4-float load, a product and a sum: all three channels
+// in one vector (the fourth lane, the next pixel's first value, dropped), two output pixels
+// side by side (their sums do not wait on each other).
 void RowSums(const uint8_t* row, int cols, const std::vector<AreaTap>& taps,
-             const std::vector<int>& first, float* out) {
+             const std::vector<int>& first, float* floats, float* out) {
   const int m = static_cast<int>(first.size()) - 1;
+  for (int i = 0; i < 3 * cols; ++i) floats[i] = row[i];
+  floats[3 * cols] = 0;
+  auto tap = [&](int k) {
+    const AreaTap& t = taps[static_cast<size_t>(k)];
+    return cv::v_load(floats + 3 * t.s) * cv::v_setall_f32(t.alpha);
+  };
   int d = 0;
-#if CV_SIMD128
   for (; d + 1 < m; d += 2) {
     int k0 = first[static_cast<size_t>(d)], k1 = first[static_cast<size_t>(d) + 1];
     const int e0 = k1, e1 = first[static_cast<size_t>(d) + 2];
-    if (taps[static_cast<size_t>(e1) - 1].s >= cols - 1) break;  // the row's end: below
     cv::v_float32x4 a0 = cv::v_setzero_f32(), a1 = cv::v_setzero_f32();
-    for (; k0 < e0 && k1 < e1; ++k0, ++k1) {
-      a0 = a0 + PixelFloats(row + 3 * taps[static_cast<size_t>(k0)].s) * cv::v_setall_f32(taps[static_cast<size_t>(k0)].alpha);
-      a1 = a1 + PixelFloats(row + 3 * taps[static_cast<size_t>(k1)].s) * cv::v_setall_f32(taps[static_cast<size_t>(k1)].alpha);
-    }
-    for (; k0 < e0; ++k0)
-      a0 = a0 + PixelFloats(row + 3 * taps[static_cast<size_t>(k0)].s) * cv::v_setall_f32(taps[static_cast<size_t>(k0)].alpha);
-    for (; k1 < e1; ++k1)
-      a1 = a1 + PixelFloats(row + 3 * taps[static_cast<size_t>(k1)].s) * cv::v_setall_f32(taps[static_cast<size_t>(k1)].alpha);
-    float l0[4], l1[4];
-    cv::v_store(l0, a0);
-    cv::v_store(l1, a1);
-    std::memcpy(out + 3 * d, l0, 3 * sizeof(float));
-    std::memcpy(out + 3 * d + 3, l1, 3 * sizeof(float));
+    for (; k0 < e0 && k1 < e1; ++k0, ++k1) a0 = a0 + tap(k0), a1 = a1 + tap(k1);
+    for (; k0 < e0; ++k0) a0 = a0 + tap(k0);
+    for (; k1 < e1; ++k1) a1 = a1 + tap(k1);
+    float l[8];
+    cv::v_store(l, a0);
+    cv::v_store(l + 4, a1);
+    out[3 * d] = l[0], out[3 * d + 1] = l[1], out[3 * d + 2] = l[2];
+    out[3 * d + 3] = l[4], out[3 * d + 4] = l[5], out[3 * d + 5] = l[6];
   }
-#endif
   for (; d < m; ++d) {
-    float a[3] = {0, 0, 0};
-    TapSums(row, taps, first[static_cast<size_t>(d)], first[static_cast<size_t>(d) + 1], a);
-    std::memcpy(out + 3 * d, a, 3 * sizeof(float));
+    cv::v_float32x4 a = cv::v_setzero_f32();
+    for (int k = first[static_cast<size_t>(d)]; k < first[static_cast<size_t>(d) + 1]; ++k) a = a + tap(k);
+    float l[4];
+    cv::v_store(l, a);
+    out[3 * d] = l[0], out[3 * d + 1] = l[1], out[3 * d + 2] = l[2];
   }
 }
 
@@ -129,12 +110,12 @@ void ShrinkByArea(const cv::Mat& src, cv::Mat* dst, cv::Size size) {
   const std::vector<AreaTap> ytaps = AreaTaps(src.rows, size.height, &yfirst);
   dst->create(size, CV_8UC3);
   const size_t n = 3 * static_cast<size_t>(size.width);
-  std::vector<float> row(n), sum(n);
+  std::vector<float> row(n), sum(n), floats(3 * static_cast<size_t>(src.cols) + 1);
   int row_of = -1;  // the source row `row` holds (a row two output rows share is summed once)
   for (int d = 0; d < size.height; ++d) {
     for (int k = yfirst[static_cast<size_t>(d)]; k < yfirst[static_cast<size_t>(d) + 1]; ++k) {
       const AreaTap& t = ytaps[static_cast<size_t>(k)];
-      if (t.s != row_of) RowSums(src.ptr<uint8_t>(t.s), src.cols, xtaps, xfirst, row.data()), row_of = t.s;
+      if (t.s != row_of) RowSums(src.ptr<uint8_t>(t.s), src.cols, xtaps, xfirst, floats.data(), row.data()), row_of = t.s;
       // beta x row, then + beta x row: OpenCV's vertical sum (its first 0 + x is x).
       if (k == yfirst[static_cast<size_t>(d)])
         for (size_t i = 0; i < n; ++i) sum[i] = t.alpha * row[i];
