@@ -118,17 +118,23 @@ void LumaContrast::SubtractSoftChange(cv::Rect rect, int step, cv::Mat* diff) co
   };
   const std::vector<Tap> cols = taps(diff->cols, rect.x, soft_change_.cols);
   const std::vector<Tap> rows = taps(diff->rows, rect.y, soft_change_.rows);
+  if (rows.empty() || cols.empty()) return;
+  // Each small row interpolated along x once (eight output rows share it at full
+  // resolution), then each output row is a blend of two of them.
+  const int first = rows.front().a, last = rows.back().b;
+  const size_t w = cols.size();
+  std::vector<float> across(static_cast<size_t>(last - first + 1) * w);
+  for (int k = first; k <= last; ++k) {
+    const float* s = soft_change_.ptr<float>(k);
+    float* h = &across[static_cast<size_t>(k - first) * w];
+    for (size_t i = 0; i < w; ++i) h[i] = s[cols[i].a] + cols[i].w * (s[cols[i].b] - s[cols[i].a]);
+  }
   for (int j = 0; j < diff->rows; ++j) {
     const Tap& r = rows[static_cast<size_t>(j)];
-    const float* sa = soft_change_.ptr<float>(r.a);
-    const float* sb = soft_change_.ptr<float>(r.b);
+    const float* top = &across[static_cast<size_t>(r.a - first) * w];
+    const float* bottom = &across[static_cast<size_t>(r.b - first) * w];
     float* d = diff->ptr<float>(j);
-    for (int i = 0; i < diff->cols; ++i) {
-      const Tap& c = cols[static_cast<size_t>(i)];
-      const float top = sa[c.a] + c.w * (sa[c.b] - sa[c.a]);
-      const float bottom = sb[c.a] + c.w * (sb[c.b] - sb[c.a]);
-      d[i] -= top + r.w * (bottom - top);
-    }
+    for (size_t i = 0; i < w; ++i) d[i] -= top[i] + r.w * (bottom[i] - top[i]);
   }
 }
 
