@@ -178,7 +178,7 @@ TEST(ColorModel, TheSurroundingsKeptOutStayBeyondTheTolerance) {
 
 // The YCbCr planes of a BGR region, 16 pixels a step and the rest one by one, against the
 // BT.601 formula in the same float operations, on random pixels, at offsets and widths around
-// the steps.
+// the steps; at full and half resolution (the means of 2x2 blocks).
 TEST(ExtractYcc, BgrPixelsGiveTheFormulasFloatsExactly) {
   cv::RNG rng(11);
   cv::Mat image(40, 90, CV_8UC3);
@@ -196,6 +196,24 @@ TEST(ExtractYcc, BgrPixelsGiveTheFormulasFloatsExactly) {
       for (int i = 0; i < rect.width; ++i) {
         const cv::Vec3b px = image.at<cv::Vec3b>(rect.y + j, rect.x + i);
         const float b = px[0], g = px[1], r = px[2];
+        const float y = kr * r + kg * g + kb * b;
+        ASSERT_EQ(p.y.at<float>(j, i), y) << rect << " at " << i << "," << j;
+        ASSERT_EQ(p.u.at<float>(j, i), (b - y) * cb) << rect << " at " << i << "," << j;
+        ASSERT_EQ(p.v.at<float>(j, i), (r - y) * cr) << rect << " at " << i << "," << j;
+      }
+  }
+  for (const cv::Rect rect : {cv::Rect(0, 0, 90, 40), cv::Rect(4, 6, 34, 8), cv::Rect(2, 2, 64, 6),
+                              cv::Rect(8, 0, 66, 40), cv::Rect(88, 38, 2, 2)}) {
+    YccPlanes p;
+    ExtractYcc(frame, rect, 2, 0, &p);
+    ASSERT_EQ(p.y.size(), cv::Size(rect.width / 2, rect.height / 2));
+    for (int j = 0; j < rect.height / 2; ++j)
+      for (int i = 0; i < rect.width / 2; ++i) {
+        int sum[3] = {0, 0, 0};
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx)
+            for (int c = 0; c < 3; ++c) sum[c] += image.at<cv::Vec3b>(rect.y + 2 * j + dy, rect.x + 2 * i + dx)[c];
+        const float b = sum[0] * 0.25f, g = sum[1] * 0.25f, r = sum[2] * 0.25f;
         const float y = kr * r + kg * g + kb * b;
         ASSERT_EQ(p.y.at<float>(j, i), y) << rect << " at " << i << "," << j;
         ASSERT_EQ(p.u.at<float>(j, i), (b - y) * cb) << rect << " at " << i << "," << j;

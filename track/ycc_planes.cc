@@ -44,6 +44,28 @@ void ToFloats(const cv::v_uint8x16& x, cv::v_float32x4 out[4]) {
   out[2] = cv::v_cvt_f32(cv::v_reinterpret_as_s32(c));
   out[3] = cv::v_cvt_f32(cv::v_reinterpret_as_s32(d));
 }
+
+// Four pixels' planes from their B, G, R: the formula below, the same float operations.
+inline void StoreYcc(const cv::v_float32x4& b, const cv::v_float32x4& g, const cv::v_float32x4& r,
+                     float* py, float* pu, float* pv) {
+  const cv::v_float32x4 yy = cv::v_setall_f32(kKr) * r + cv::v_setall_f32(kKg) * g + cv::v_setall_f32(kKb) * b;
+  cv::v_store(py, yy);
+  cv::v_store(pu, (b - yy) * cv::v_setall_f32(kCbScale));
+  cv::v_store(pv, (r - yy) * cv::v_setall_f32(kCrScale));
+}
+
+// One channel of 16 x 2 source pixels (rows x0, x1) as 8 means of 2x2 blocks: the integer
+// sums (exact in 16 bits), then x norm as floats, into out[0] (blocks 0-3) and out[1] (4-7).
+inline void BlockMeans(const cv::v_uint8x16& x0, const cv::v_uint8x16& x1, float norm, cv::v_float32x4 out[2]) {
+  cv::v_uint16x8 a_lo, a_hi, c_lo, c_hi;
+  cv::v_expand(x0, a_lo, a_hi);
+  cv::v_expand(x1, c_lo, c_hi);
+  // Column sums; a 32-bit lane holds two neighbours' (little-endian), summed as its halves.
+  const cv::v_uint32x4 lo = cv::v_reinterpret_as_u32(a_lo + c_lo), hi = cv::v_reinterpret_as_u32(a_hi + c_hi);
+  const cv::v_uint32x4 low16 = cv::v_setall_u32(0xFFFF);
+  out[0] = cv::v_cvt_f32(cv::v_reinterpret_as_s32((lo & low16) + (lo >> 16))) * cv::v_setall_f32(norm);
+  out[1] = cv::v_cvt_f32(cv::v_reinterpret_as_s32((hi & low16) + (hi >> 16))) * cv::v_setall_f32(norm);
+}
 #endif
 
 void ExtractBgr(const cv::Mat& img, cv::Rect r, int step, YccPlanes* out) {
@@ -60,19 +82,12 @@ void ExtractBgr(const cv::Mat& img, cv::Rect r, int step, YccPlanes* out) {
       // 16 pixels a step with OpenCV's universal intrinsics (the compiler left this loop
       // scalar: a quarter of a close-up ball's tracking, in instructions). The same products
       // and sums in the same order as below: the same floats.
-      const cv::v_float32x4 kr = cv::v_setall_f32(kKr), kg = cv::v_setall_f32(kKg), kb = cv::v_setall_f32(kKb);
-      const cv::v_float32x4 cb = cv::v_setall_f32(kCbScale), cr = cv::v_setall_f32(kCrScale);
       for (; i + 16 <= w; i += 16, s += 48) {
         cv::v_uint8x16 b8, g8, r8;
         cv::v_load_deinterleave(s, b8, g8, r8);
         cv::v_float32x4 b[4], g[4], rr[4];
         ToFloats(b8, b), ToFloats(g8, g), ToFloats(r8, rr);
-        for (int q = 0; q < 4; ++q) {
-          const cv::v_float32x4 yy = kr * rr[q] + kg * g[q] + kb * b[q];
-          cv::v_store(py + i + 4 * q, yy);
-          cv::v_store(pu + i + 4 * q, (b[q] - yy) * cb);
-          cv::v_store(pv + i + 4 * q, (rr[q] - yy) * cr);
-        }
+        for (int q = 0; q < 4; ++q) StoreYcc(b[q], g[q], rr[q], py + i + 4 * q, pu + i + 4 * q, pv + i + 4 * q);
       }
 #endif
       for (; i < w; ++i, s += 3) {
@@ -85,7 +100,24 @@ void ExtractBgr(const cv::Mat& img, cv::Rect r, int step, YccPlanes* out) {
     } else {
       const uint8_t* s0 = img.ptr<uint8_t>(r.y + 2 * j) + 3 * r.x;
       const uint8_t* s1 = img.ptr<uint8_t>(r.y + 2 * j + 1) + 3 * r.x;
-      for (int i = 0; i < w; ++i, s0 += 6, s1 += 6) {
+      int i = 0;
+#if CV_SIMD128
+      // 16 output pixels (32 x 2 source pixels) a step: the integer block sums, then the
+      // same float product and conversion as below.
+      for (; i + 16 <= w; i += 16, s0 += 96, s1 += 96) {
+        cv::v_float32x4 b[4], g[4], rr[4];
+        for (int half = 0; half < 2; ++half) {
+          cv::v_uint8x16 b0, g0, r0, b1, g1, r1;
+          cv::v_load_deinterleave(s0 + 48 * half, b0, g0, r0);
+          cv::v_load_deinterleave(s1 + 48 * half, b1, g1, r1);
+          BlockMeans(b0, b1, norm, b + 2 * half);
+          BlockMeans(g0, g1, norm, g + 2 * half);
+          BlockMeans(r0, r1, norm, rr + 2 * half);
+        }
+        for (int q = 0; q < 4; ++q) StoreYcc(b[q], g[q], rr[q], py + i + 4 * q, pu + i + 4 * q, pv + i + 4 * q);
+      }
+#endif
+      for (; i < w; ++i, s0 += 6, s1 += 6) {
         const float b = (s0[0] + s0[3] + s1[0] + s1[3]) * norm;
         const float g = (s0[1] + s0[4] + s1[1] + s1[4]) * norm;
         const float rr = (s0[2] + s0[5] + s1[2] + s1[5]) * norm;
