@@ -89,12 +89,12 @@ CircleFitResult FitCircleFrom(const std::vector<EdgePoint>& pts, double cx, doub
                               const CircleFitParams& params) {
   CircleFitResult res;
   if (pts.size() < 3 || !(r > 0)) return res;
-  std::vector<double> resid(pts.size());
-  std::vector<double> absr(pts.size());
+  std::vector<double> resid(pts.size()), absr(pts.size()), dist(pts.size());
   double sigma = 0;
   for (int it = 0; it < params.iterations; ++it) {
     for (size_t i = 0; i < pts.size(); ++i) {
-      resid[i] = std::hypot(pts[i].x - cx, pts[i].y - cy) - r;
+      dist[i] = std::hypot(pts[i].x - cx, pts[i].y - cy);  // once an iteration (hypot is slow)
+      resid[i] = dist[i] - r;
       absr[i] = std::abs(resid[i]);
     }
     // Robust scale from the first iteration on, kept from shrinking below the floor.
@@ -107,7 +107,7 @@ CircleFitResult FitCircleFrom(const std::vector<EdgePoint>& pts, double cx, doub
       const double t = 1 - (resid[i] / c) * (resid[i] / c);
       const double w = t * t;
       const double dx = pts[i].x - cx, dy = pts[i].y - cy;
-      const double d = std::max(std::hypot(dx, dy), 1e-9);
+      const double d = std::max(dist[i], 1e-9);
       // residual = d - r; d/dcx = -dx/d, d/dcy = -dy/d, d/dr = -1
       const Eigen::Vector3d j(-dx / d, -dy / d, -1.0);
       jtj += w * j * j.transpose();
