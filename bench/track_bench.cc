@@ -118,6 +118,7 @@ Timer TrackPass(const std::vector<cv::Mat>& frames, const std::vector<int64_t>& 
   for (size_t i = 0; i < frames.size(); ++i) {
     Frame f;
     f.image = frames[i];
+    f.owns_image = true;  // never written again, as a file's frames
     f.format = format;
     f.index = static_cast<int64_t>(i);
     f.utime = utimes[i];
@@ -136,6 +137,7 @@ int main(int argc, char** argv) {
     bool system_allocator = false;
     int read_ahead = -1, decoder_threads = -1;
     double min_pass_s = 0.3;
+    bool track_once = false;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       if (a == "--clip" && i + 1 < argc) clip = argv[++i];
@@ -145,10 +147,12 @@ int main(int argc, char** argv) {
       else if (a == "--read-ahead" && i + 1 < argc) read_ahead = std::max(0, std::atoi(argv[++i]));
       else if (a == "--decoder-threads" && i + 1 < argc) decoder_threads = std::max(0, std::atoi(argv[++i]));
       else if (a == "--min-pass-s" && i + 1 < argc) min_pass_s = std::max(0.0, std::atof(argv[++i]));
+      else if (a == "--track-once") track_once = true;
       else {
         std::fprintf(stderr, "usage: track_bench [--ball NAME] [--clip FILE.avi] [--repeats N] [--freeing-allocator]\n"
                              "                   [--read-ahead FRAMES] [--decoder-threads N]  (default: as run reads a file)\n"
-                             "                   [--min-pass-s S]  (a decode pass laps a short clip to last S seconds; 0.3)\n");
+                             "                   [--min-pass-s S]  (a decode pass laps a short clip to last S seconds; 0.3)\n"
+                             "                   [--track-once]  (decode, track the frames once, stop: for a profiler)\n");
         return 2;
       }
     }
@@ -181,6 +185,15 @@ int main(int argc, char** argv) {
     if (bgr.empty()) throw std::runtime_error("no frames in " + clip);
     std::printf("clip %s: %zu frames %dx%d, %s\n", clip.c_str(), bgr.size(), bgr[0].cols,
                 bgr[0].rows, config.has_color ? ("ball colour of " + ball).c_str() : "automatic choice");
+    if (track_once) {
+      // For a profiler: the clip tracked once, nothing else timed (valgrind --tool=callgrind
+      // --toggle-collect='bouncefit::Tracker::Track*' counts tracking's instructions alone).
+      int found = 0;
+      const Timer t = TrackPass(bgr, utimes, PixelFormat::kBgr24, config, &found);
+      std::printf("tracked once: found in %d of %zu frames, %.1f us/frame CPU\n", found, bgr.size(),
+                  1e6 * t.cpu / static_cast<double>(bgr.size()));
+      return 0;
+    }
 
     // As `run` reads the file (ahead, on a thread of its own), unless told otherwise; and the
     // file decoded in Next() with the decoder's own threads, the fastest decoding alone.
