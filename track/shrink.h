@@ -1,9 +1,11 @@
 #pragma once
-// Shrinking a frame by a power of two as the mean of each factor x factor block (what
-// cv::INTER_AREA gives), by halving it again and again with bilinear steps: a bilinear halving
-// samples exactly between four pixels, so each step is a 2x2 mean. Measured on this project's
-// OpenCV (4.6), 1920x1080 BGR by 4: INTER_AREA 2.9 ms, the halvings 0.86 ms, the two results
-// within 1 level (docs/PERFORMANCE.md).
+// Shrinking a frame, faster than cv::resize's INTER_AREA where that is slow.
+//
+// ShrinkByBlocks: by a power of two as the mean of each factor x factor block, by halving it
+// again and again with bilinear steps: a bilinear halving samples exactly between four pixels,
+// so each step is a 2x2 mean. Measured on this project's OpenCV (4.6), 1920x1080 BGR by 4:
+// INTER_AREA 2.9 ms, the halvings 0.86 ms, the two results within 1 level (docs/PERFORMANCE.md).
+// ShrinkByArea: any factor, INTER_AREA's result bit for bit.
 #include <opencv2/core.hpp>
 
 namespace bouncefit {
