@@ -22,6 +22,7 @@ int MedianOfEvery4th(const cv::Mat& d) {
 }
 
 void ChangeMap(const cv::Mat& a, const cv::Mat& b, cv::Mat& d) {
+  CV_Assert(a.type() == CV_8UC3 && b.type() == CV_8UC3 && a.size() == b.size());
   d.create(a.size(), CV_8U);
   for (int j = 0; j < a.rows; ++j) {
     const uint8_t* pa = a.ptr<uint8_t>(j);

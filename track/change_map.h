@@ -5,7 +5,7 @@
 namespace bouncefit {
 
 // |dY| + |dCr| + |dCb| of two CV_8UC3 images of one size, saturated to 255, into `d`
-// (CV_8U). 16 pixels a step with OpenCV's universal intrinsics: the per-pixel loop after
+// (CV_8U; cv::Exception for other types or sizes, as cv::absdiff). 16 pixels a step with OpenCV's universal intrinsics: the per-pixel loop after
 // cv::absdiff was a sixth of a held lock's tracking, in instructions.
 void ChangeMap(const cv::Mat& a, const cv::Mat& b, cv::Mat& d);
 
