@@ -98,10 +98,16 @@ void RowSums(const uint8_t* row, int cols, const std::vector<AreaTap>& taps,
 }  // namespace
 
 void ShrinkByArea(const cv::Mat& src, cv::Mat* dst, cv::Size size) {
+  // Not shrinking, or not 8-bit BGR: OpenCV's (and its errors).
+  if (src.type() != CV_8UC3 || src.empty() || size.width < 1 || size.height < 1 ||
+      size.width > src.cols || size.height > src.rows) {
+    cv::resize(src, *dst, size, 0, 0, cv::INTER_AREA);
+    return;
+  }
+  // Whole factors take OpenCV's own fast path.
   const double sx = 1.0 / (static_cast<double>(size.width) / src.cols);
   const double sy = 1.0 / (static_cast<double>(size.height) / src.rows);
-  const bool whole = std::abs(sx - std::lround(sx)) < DBL_EPSILON && std::abs(sy - std::lround(sy)) < DBL_EPSILON;
-  if (src.type() != CV_8UC3 || size.width < 1 || size.height < 1 || sx < 1 || sy < 1 || whole) {
+  if (std::abs(sx - std::lround(sx)) < DBL_EPSILON && std::abs(sy - std::lround(sy)) < DBL_EPSILON) {
     cv::resize(src, *dst, size, 0, 0, cv::INTER_AREA);
     return;
   }
