@@ -95,19 +95,22 @@ void RowSums(const uint8_t* row, int cols, const std::vector<AreaTap>& taps,
   }
 }
 
+// An 8-bit BGR picture shrunk by a factor that is not whole on both axes: the case OpenCV's
+// area loop is slow in. Anything else stays OpenCV's: not shrinking or not BGR (with its
+// errors), and whole factors (its own fast path; the factors as cv::resize derives them).
+bool ShrinksByNonIntegerFactor(const cv::Mat& src, cv::Size size) {
+  if (src.type() != CV_8UC3 || src.empty() || size.width < 1 || size.height < 1 ||
+      size.width > src.cols || size.height > src.rows)
+    return false;
+  const double sx = 1.0 / (static_cast<double>(size.width) / src.cols);
+  const double sy = 1.0 / (static_cast<double>(size.height) / src.rows);
+  return !(std::abs(sx - std::lround(sx)) < DBL_EPSILON && std::abs(sy - std::lround(sy)) < DBL_EPSILON);
+}
+
 }  // namespace
 
 void ShrinkByArea(const cv::Mat& src, cv::Mat* dst, cv::Size size) {
-  // Not shrinking, or not 8-bit BGR: OpenCV's (and its errors).
-  if (src.type() != CV_8UC3 || src.empty() || size.width < 1 || size.height < 1 ||
-      size.width > src.cols || size.height > src.rows) {
-    cv::resize(src, *dst, size, 0, 0, cv::INTER_AREA);
-    return;
-  }
-  // Whole factors take OpenCV's own fast path.
-  const double sx = 1.0 / (static_cast<double>(size.width) / src.cols);
-  const double sy = 1.0 / (static_cast<double>(size.height) / src.rows);
-  if (std::abs(sx - std::lround(sx)) < DBL_EPSILON && std::abs(sy - std::lround(sy)) < DBL_EPSILON) {
+  if (!ShrinksByNonIntegerFactor(src, size)) {
     cv::resize(src, *dst, size, 0, 0, cv::INTER_AREA);
     return;
   }
