@@ -187,39 +187,30 @@ TEST(ExtractYcc, BgrPixelsGiveTheFormulasFloatsExactly) {
   frame.image = image;
   const float kr = 0.299f, kg = 0.587f, kb = 0.114f;
   const float cb = 0.5f / (1.0f - kb), cr = 0.5f / (1.0f - kr);
-  for (const cv::Rect rect : {cv::Rect(0, 0, 90, 40), cv::Rect(3, 5, 15, 7), cv::Rect(1, 2, 16, 3),
-                              cv::Rect(7, 0, 33, 40), cv::Rect(89, 39, 1, 1)}) {
-    YccPlanes p;
-    ExtractYcc(frame, rect, 1, 0, &p);
-    ASSERT_EQ(p.y.size(), rect.size());
-    for (int j = 0; j < rect.height; ++j)
-      for (int i = 0; i < rect.width; ++i) {
-        const cv::Vec3b px = image.at<cv::Vec3b>(rect.y + j, rect.x + i);
-        const float b = px[0], g = px[1], r = px[2];
-        const float y = kr * r + kg * g + kb * b;
-        ASSERT_EQ(p.y.at<float>(j, i), y) << rect << " at " << i << "," << j;
-        ASSERT_EQ(p.u.at<float>(j, i), (b - y) * cb) << rect << " at " << i << "," << j;
-        ASSERT_EQ(p.v.at<float>(j, i), (r - y) * cr) << rect << " at " << i << "," << j;
-      }
-  }
-  for (const cv::Rect rect : {cv::Rect(0, 0, 90, 40), cv::Rect(4, 6, 34, 8), cv::Rect(2, 2, 64, 6),
-                              cv::Rect(8, 0, 66, 40), cv::Rect(88, 38, 2, 2)}) {
-    YccPlanes p;
-    ExtractYcc(frame, rect, 2, 0, &p);
-    ASSERT_EQ(p.y.size(), cv::Size(rect.width / 2, rect.height / 2));
-    for (int j = 0; j < rect.height / 2; ++j)
-      for (int i = 0; i < rect.width / 2; ++i) {
-        int sum[3] = {0, 0, 0};
-        for (int dy = 0; dy < 2; ++dy)
-          for (int dx = 0; dx < 2; ++dx)
-            for (int c = 0; c < 3; ++c) sum[c] += image.at<cv::Vec3b>(rect.y + 2 * j + dy, rect.x + 2 * i + dx)[c];
-        const float b = sum[0] * 0.25f, g = sum[1] * 0.25f, r = sum[2] * 0.25f;
-        const float y = kr * r + kg * g + kb * b;
-        ASSERT_EQ(p.y.at<float>(j, i), y) << rect << " at " << i << "," << j;
-        ASSERT_EQ(p.u.at<float>(j, i), (b - y) * cb) << rect << " at " << i << "," << j;
-        ASSERT_EQ(p.v.at<float>(j, i), (r - y) * cr) << rect << " at " << i << "," << j;
-      }
-  }
+  // Rects at each step: offsets and widths around the 16-pixel steps (even ones at half
+  // resolution, where a block starts on an even pixel).
+  const std::vector<std::pair<int, std::vector<cv::Rect>>> cases = {
+      {1, {{0, 0, 90, 40}, {3, 5, 15, 7}, {1, 2, 16, 3}, {7, 0, 33, 40}, {89, 39, 1, 1}}},
+      {2, {{0, 0, 90, 40}, {4, 6, 34, 8}, {2, 2, 64, 6}, {8, 0, 66, 40}, {88, 38, 2, 2}}}};
+  for (const auto& [step, rects] : cases)
+    for (const cv::Rect& rect : rects) {
+      YccPlanes p;
+      ExtractYcc(frame, rect, step, 0, &p);
+      ASSERT_EQ(p.y.size(), cv::Size(rect.width / step, rect.height / step));
+      for (int j = 0; j < rect.height / step; ++j)
+        for (int i = 0; i < rect.width / step; ++i) {
+          int sum[3] = {0, 0, 0};  // of the step x step block, then x 1/step^2 as a float
+          for (int dy = 0; dy < step; ++dy)
+            for (int dx = 0; dx < step; ++dx)
+              for (int c = 0; c < 3; ++c) sum[c] += image.at<cv::Vec3b>(rect.y + step * j + dy, rect.x + step * i + dx)[c];
+          const float norm = 1.0f / static_cast<float>(step * step);
+          const float b = sum[0] * norm, g = sum[1] * norm, r = sum[2] * norm;
+          const float y = kr * r + kg * g + kb * b;
+          ASSERT_EQ(p.y.at<float>(j, i), y) << "step " << step << ", " << rect << " at " << i << "," << j;
+          ASSERT_EQ(p.u.at<float>(j, i), (b - y) * cb) << "step " << step << ", " << rect << " at " << i << "," << j;
+          ASSERT_EQ(p.v.at<float>(j, i), (r - y) * cr) << "step " << step << ", " << rect << " at " << i << "," << j;
+        }
+    }
 }
 
 // The finder's shrink by a non-integer factor: cv::resize's INTER_AREA result, bit for bit,
