@@ -10,10 +10,14 @@ namespace {
 
 struct Sampler {
   const YccPlanes& p;
-  // Y, U, V at frame point (x, y), bilinear; false when the point is not inside the region.
-  bool At(double x, double y, float out[3]) const {
+  // Whether frame point (x, y) is inside the region, its four neighbours with it.
+  bool Inside(double x, double y) const {
     const double fx = x - p.rect.x, fy = y - p.rect.y;
-    if (fx < 0 || fy < 0 || fx > p.y.cols - 1.001 || fy > p.y.rows - 1.001) return false;
+    return !(fx < 0 || fy < 0 || fx > p.y.cols - 1.001 || fy > p.y.rows - 1.001);
+  }
+  // Y, U, V at frame point (x, y), bilinear, for a point Inside().
+  void At(double x, double y, float out[3]) const {
+    const double fx = x - p.rect.x, fy = y - p.rect.y;
     const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
     const float ax = static_cast<float>(fx - ix), ay = static_cast<float>(fy - iy);
     const float w00 = (1 - ax) * (1 - ay), w01 = ax * (1 - ay), w10 = (1 - ax) * ay, w11 = ax * ay;
@@ -23,7 +27,6 @@ struct Sampler {
       const float* r1 = planes[c]->ptr<float>(iy + 1) + ix;
       out[c] = w00 * r0[0] + w01 * r0[1] + w10 * r1[0] + w11 * r1[1];
     }
-    return true;
   }
 };
 
@@ -31,6 +34,8 @@ struct Sampler {
 // is unmixed into ball coverage a: pixel - B = (a k) C - a B, with B the background (the
 // ray's outer samples), C = (1, nu, nv) the ball colour per unit luma and k its unknown
 // shading. a is linear in the blur, whatever the shading, so a = 0.5 is the rim.
+// Samples are taken only as needed: the outer two (the background), the innermost (is it the
+// ball?), then inwards from the outside to the first crossing, most rays' first third unread.
 int CastRays(const Sampler& sm, const ColorModel& color, double cx, double cy, double r,
              const BallCentreParams& params, std::vector<EdgePoint>* pts, bool* cut) {
   pts->clear();
@@ -41,47 +46,54 @@ int CastRays(const Sampler& sm, const ColorModel& color, double cx, double cy, d
   const double r_in = std::max(0.3 * r, r - std::clamp(0.4 * r, 2.5, std::max(9.0, 0.1 * r)));
   const double r_hi = r + RimRayOvershootPx(r);
   const int n = static_cast<int>(std::ceil((r_hi - r_in) / kStep)) + 1;
-  std::vector<float> yuv(static_cast<size_t>(3 * n));
-  std::vector<double> a(static_cast<size_t>(n));
   const double c0 = 1, c1 = color.nu(), c2 = color.nv();
   const double cc = c0 * c0 + c1 * c1 + c2 * c2;
   for (int k = 0; k < params.rays; ++k) {
     const double ang = 2 * std::numbers::pi * (k + 0.5) / params.rays;
     const double c = std::cos(ang), sn = std::sin(ang);
-    bool inside = true;
-    for (int i = 0; i < n && inside; ++i) {
+    auto sample = [&](int i, float out[3]) {
       const double rr = r_in + i * kStep;
-      inside = sm.At(cx + rr * c, cy + rr * sn, &yuv[static_cast<size_t>(3 * i)]);
-    }
-    if (!inside) {
+      sm.At(cx + rr * c, cy + rr * sn, out);
+    };
+    // Each coordinate moves monotonically along the ray (in floating point too): the ray is
+    // inside the region when both its ends are.
+    const double rr_last = r_in + (n - 1) * kStep;
+    if (!sm.Inside(cx + r_in * c, cy + r_in * sn) || !sm.Inside(cx + rr_last * c, cy + rr_last * sn)) {
       *cut = true;
       continue;
     }
-    const float* o1 = &yuv[static_cast<size_t>(3 * (n - 1))];
-    const float* o2 = &yuv[static_cast<size_t>(3 * (n - 2))];
+    float o1[3], o2[3], p[3];
+    sample(n - 1, o1);
+    sample(n - 2, o2);
     const double b0 = 0.5 * (o1[0] + o2[0]), b1 = 0.5 * (o1[1] + o2[1]), b2 = 0.5 * (o1[2] + o2[2]);
     const double bb = b0 * b0 + b1 * b1 + b2 * b2, cb = c0 * b0 + c1 * b1 + c2 * b2;
     const double det = cc * bb - cb * cb;
     if (det < 1e-6 * cc * bb) continue;
     // Least squares for (x1, x2) = (a k, a): [cc, -cb; -cb, bb] x = [C.d; -B.d], d = p - B.
-    double k_in = 0;
-    for (int i = 0; i < n; ++i) {
-      const float* p = &yuv[static_cast<size_t>(3 * i)];
-      const double d0 = p[0] - b0, d1 = p[1] - b1, d2 = p[2] - b2;
+    auto coverage = [&](const float* q, double* x1) {
+      const double d0 = q[0] - b0, d1 = q[1] - b1, d2 = q[2] - b2;
       const double cd = c0 * d0 + c1 * d1 + c2 * d2, bd = -(b0 * d0 + b1 * d1 + b2 * d2);
-      const double x1 = (bb * cd + cb * bd) / det;
-      a[static_cast<size_t>(i)] = (cb * cd + cc * bd) / det;
-      if (i == 0) k_in = x1;
-    }
+      if (x1) *x1 = (bb * cd + cb * bd) / det;
+      return (cb * cd + cc * bd) / det;
+    };
+    double k_in = 0;
+    sample(0, p);
+    const double a_in = coverage(p, &k_in);
     // The inside must be the ball: covered, and with enough chroma to tell it apart.
-    if (a[0] < 0.6 || k_in * std::hypot(c1, c2) < params.edge_min_contrast) continue;
+    if (a_in < 0.6 || k_in * std::hypot(c1, c2) < params.edge_min_contrast) continue;
+    double a1 = coverage(o1, nullptr);
     for (int i = n - 2; i >= 0; --i) {
-      const double a0 = a[static_cast<size_t>(i)], a1 = a[static_cast<size_t>(i + 1)];
+      double a0 = a_in;
+      if (i == n - 2)
+        a0 = coverage(o2, nullptr);
+      else if (i > 0)
+        sample(i, p), a0 = coverage(p, nullptr);
       if (a0 >= 0.5 && a1 < 0.5) {
         const double rr = r_in + (i + (a0 - 0.5) / (a0 - a1)) * kStep;
         pts->push_back({cx + rr * c, cy + rr * sn});
         break;
       }
+      a1 = a0;
     }
   }
   return static_cast<int>(pts->size());
