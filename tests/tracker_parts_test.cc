@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 
@@ -175,6 +176,33 @@ TEST(ColorModel, TheSurroundingsKeptOutStayBeyondTheTolerance) {
                                        0.75 * std::hypot(read.nu() - wall_u, read.nv() - wall_v)) + 1e-9);
 }
 
+
+// A row of pixels at once (eight a step where the processor has AVX2) gives each pixel's own
+// Distance() bit for bit, and the match mask at the tolerance: dark pixels, pixels too dim for
+// the saturation reach, the colour's own hue stronger, rows of every length (the vector tails).
+TEST(ColorModel, DistanceRowGivesEachPixelsDistanceBitForBit) {
+  ColorModel green = ColorModel::FromBgr(115, 157, 76, {});  // washed out: a reach along its hue
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> luma(0.0f, 255.0f), chroma(-128.0f, 127.0f);
+  for (int n = 1; n <= 70; ++n) {
+    std::vector<float> y(n), u(n), v(n), d(n);
+    std::vector<uint8_t> match(n);
+    for (int i = 0; i < n; ++i) {
+      y[i] = luma(rng);
+      // Half the pixels near the ball's colour at their own brightness (within and past the
+      // tolerance, along the reach), the rest anything.
+      const float s = i % 2 ? 0.5f + luma(rng) / 127.5f : 1.0f;
+      u[i] = i % 2 ? y[i] * static_cast<float>(green.nu()) * s + chroma(rng) * 0.05f : chroma(rng);
+      v[i] = i % 2 ? y[i] * static_cast<float>(green.nv()) * s + chroma(rng) * 0.05f : chroma(rng);
+    }
+    green.DistanceRow(y.data(), u.data(), v.data(), n, d.data(), match.data());
+    for (int i = 0; i < n; ++i) {
+      const float want = green.Distance(y[i], u[i], v[i]);
+      ASSERT_EQ(std::memcmp(&d[i], &want, sizeof want), 0) << "n " << n << " pixel " << i << ": " << d[i] << " vs " << want;
+      ASSERT_EQ(match[i], green.Matches(y[i], u[i], v[i]) ? 255 : 0) << "n " << n << " pixel " << i;
+    }
+  }
+}
 
 // The YCbCr planes of a BGR region, 16 pixels a step and the rest one by one, against the
 // BT.601 formula in the same float operations, on random pixels, at offsets and widths around
