@@ -241,17 +241,23 @@ TEST(ExtractYcc, BgrPixelsGiveTheFormulasFloatsExactly) {
     }
 }
 
-// The finder's shrink by a non-integer factor: cv::resize's INTER_AREA result, bit for bit,
-// for the shared clips' frame and work sizes and 200 random ones (factors 1 to 400).
+// The finder's shrink: cv::resize's INTER_AREA result, bit for bit, for the shared clips'
+// frame and work sizes, 200 random sizes (factors 1 to 400) and 100 random whole factors
+// (1 to 9 on each axis, 1 to 40 output pixels a row: the 16-byte steps and their tails).
 TEST(ShrinkByArea, WhatCvResizeInterAreaGivesBitForBit) {
   std::vector<std::pair<cv::Size, cv::Size>> cases = {
       {{634, 1750}, {158, 437}}, {{634, 1750}, {79, 218}}, {{638, 360}, {159, 90}},
       {{864, 1034}, {216, 258}}, {{864, 1034}, {108, 129}}, {{1920, 1080}, {480, 270}},
+      {{1920, 1080}, {240, 135}}, {{172, 1716}, {43, 429}}, {{450, 360}, {225, 180}},
       {{7, 5}, {2, 2}}, {{100, 3}, {33, 1}}, {{5, 5}, {5, 5}}, {{8, 8}, {4, 4}}};
   cv::RNG rng(5);
   for (int i = 0; i < 200; ++i) {
     const int w = rng.uniform(1, 400), h = rng.uniform(1, 300);
     cases.push_back({{w, h}, {rng.uniform(1, w + 1), rng.uniform(1, h + 1)}});
+  }
+  for (int i = 0; i < 100; ++i) {
+    const int w = rng.uniform(1, 41), h = rng.uniform(1, 20), kx = rng.uniform(1, 10), ky = rng.uniform(1, 10);
+    cases.push_back({{w * kx, h * ky}, {w, h}});
   }
   for (const auto& [from, to] : cases) {
     cv::Mat image(from, CV_8UC3), ours, theirs;

@@ -107,9 +107,62 @@ bool ShrinksByNonIntegerFactor(const cv::Mat& src, cv::Size size) {
   return !(std::abs(sx - std::lround(sx)) < DBL_EPSILON && std::abs(sy - std::lround(sy)) < DBL_EPSILON);
 }
 
+// Whole factors (kx, ky) of an 8-bit BGR picture other than 2 x 2 (OpenCV's own vector path,
+// which rounds its own way): the blocks' rows summed 16 bytes a step, then each block's
+// integer sum times 1/area in float, rounded by cv::saturate_cast: OpenCV's area loop's
+// arithmetic (its block sum through an offset table, 4 to 8 times slower on a 1080p frame).
+bool ShrinksByWholeFactorButTwo(const cv::Mat& src, cv::Size size, int* kx, int* ky) {
+  if (src.type() != CV_8UC3 || src.empty() || size.width < 1 || size.height < 1 ||
+      src.cols % size.width != 0 || src.rows % size.height != 0)
+    return false;
+  *kx = src.cols / size.width, *ky = src.rows / size.height;
+  return !(*kx == 2 && *ky == 2) && *kx * *ky > 1 && *ky <= 257;  // a row sum fits 16 bits
+}
+
+void ShrinkByWholeFactor(const cv::Mat& src, cv::Mat* dst, cv::Size size, int kx, int ky) {
+  dst->create(size, CV_8UC3);
+  const float scale = 1.f / static_cast<float>(kx * ky);
+  const int n = 3 * src.cols;
+  std::vector<uint16_t> sums(static_cast<size_t>(n));
+  std::vector<const uint8_t*> rows(static_cast<size_t>(ky));
+  for (int d = 0; d < size.height; ++d) {
+    for (int k = 0; k < ky; ++k) rows[static_cast<size_t>(k)] = src.ptr<uint8_t>(d * ky + k);
+    int i = 0;
+    for (; i + 16 <= n; i += 16) {
+      cv::v_uint16x8 lo, hi;
+      cv::v_expand(cv::v_load(rows[0] + i), lo, hi);
+      for (int k = 1; k < ky; ++k) {
+        cv::v_uint16x8 a, b;
+        cv::v_expand(cv::v_load(rows[static_cast<size_t>(k)] + i), a, b);
+        lo = lo + a, hi = hi + b;
+      }
+      cv::v_store(sums.data() + i, lo);
+      cv::v_store(sums.data() + i + 8, hi);
+    }
+    for (; i < n; ++i) {
+      int sum = 0;
+      for (int k = 0; k < ky; ++k) sum += rows[static_cast<size_t>(k)][i];
+      sums[static_cast<size_t>(i)] = static_cast<uint16_t>(sum);
+    }
+    uint8_t* out = dst->ptr<uint8_t>(d);
+    for (int x = 0; x < size.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const uint16_t* p = sums.data() + 3 * x * kx + c;
+        int sum = 0;
+        for (int j = 0; j < kx; ++j) sum += p[3 * j];
+        out[3 * x + c] = cv::saturate_cast<uint8_t>(static_cast<float>(sum) * scale);
+      }
+  }
+}
+
 }  // namespace
 
 void ShrinkByArea(const cv::Mat& src, cv::Mat* dst, cv::Size size) {
+  int kx = 0, ky = 0;
+  if (ShrinksByWholeFactorButTwo(src, size, &kx, &ky)) {
+    ShrinkByWholeFactor(src, dst, size, kx, ky);
+    return;
+  }
   if (!ShrinksByNonIntegerFactor(src, size)) {
     cv::resize(src, *dst, size, 0, 0, cv::INTER_AREA);
     return;
