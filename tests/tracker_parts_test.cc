@@ -269,6 +269,24 @@ TEST(ShrinkByArea, WhatCvResizeInterAreaGivesBitForBit) {
   }
 }
 
+// The finder's closing of its mask of moved pixels: cv::morphologyEx's MORPH_CLOSE with the
+// 3x3 ellipse and its default border, pixel for pixel, on masks of widths around the 16-pixel
+// steps, single rows and columns, and on any byte values (the max and min of them).
+TEST(CloseByCross, WhatMorphologyExClosingWithThe3x3EllipseGives) {
+  cv::RNG rng(3);
+  const cv::Mat cross = cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3});
+  for (const cv::Size size : {cv::Size(1, 1), cv::Size(1, 9), cv::Size(9, 1), cv::Size(2, 2), cv::Size(16, 5),
+                              cv::Size(17, 4), cv::Size(18, 3), cv::Size(33, 7), cv::Size(86, 858), cv::Size(301, 37)})
+    for (const bool binary : {true, false}) {
+      cv::Mat mask(size, CV_8U), theirs;
+      rng.fill(mask, cv::RNG::UNIFORM, 0, 256);
+      if (binary) mask = mask > 170;
+      cv::morphologyEx(mask, theirs, cv::MORPH_CLOSE, cross);
+      CloseByCross(mask);
+      ASSERT_EQ(cv::norm(mask, theirs, cv::NORM_INF), 0) << size << (binary ? " binary" : " bytes");
+    }
+}
+
 // The finder's change map and its noise median, against OpenCV's absdiff and a sort, on
 // random pictures of widths around the 16-pixel steps (and large differences, where the
 // sum saturates).

@@ -259,7 +259,7 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
   const double th = std::max(params_.min_change, 3.0 * MedianOfEvery4th(dbc) + 6);
   cv::Mat changed = dbc > th, moved = (dba > th) & changed;
   if (cv::countNonZero(changed) > params_.max_changed_share * changed.total()) return out;
-  cv::morphologyEx(moved, moved, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
+  CloseByCross(moved);
   cv::Mat any_change = (dba > th) | changed;
 
   cv::Mat box_labels, stats, centroids;

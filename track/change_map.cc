@@ -49,4 +49,44 @@ void ChangeMap(const cv::Mat& a, const cv::Mat& b, cv::Mat& d) {
   }
 }
 
+namespace {
+
+// out = the max (dilate) or min (erode) of each pixel of `in` and its four neighbours inside.
+template <bool kMax>
+void CrossFilter(const cv::Mat& in, cv::Mat& out) {
+  const int w = in.cols, h = in.rows;
+  out.create(in.size(), CV_8U);
+  auto pick = [](uint8_t a, uint8_t b) { return kMax ? std::max(a, b) : std::min(a, b); };
+  auto vpick = [](const cv::v_uint8x16& a, const cv::v_uint8x16& b) { return kMax ? cv::v_max(a, b) : cv::v_min(a, b); };
+  for (int y = 0; y < h; ++y) {
+    const uint8_t* c = in.ptr<uint8_t>(y);
+    const uint8_t* up = y > 0 ? in.ptr<uint8_t>(y - 1) : c;  // the row itself: no effect
+    const uint8_t* down = y + 1 < h ? in.ptr<uint8_t>(y + 1) : c;
+    uint8_t* o = out.ptr<uint8_t>(y);
+    auto one = [&](int x) {
+      uint8_t v = pick(c[x], pick(up[x], down[x]));
+      if (x > 0) v = pick(v, c[x - 1]);
+      if (x + 1 < w) v = pick(v, c[x + 1]);
+      o[x] = v;
+    };
+    if (w > 0) one(0);
+    int x = 1;
+    for (; x + 17 <= w; x += 16) {
+      const cv::v_uint8x16 v = vpick(vpick(cv::v_load(c + x - 1), cv::v_load(c + x + 1)),
+                                     vpick(cv::v_load(c + x), vpick(cv::v_load(up + x), cv::v_load(down + x))));
+      cv::v_store(o + x, v);
+    }
+    for (; x < w; ++x) one(x);
+  }
+}
+
+}  // namespace
+
+void CloseByCross(cv::Mat& mask) {
+  CV_Assert(mask.type() == CV_8U);
+  thread_local cv::Mat dilated;
+  CrossFilter<true>(mask, dilated);
+  CrossFilter<false>(dilated, mask);
+}
+
 }  // namespace bouncefit

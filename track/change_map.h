@@ -14,4 +14,10 @@ void ChangeMap(const cv::Mat& a, const cv::Mat& b, cv::Mat& d);
 // held lock's tracking time).
 int MedianOfEvery4th(const cv::Mat& d);
 
+// A CV_8U mask closed in place with the 3x3 cross (cv::getStructuringElement's 3x3 ellipse):
+// each pixel the largest of itself and its four neighbours, then the smallest, the frame's
+// outside taking no part: cv::morphologyEx's MORPH_CLOSE with its default border, 16 pixels a
+// step (OpenCV's general kernel loop was 14% of a search for the ball, in instructions).
+void CloseByCross(cv::Mat& mask);
+
 }  // namespace bouncefit
