@@ -95,30 +95,29 @@ void RowSums(const uint8_t* row, int cols, const std::vector<AreaTap>& taps,
   }
 }
 
-// An 8-bit BGR picture shrunk by a factor that is not whole on both axes: the case OpenCV's
-// area loop is slow in. Anything else stays OpenCV's: not shrinking or not BGR (with its
-// errors), and whole factors (its own fast path; the factors as cv::resize derives them).
-bool ShrinksByNonIntegerFactor(const cv::Mat& src, cv::Size size) {
+// Which computes an 8-bit BGR shrink: OpenCV itself (not BGR, not shrinking: its own errors
+// and copies; 2 x 2, its own vector path, which rounds its own way), the whole factors' block
+// sums here (cv::resize's area-fast case: factors within DBL_EPSILON of integers, as it
+// derives them; 1/(1/49) is not, and goes the fractional way there too), or the fractional
+// taps here (its general area loop).
+enum class AreaShrink { kOpenCv, kWholeFactors, kFractional };
+
+AreaShrink HowToShrink(const cv::Mat& src, cv::Size size, int* kx, int* ky) {
   if (src.type() != CV_8UC3 || src.empty() || size.width < 1 || size.height < 1 ||
       size.width > src.cols || size.height > src.rows)
-    return false;
+    return AreaShrink::kOpenCv;
   const double sx = 1.0 / (static_cast<double>(size.width) / src.cols);
   const double sy = 1.0 / (static_cast<double>(size.height) / src.rows);
-  return !(std::abs(sx - std::lround(sx)) < DBL_EPSILON && std::abs(sy - std::lround(sy)) < DBL_EPSILON);
+  *kx = static_cast<int>(std::lround(sx)), *ky = static_cast<int>(std::lround(sy));
+  if (!(std::abs(sx - *kx) < DBL_EPSILON && std::abs(sy - *ky) < DBL_EPSILON)) return AreaShrink::kFractional;
+  const bool opencv_vector_path = *kx == 2 && *ky == 2;
+  return opencv_vector_path || *kx * *ky == 1 || *ky > 257 ? AreaShrink::kOpenCv  // > 257: a row sum outgrows 16 bits
+                                                          : AreaShrink::kWholeFactors;
 }
 
-// Whole factors (kx, ky) of an 8-bit BGR picture other than 2 x 2 (OpenCV's own vector path,
-// which rounds its own way): the blocks' rows summed 16 bytes a step, then each block's
-// integer sum times 1/area in float, rounded by cv::saturate_cast: OpenCV's area loop's
-// arithmetic (its block sum through an offset table, 4 to 8 times slower on a 1080p frame).
-bool ShrinksByWholeFactorButTwo(const cv::Mat& src, cv::Size size, int* kx, int* ky) {
-  if (src.type() != CV_8UC3 || src.empty() || size.width < 1 || size.height < 1 ||
-      src.cols % size.width != 0 || src.rows % size.height != 0)
-    return false;
-  *kx = src.cols / size.width, *ky = src.rows / size.height;
-  return !(*kx == 2 && *ky == 2) && *kx * *ky > 1 && *ky <= 257;  // a row sum fits 16 bits
-}
-
+// Whole factors (src exactly kx x ky blocks): the blocks' rows summed 16 bytes a step, then
+// each block's integer sum times 1/area in float, rounded by cv::saturate_cast: OpenCV's area
+// loop's arithmetic (its block sum through an offset table, 1.7-2.5 times slower on a 1080p frame).
 void ShrinkByWholeFactor(const cv::Mat& src, cv::Mat* dst, cv::Size size, int kx, int ky) {
   dst->create(size, CV_8UC3);
   const float scale = 1.f / static_cast<float>(kx * ky);
@@ -159,13 +158,15 @@ void ShrinkByWholeFactor(const cv::Mat& src, cv::Mat* dst, cv::Size size, int kx
 
 void ShrinkByArea(const cv::Mat& src, cv::Mat* dst, cv::Size size) {
   int kx = 0, ky = 0;
-  if (ShrinksByWholeFactorButTwo(src, size, &kx, &ky)) {
-    ShrinkByWholeFactor(src, dst, size, kx, ky);
-    return;
-  }
-  if (!ShrinksByNonIntegerFactor(src, size)) {
-    cv::resize(src, *dst, size, 0, 0, cv::INTER_AREA);
-    return;
+  switch (HowToShrink(src, size, &kx, &ky)) {
+    case AreaShrink::kOpenCv:
+      cv::resize(src, *dst, size, 0, 0, cv::INTER_AREA);
+      return;
+    case AreaShrink::kWholeFactors:
+      ShrinkByWholeFactor(src, dst, size, kx, ky);
+      return;
+    case AreaShrink::kFractional:
+      break;
   }
   std::vector<int> xfirst, yfirst;
   const std::vector<AreaTap> xtaps = AreaTaps(src.cols, size.width, &xfirst);
