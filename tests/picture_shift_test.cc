@@ -69,5 +69,38 @@ TEST(PictureShift, ABallMovingBeforeAStillCameraIsNoShift) {
   EXPECT_FALSE(b.moved()) << b.dx << "," << b.dy;
 }
 
+
+// Each tile's profiles are its luma sums divided by the tile's other side, mean removed:
+// checked against that definition, written plainly, on any bytes and on widths that leave
+// every tile a tail of pixels beside whole blocks of 16.
+TEST(PictureShift, ProfilesAreTheTilesLumaMeansAlongEachAxis) {
+  cv::RNG rng(11);
+  for (const cv::Size size : {cv::Size(4 * 37 + 3, 4 * 29 + 1), cv::Size(320, 240), cv::Size(4 * 16, 8)}) {
+    cv::Mat ycc(size, CV_8UC3);
+    rng.fill(ycc, cv::RNG::UNIFORM, 0, 256);
+    const PictureProfiles got = ProfilesOf(ycc);
+    const int t = PictureShiftParams{}.tiles;
+    ASSERT_EQ(got.columns.size(), static_cast<size_t>(t * t));
+    for (int k = 0; k < t * t; ++k) {
+      const cv::Rect r((k % t) * size.width / t, (k / t) * size.height / t, size.width / t, size.height / t);
+      std::vector<float> cols(r.width), rows(r.height);
+      for (int j = 0; j < r.height; ++j)
+        for (int i = 0; i < r.width; ++i) {
+          const int y = ycc.at<cv::Vec3b>(r.y + j, r.x + i)[0];
+          cols[i] += static_cast<float>(y), rows[j] += static_cast<float>(y);
+        }
+      for (auto* p : {&cols, &rows}) {
+        const float n = static_cast<float>(p == &cols ? r.height : r.width);
+        float mean = 0;
+        for (float& v : *p) v /= n, mean += v;
+        mean /= static_cast<float>(p->size());
+        for (float& v : *p) v -= mean;
+      }
+      EXPECT_EQ(got.columns[k], cols) << size << " tile " << k;
+      EXPECT_EQ(got.rows[k], rows) << size << " tile " << k;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace bouncefit

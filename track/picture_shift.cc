@@ -1,5 +1,7 @@
 #include "track/picture_shift.h"
 
+#include <opencv2/core/hal/intrin.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -32,14 +34,26 @@ int BestShift(const std::vector<float>& a, const std::vector<float>& b, int max_
   *ok = false;
   if (a.size() != b.size() || Texture(a) < min_texture || Texture(b) < min_texture) return 0;
   const int n = static_cast<int>(a.size());
+  // Every shift's sum at once, each still added up in the order of i: the same doubles as
+  // one shift at a time, but 2 max_shift + 1 independent sums instead of one chain of adds.
+  const int shifts = 2 * max_shift + 1;
+  std::vector<double> sums(shifts, 0.0);
+  auto add_row = [&](int i, int k0, int k1) {  // shifts k0..k1-1 (d = k - max_shift) at a[i]
+    const float ai = a[i];
+    for (int k = k0; k < k1; ++k) sums[k] += std::abs(ai - b[i + k - max_shift]);
+  };
+  // Shift d has b[i + d] in [0, n): k in [max_shift - i, n + max_shift - i); all of them in
+  // the middle of the profile.
+  const int mid0 = std::min(max_shift, n), mid1 = std::max(mid0, n - max_shift);
+  for (int i = 0; i < mid0; ++i) add_row(i, max_shift - i, std::min(shifts, n + max_shift - i));
+  for (int i = mid0; i < mid1; ++i) add_row(i, 0, shifts);
+  for (int i = mid1; i < n; ++i) add_row(i, std::max(0, max_shift - i), n + max_shift - i);
   std::vector<double> cost;
   double best = std::numeric_limits<double>::max();
   int best_d = 0;
   for (int d = -max_shift; d <= max_shift; ++d) {
-    double s = 0;
-    int m = 0;
-    for (int i = std::max(0, -d); i < std::min(n, n - d); ++i) s += std::abs(a[i] - b[i + d]), ++m;
-    cost.push_back(m > 0 ? s / m : 1e9);
+    const int m = n - std::abs(d);
+    cost.push_back(m > 0 ? sums[d + max_shift] / m : 1e9);
     if (cost.back() < best) best = cost.back(), best_d = d;
   }
   // A minimum that stands out: well under the typical mismatch of the shifts searched (a
@@ -52,22 +66,40 @@ int BestShift(const std::vector<float>& a, const std::vector<float>& b, int max_
 }  // namespace
 
 PictureProfiles ProfilesOf(const cv::Mat& ycc, const PictureShiftParams& params) {
+  CV_Assert(ycc.empty() || ycc.type() == CV_8UC3);
   PictureProfiles out;
   out.size = ycc.size();
   const int t = params.tiles;
-  cv::Mat luma;
-  cv::extractChannel(ycc, luma, 0);
   for (int ty = 0; ty < t; ++ty)
     for (int tx = 0; tx < t; ++tx) {
       const cv::Rect r(tx * ycc.cols / t, ty * ycc.rows / t, ycc.cols / t, ycc.rows / t);
-      // Integer sums over the luma plane on its own: exact, and vectorised (a float sum over
-      // every third byte is a chain of dependent adds).
+      // Integer sums of the luma channel, read in place (a copy of the plane first cost as
+      // much as the sums): exact, and each column's sum is independent of the next.
       std::vector<int> col_sums(std::max(0, r.width), 0);
       std::vector<float> rows(std::max(0, r.height), 0.0f);
       for (int j = 0; j < r.height; ++j) {
-        const uint8_t* q = luma.ptr<uint8_t>(r.y + j) + r.x;
-        int sum = 0;
-        for (int i = 0; i < r.width; ++i) col_sums[i] += q[i], sum += q[i];
+        const uint8_t* q = ycc.ptr<uint8_t>(r.y + j) + 3 * r.x;
+        int* c = col_sums.data();
+        int i = 0, sum = 0;
+#if CV_SIMD128
+        cv::v_uint32x4 row_sum = cv::v_setzero_u32();
+        for (; i + 16 <= r.width; i += 16) {
+          cv::v_uint8x16 y, cr, cb;
+          cv::v_load_deinterleave(q + 3 * i, y, cr, cb);
+          cv::v_uint16x8 y_lo, y_hi;
+          cv::v_expand(y, y_lo, y_hi);
+          cv::v_uint32x4 y0, y1, y2, y3;
+          cv::v_expand(y_lo, y0, y1);
+          cv::v_expand(y_hi, y2, y3);
+          row_sum += (y0 + y1) + (y2 + y3);
+          cv::v_store(c + i, cv::v_load(c + i) + cv::v_reinterpret_as_s32(y0));
+          cv::v_store(c + i + 4, cv::v_load(c + i + 4) + cv::v_reinterpret_as_s32(y1));
+          cv::v_store(c + i + 8, cv::v_load(c + i + 8) + cv::v_reinterpret_as_s32(y2));
+          cv::v_store(c + i + 12, cv::v_load(c + i + 12) + cv::v_reinterpret_as_s32(y3));
+        }
+        sum = static_cast<int>(cv::v_reduce_sum(row_sum));
+#endif
+        for (; i < r.width; ++i) c[i] += q[3 * i], sum += q[3 * i];
         rows[j] = static_cast<float>(sum);
       }
       std::vector<float> cols(col_sums.begin(), col_sums.end());
