@@ -106,6 +106,7 @@ BallObservation Tracker::Track(const Frame& frame) {
   bool ok = false;
   double px, py, speed;
   max_extent_px_ = 0;
+  expected_motion_px_ = 1e9;  // no prediction: nothing expected
   if (last_frame_t_ >= 0 && t > last_frame_t_) frame_dt_s_ = t - last_frame_t_;
   last_frame_t_ = t;
   if (lost_ <= 2 && predictor_.Predict(t, &px, &py, &speed)) {
@@ -114,6 +115,7 @@ BallObservation Tracker::Track(const Frame& frame) {
     const double frame_dt = frame_dt_s_ > 0 ? frame_dt_s_ : dt;
     max_extent_px_ = radius_ > 0 ? MaxBallExtentPx(radius_, speed, frame_dt) : 0;
     const cv::Point2f pred(static_cast<float>(px), static_cast<float>(py));
+    expected_motion_px_ = motion;
     // In flight the parabola predicts to a pixel: a tight window first. A bounce or a kick
     // breaks the prediction: then a window wide enough for any reversal of the motion.
     const double tight = 1.6 * radius_ + config_.window_margin_px;
@@ -397,7 +399,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
   }
   if (!best) return false;
   const Blob chosen = *best;
-  return Refine(frame, chosen, obs);
+  return Refine(frame, chosen, centre, obs);
 }
 
 bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
@@ -458,16 +460,29 @@ bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
   return false;
 }
 
-bool Tracker::Refine(const Frame& frame, const Blob& blob, BallObservation* obs) {
+bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected, BallObservation* obs) {
   double r0 = EquivalentRadius(blob);
   if (blob.touches_edge && radius_ > 0) r0 = radius_;
   const double cx = blob.centroid.x, cy = blob.centroid.y;
-  const double reach = r0 + RimRayOvershootPx(r0) + 3;
-  const cv::Rect need = cv::Rect(static_cast<int>(std::floor(cx - reach)) - 1,
-                                 static_cast<int>(std::floor(cy - reach)) - 1,
-                                 static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
-  if ((need & planes_.rect) != need) Planes(frame, need, 1, config_.blur_sigma_px, &planes_);
-  BallCentre bc = FindBallCentre(planes_, color_, cx, cy, r0, radius_, config_.centre);
+  auto rim_from = [&](double x, double y, double r) {
+    const double reach = r + RimRayOvershootPx(r) + 3;
+    const cv::Rect need = cv::Rect(static_cast<int>(std::floor(x - reach)) - 1,
+                                   static_cast<int>(std::floor(y - reach)) - 1,
+                                   static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
+    if ((need & planes_.rect) != need) Planes(frame, need, 1, config_.blur_sigma_px, &planes_);
+    return FindBallCentre(planes_, color_, x, y, r, radius_, config_.centre);
+  };
+  BallCentre bc = rim_from(cx, cy, r0);
+  // A blob the window cuts, its rim not found round its centroid: the ball run together with
+  // something of its colour (its shadow on a floor of its hue). Where the ball was expected,
+  // its rim may still be found; the merged blob's centroid is not the ball's centre.
+  // Only for a slow ball (a fast one's prediction breaks at an impact) and a blob the
+  // frame's border does not cut (a ball half out of view has no rim to find there).
+  if (!bc.ok && blob.touches_edge && radius_ > 0 && expected_motion_px_ < 0.5 * radius_ &&
+      !CutByRoiBorder(blob.box) && std::hypot(expected.x - cx, expected.y - cy) > 0.25 * radius_) {
+    const BallCentre at_expected = rim_from(expected.x, expected.y, radius_);
+    if (at_expected.ok && !at_expected.cut && SizeMatches(at_expected.r, radius_)) bc = at_expected;
+  }
   float score;
   if (bc.ok) {
     if (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_))

@@ -132,7 +132,8 @@ class Tracker {
   bool TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
                  BallObservation* obs);
   bool Acquire(const Frame& frame, BallObservation* obs);
-  bool Refine(const Frame& frame, const Blob& blob, BallObservation* obs);
+  // expected: where the window looked for the ball (the prediction, or the blob itself).
+  bool Refine(const Frame& frame, const Blob& blob, cv::Point2f expected, BallObservation* obs);
   void Adapt(double cx, double cy, double r);
   // ExtractYcc, or the contrast planes in brightness mode.
   void Planes(const Frame& frame, cv::Rect rect, int step, double blur_sigma_px, YccPlanes* out);
@@ -150,6 +151,7 @@ class Tracker {
   // The longest box side the ball can show this frame (track/ball_extent.h; 0: no
   // prediction, not checked).
   double max_extent_px_ = 0;
+  double expected_motion_px_ = 1e9;  // the prediction's motion since the last sighting, px
   double last_frame_t_ = -1, frame_dt_s_ = 0;  // the frame period, s, from the last two frames (-1: none yet)
   int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;
   std::vector<Remembered> distractors_;
