@@ -473,15 +473,18 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
     return FindBallCentre(planes_, color_, x, y, r, radius_, config_.centre);
   };
   BallCentre bc = rim_from(cx, cy, r0);
+  bool from_expected = false;
   // A blob the window cuts, its rim not found round its centroid: the ball run together with
   // something of its colour (its shadow on a floor of its hue). Where the ball was expected,
   // its rim may still be found; the merged blob's centroid is not the ball's centre.
-  // Only for a slow ball (a fast one's prediction breaks at an impact) and a blob the
-  // frame's border does not cut (a ball half out of view has no rim to find there).
+  // Only for a slow ball (a fast one's prediction breaks at an impact), a blob the frame's
+  // border does not cut (a ball half out of view has no rim to find there) and one as wide
+  // and as tall as the ball at least (else the ball is not all in it: a sliver of it).
   if (!bc.ok && blob.touches_edge && radius_ > 0 && expected_motion_px_ < 0.5 * radius_ &&
-      !CutByRoiBorder(blob.box) && std::hypot(expected.x - cx, expected.y - cy) > 0.25 * radius_) {
+      !CutByRoiBorder(blob.box) && std::min(blob.box.width, blob.box.height) >= 1.8 * radius_ &&
+      std::hypot(expected.x - cx, expected.y - cy) > 0.25 * radius_) {
     const BallCentre at_expected = rim_from(expected.x, expected.y, radius_);
-    if (at_expected.ok && !at_expected.cut && SizeMatches(at_expected.r, radius_)) bc = at_expected;
+    if (at_expected.ok && !at_expected.cut && SizeMatches(at_expected.r, radius_)) bc = at_expected, from_expected = true;
   }
   float score;
   if (bc.ok) {
@@ -515,7 +518,8 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   obs->aspect_ratio = blob.box.height > 0 ? blob.box.width / blob.box.height : 0;
   obs->score = std::clamp(score, 0.0f, 1.0f);
   // Adaptation is slow by design: every 4th good frame, 4x the rate, same time constant.
-  if (!luma_ && bc.ok && !bc.cut && bc.inlier_fraction > 0.8 && config_.adapt_rate > 0 &&
+  // Not from a rim found only at the prediction: its surroundings are the patch it ran into.
+  if (!luma_ && bc.ok && !bc.cut && !from_expected && bc.inlier_fraction > 0.8 && config_.adapt_rate > 0 &&
       ++adapt_tick_ % 4 == 0)
     Adapt(bc.cx, bc.cy, bc.r);
   return true;
