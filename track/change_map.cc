@@ -57,7 +57,6 @@ void CrossFilter(const cv::Mat& in, cv::Mat& out) {
   const int w = in.cols, h = in.rows;
   out.create(in.size(), CV_8U);
   auto pick = [](uint8_t a, uint8_t b) { return kMax ? std::max(a, b) : std::min(a, b); };
-  auto vpick = [](const cv::v_uint8x16& a, const cv::v_uint8x16& b) { return kMax ? cv::v_max(a, b) : cv::v_min(a, b); };
   for (int y = 0; y < h; ++y) {
     const uint8_t* c = in.ptr<uint8_t>(y);
     const uint8_t* up = y > 0 ? in.ptr<uint8_t>(y - 1) : c;  // the row itself: no effect
@@ -71,11 +70,14 @@ void CrossFilter(const cv::Mat& in, cv::Mat& out) {
     };
     if (w > 0) one(0);
     int x = 1;
+#if CV_SIMD128
+    auto vpick = [](const cv::v_uint8x16& a, const cv::v_uint8x16& b) { return kMax ? cv::v_max(a, b) : cv::v_min(a, b); };
     for (; x + 17 <= w; x += 16) {
       const cv::v_uint8x16 v = vpick(vpick(cv::v_load(c + x - 1), cv::v_load(c + x + 1)),
                                      vpick(cv::v_load(c + x), vpick(cv::v_load(up + x), cv::v_load(down + x))));
       cv::v_store(o + x, v);
     }
+#endif
     for (; x < w; ++x) one(x);
   }
 }

@@ -127,6 +127,7 @@ void ShrinkByWholeFactor(const cv::Mat& src, cv::Mat* dst, cv::Size size, int kx
   for (int d = 0; d < size.height; ++d) {
     for (int k = 0; k < ky; ++k) rows[static_cast<size_t>(k)] = src.ptr<uint8_t>(d * ky + k);
     int i = 0;
+#if CV_SIMD128
     for (; i + 16 <= n; i += 16) {
       cv::v_uint16x8 lo, hi;
       cv::v_expand(cv::v_load(rows[0] + i), lo, hi);
@@ -138,6 +139,7 @@ void ShrinkByWholeFactor(const cv::Mat& src, cv::Mat* dst, cv::Size size, int kx
       cv::v_store(sums.data() + i, lo);
       cv::v_store(sums.data() + i + 8, hi);
     }
+#endif
     for (; i < n; ++i) {
       int sum = 0;
       for (int k = 0; k < ky; ++k) sum += rows[static_cast<size_t>(k)][i];
