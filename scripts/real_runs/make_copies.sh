@@ -9,7 +9,8 @@
 # libx264 veryfast, frame times and sound kept. Needs ffmpeg (scripts/setup installs it).
 # Existing copies are kept; the same ffmpeg on the same machine makes the same bytes.
 set -u
-SHARED=${SHARED:-$(cd "$(dirname "$0")/../.." && pwd)/../shared/real-clips}
+HERE=$(cd "$(dirname "$0")" && pwd)
+SHARED=${SHARED:-$HERE/../../../shared/real-clips}
 OUT=${1:-${REAL_RUNS_DIR:-/tmp/bouncefit-real-runs}/copies}
 command -v ffmpeg > /dev/null || { echo "make_copies: ffmpeg not found (bash scripts/setup installs it)" >&2; exit 2; }
 [ -d "$SHARED" ] || { echo "make_copies: no $SHARED" >&2; exit 2; }

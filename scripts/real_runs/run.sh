@@ -11,7 +11,6 @@ LCM_URL=${LCM_URL:-memq://}; ONLY=${ONLY:-}
 [ -x "$BIN" ] || { echo "run: no executable $BIN" >&2; exit 2; }
 mkdir -p "$OUT"
 : > "$OUT/times.tsv"
-n=0
 while IFS=$'\t' read -r name file ball _; do
   [[ -z "${name// }" || "$name" == \#* ]] && continue
   [[ -n "$ONLY" && ! "$name" =~ $ONLY ]] && continue
@@ -29,5 +28,4 @@ while IFS=$'\t' read -r name file ball _; do
   else
     printf '%-48s   -  (no peaks.csv, exit %s)\n' "$name" "$rc"
   fi
-  n=$((n + 1))
 done < "$LIST" | tee "$OUT/summary.txt"
