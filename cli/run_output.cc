@@ -48,7 +48,7 @@ RunOutput::RunOutput(const std::filesystem::path& dir)
       peaks_(OpenForWrite(dir_ / "peaks.csv")),
       fits_(OpenForWrite(dir_ / "fit.jsonl")),
       log_((dir_ / "session.lcm").string()) {
-  track_ << "frame,t_s,found,cx_px,cy_px,x_px,y_px,w_px,h_px\n" << std::flush;
+  track_ << "frame,t_s,found,cx_px,cy_px,x_px,y_px,w_px,h_px,camera_dx_px,camera_dy_px\n" << std::flush;
   peaks_ << "bounce,t_s,height_m,height_px,flight_height_m,emitted_t_s\n" << std::flush;
 }
 
@@ -58,10 +58,11 @@ void RunOutput::OnBox(const ball_box_t& m) {
   if (m.found) {
     track_ << ',' << Cell(m.cx, "%.3f") << ',' << Cell(m.cy, "%.3f") << ','
            << Cell(m.x, "%.0f") << ',' << Cell(m.y, "%.0f") << ',' << Cell(m.w, "%.0f") << ','
-           << Cell(m.h, "%.0f") << '\n';
+           << Cell(m.h, "%.0f");
   } else {
-    track_ << ",,,,,,\n";
+    track_ << ",,,,,,";
   }
+  track_ << ',' << Cell(m.camera_dx, "%.2f") << ',' << Cell(m.camera_dy, "%.2f") << '\n';
   track_.flush();
 }
 

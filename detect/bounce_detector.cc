@@ -183,8 +183,9 @@ std::vector<DetectorEvent> BounceDetector::Push(const BallObservation& o) {
   }
   Sample s;
   s.t = t;
-  s.x = o.cx;
-  s.y = o.cy;
+  // In the scene, not on the sensor: a hand-held camera's motion taken out.
+  s.x = o.cx - o.camera_dx;
+  s.y = o.cy - o.camera_dy;
   s.r = o.radius_px > 0 ? o.radius_px : 0.5 * std::min(o.w, o.h);
   s.utime = o.utime;
   if (s.r > 0) {

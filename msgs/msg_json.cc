@@ -28,6 +28,7 @@ nlohmann::json ToJson(const ball_box_t& m, int64_t t0) {
               {"h_px", m.h}, {"radius_px", m.radius_px}, {"pixel_count", m.pixel_count},
               {"aspect_ratio", m.aspect_ratio}, {"score", m.score}});
   }
+  if (m.camera_dx != 0 || m.camera_dy != 0) j.update({{"camera_dx_px", m.camera_dx}, {"camera_dy_px", m.camera_dy}});
   return j;
 }
 

@@ -139,6 +139,9 @@ std::vector<ReportTrackRow> LoadTrack(const fs::path& file) {
     r.y_px = csv.Number(i, "y_px");
     r.w_px = csv.Number(i, "w_px");
     r.h_px = csv.Number(i, "h_px");
+    // A hand-held camera's motion taken out, as the detector did: the ball in the scene.
+    const double camera_dx = csv.Number(i, "camera_dx_px"), camera_dy = csv.Number(i, "camera_dy_px");
+    if (std::isfinite(camera_dx) && std::isfinite(camera_dy)) r.cx_px -= camera_dx, r.cy_px -= camera_dy;
     rows.push_back(r);
   }
   return rows;

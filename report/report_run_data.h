@@ -25,7 +25,7 @@ struct ReportTrackRow {
   long frame = 0;
   double t_s = 0;
   bool found = false;
-  double cx_px = kReportNaN, cy_px = kReportNaN;
+  double cx_px = kReportNaN, cy_px = kReportNaN;  // in the scene: a held camera's motion taken out
   double x_px = kReportNaN, y_px = kReportNaN, w_px = kReportNaN, h_px = kReportNaN;
 };
 

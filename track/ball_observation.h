@@ -14,6 +14,10 @@ struct BallObservation {
   int pixel_count = 0;     // ball pixels in the mask
   float aspect_ratio = 0;  // w / h
   float score = 0;         // confidence in [0, 1]
+  // What the stream's first frame showed at p this frame shows at p + camera (a hand-held
+  // camera; 0, 0 for a still one), pixels: the ball in the scene is (cx, cy) - camera. Set
+  // whether or not the ball was found.
+  float camera_dx = 0, camera_dy = 0;
 };
 
 }  // namespace bouncefit

@@ -64,7 +64,7 @@ BallFinderParams StillReviewParams(const TrackerConfig& c) {
 }  // namespace
 
 Tracker::Tracker(TrackerConfig config)
-    : config_(std::move(config)), predictor_(config_.motion), finder_(config_.finder, config_.color),
+    : config_(std::move(config)), predictor_(config_.motion), camera_(config_.camera), finder_(config_.finder, config_.color),
       still_finder_(StillReviewParams(config_), config_.color), arc_(config_.arc) {
   std::string error;
   if (!config_.IsValid(&error)) throw std::invalid_argument("tracker: " + error);
@@ -91,6 +91,14 @@ BallObservation Tracker::Track(const Frame& frame) {
       throw std::invalid_argument("tracker: ROI lies outside the " + frame_size + " frame");
   }
   ++frames_;
+  if (config_.follow_camera) {
+    camera_.Update(frame, WhereBallMayBe(static_cast<double>(frame.utime) * 1e-6));
+    obs.camera_dx = static_cast<float>(camera_.dx());
+    obs.camera_dy = static_cast<float>(camera_.dy());
+  }
+  // The prediction and the arc check follow the ball in the scene: a held camera's jitter
+  // is not the ball's motion.
+  cam_x_ = obs.camera_dx, cam_y_ = obs.camera_dy;
   if (!color_.valid() && !ChooseColor(frame)) {
     ++lost_;
     return obs;
@@ -109,7 +117,7 @@ BallObservation Tracker::Track(const Frame& frame) {
   expected_motion_px_ = 1e9;  // no prediction: nothing expected
   if (last_frame_t_ >= 0 && t > last_frame_t_) frame_dt_s_ = t - last_frame_t_;
   last_frame_t_ = t;
-  if (lost_ <= 2 && predictor_.Predict(t, &px, &py, &speed)) {
+  if (lost_ <= 2 && PredictInFrame(t, &px, &py, &speed)) {
     const double dt = std::clamp(t - last_t_, 1e-3, 0.1);
     const double motion = speed * dt;
     const double frame_dt = frame_dt_s_ > 0 ? frame_dt_s_ : dt;
@@ -134,7 +142,7 @@ BallObservation Tracker::Track(const Frame& frame) {
   }
   if (!ok) ok = Acquire(frame, &obs);
   if (ok) {
-    predictor_.Add(t, obs.cx, obs.cy);
+    predictor_.Add(t, obs.cx - cam_x_, obs.cy - cam_y_);
     radius_ = radius_ > 0 ? 0.8 * radius_ + 0.2 * obs.radius_px : obs.radius_px;
     lost_ = 0;
     last_t_ = t;
@@ -246,7 +254,7 @@ void Tracker::RememberLookalikes(const Frame& frame) {
 void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   const double t = static_cast<double>(frame.utime) * 1e-6;
   if (obs.found) last_found_t_ = t;
-  if (obs.found && arc_.Add(t, obs.cx, obs.cy, obs.radius_px)) {
+  if (obs.found && arc_.Add(t, obs.cx - cam_x_, obs.cy - cam_y_, obs.radius_px)) {
     auto_ = false;
     how_ += Fmt("; confirmed at %.2f s: its track became a ballistic arc", t, 0);
     if (choices_ > 1) how_ += Fmt(" (choice %.0f)", static_cast<double>(choices_), 0);
@@ -326,7 +334,7 @@ bool Tracker::SameAsLock(const BallCandidate& c, double here_x, double here_y, d
   // now, or the newest): a ball falling at 20 fps moves radii a frame, and a patch of colour
   // three radii from where the lock is now may be six from where it was then.
   double x = here_x, y = here_y;
-  arc_.PositionAt(c.t, &x, &y);
+  if (arc_.PositionAt(c.t, &x, &y)) x += cam_x_, y += cam_y_;
   return std::hypot(c.x - x, c.y - y) < 3 * std::max(here_r, c.r) &&
          SizeMatches(c.r, here_r);
 }
@@ -409,7 +417,7 @@ bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
   std::vector<Blob> blobs = SegmentBlobs(wide_, color_, SegmentParamsFor(FollowedRadius()), &wide_mask);
   const double tol = color_.tolerance();
   double px = 0, py = 0;
-  const bool have_pred = lost_ <= config_.lost_frames_keep && predictor_.Predict(
+  const bool have_pred = lost_ <= config_.lost_frames_keep && PredictInFrame(
       static_cast<double>(frame.utime) * 1e-6, &px, &py);
   std::vector<std::pair<double, size_t>> order;
   for (size_t k = 0; k < blobs.size(); ++k) {
@@ -533,6 +541,22 @@ void Tracker::Planes(const Frame& frame, cv::Rect rect, int step, double blur_si
     ExtractYcc(frame, rect, step, blur_sigma_px, out);
 }
 
+bool Tracker::PredictInFrame(double t, double* x, double* y, double* speed) const {
+  if (!predictor_.Predict(t, x, y, speed)) return false;
+  *x += cam_x_, *y += cam_y_;
+  return true;
+}
+
+cv::Rect2d Tracker::WhereBallMayBe(double t) const {
+  if (radius_ <= 0 || lost_ > 2) return {};
+  // From where it was last seen to where it is predicted: a fast ball crosses tiles a frame.
+  double px = last_cx_, py = last_cy_;
+  PredictInFrame(t, &px, &py);
+  const double m = 1.5 * radius_ + 8;
+  return cv::Rect2d(std::min(px, last_cx_) - m, std::min(py, last_cy_) - m, std::abs(px - last_cx_) + 2 * m,
+                    std::abs(py - last_cy_) + 2 * m);
+}
+
 void Tracker::StartLumaMode(int polarity) {
   LumaContrastParams params = config_.luma;
   params.polarity = polarity;
@@ -586,7 +610,12 @@ std::string Tracker::Describe() const {
   if (dropped_locks_ > 0)
     dropped = Fmt("; automatic locks dropped or replaced before one was ballistic: %.0f",
                   static_cast<double>(dropped_locks_), 0);
-  return "tracker: " + how_ + buf + dropped;
+  std::string camera;
+  if (camera_.moving())
+    camera = "; the camera moved (held in a hand?): up to " + Fmt("%.1f px", camera_.max_offset(), 0) +
+             " from where it started, taken out of the ball's track" +
+             (camera_.unmeasured() > 0 ? Fmt(" (%.0f frames not measurable)", static_cast<double>(camera_.unmeasured()), 0) : "");
+  return "tracker: " + how_ + buf + dropped + camera;
 }
 
 }  // namespace bouncefit

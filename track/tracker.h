@@ -19,6 +19,7 @@
 #include "track/ball_finder.h"
 #include "track/ball_observation.h"
 #include "track/ball_segmenter.h"
+#include "track/camera_motion.h"
 #include "track/color_model.h"
 #include "track/color_pick.h"
 #include "track/luma_contrast.h"
@@ -48,6 +49,10 @@ struct TrackerConfig {
   int roi_x = 0, roi_y = 0, roi_w = 0, roi_h = 0;
 
   double blur_sigma_px = 1.0;       // Gaussian blur before thresholding, pixels
+  // Measure a hand-held camera's motion (track/camera_motion.h) and report it with each
+  // frame, so that the ball is measured against the scene.
+  bool follow_camera = true;
+  CameraMotionParams camera;
   ColorModelParams color;           // chroma tolerance
   SegmenterParams segment;          // min/max box and shape limits
   BallCentreParams centre;          // sub-pixel rim fit
@@ -137,6 +142,10 @@ class Tracker {
   void Adapt(double cx, double cy, double r);
   // ExtractYcc, or the contrast planes in brightness mode.
   void Planes(const Frame& frame, cv::Rect rect, int step, double blur_sigma_px, YccPlanes* out);
+  // The part of the frame the ball followed may be in at time t (empty when none is followed).
+  cv::Rect2d WhereBallMayBe(double t) const;
+  // The predictor's position at t (in the scene) where this frame shows it.
+  bool PredictInFrame(double t, double* x, double* y, double* speed = nullptr) const;
   void StartLumaMode(int polarity);
 
   TrackerConfig config_;
@@ -145,6 +154,8 @@ class Tracker {
   ColorModel color_, anchor_;
   std::string how_;
   MotionPredictor predictor_;
+  CameraMotion camera_;
+  double cam_x_ = 0, cam_y_ = 0;  // this frame's camera motion (CameraMotion::dx, dy), pixels
   double radius_ = 0;        // tracked radius, pixels (0: unknown)
   int64_t lost_ = 1 << 20;   // frames since last found
   double last_t_ = 0;

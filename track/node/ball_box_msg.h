@@ -12,6 +12,8 @@ To CopyBallBoxFields(const From& f) {
   t.utime = f.utime;
   t.frame = f.frame;
   t.found = f.found;
+  t.camera_dx = f.camera_dx;
+  t.camera_dy = f.camera_dy;
   if (f.found) {  // a frame without the ball carries zeros
     t.x = f.x;
     t.y = f.y;

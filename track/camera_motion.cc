@@ -1,0 +1,249 @@
+#include "track/camera_motion.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace bouncefit {
+namespace {
+
+constexpr double kSharpness = 0.5;  // the best shift's mismatch under this share of the median
+
+constexpr float kUnknown = std::numeric_limits<float>::quiet_NaN();  // a bin the ball may cover
+
+// The profile's steps, smoothed by a binomial of 5 taps (sigma 1 bin): sharp edges would
+// match at whole shifts only, and a camera moves by fractions too. NaN stays NaN.
+void ToSteps(std::vector<float>& p) {
+  if (p.size() < 6) return p.clear();
+  std::vector<float> d(p.size() - 1);
+  for (size_t i = 0; i < d.size(); ++i) d[i] = p[i + 1] - p[i];
+  p.resize(d.size() - 4);
+  for (size_t i = 0; i < p.size(); ++i)
+    p[i] = (d[i] + 4 * d[i + 1] + 6 * d[i + 2] + 4 * d[i + 3] + d[i + 4]) / 16;
+}
+
+// Mean |step| of a profile of steps (its known bins), luma; 0 when under half are known.
+double Texture(const std::vector<float>& steps) {
+  double s = 0;
+  size_t n = 0;
+  for (float v : steps)
+    if (!std::isnan(v)) s += std::abs(v), ++n;
+  return 2 * n < steps.size() || n == 0 ? 0 : s / static_cast<double>(n);
+}
+
+struct TileShift {
+  bool ok = false;
+  int whole = 0;
+  double refined = 0;
+};
+
+// The shift d of b against a (b[i + d] ~ a[i]) with the least mean squared difference over
+// the overlap, refined between its neighbours.
+// ok: both have texture, the least is inside the search and well under the typical mismatch.
+TileShift BestShift(const std::vector<float>& a, const std::vector<float>& b, int max_shift,
+                    double min_texture) {
+  TileShift out;
+  const int n = static_cast<int>(a.size());
+  max_shift = std::min(max_shift, n / 3);  // a small picture's tiles: a shorter search
+  if (n != static_cast<int>(b.size()) || max_shift < 4 || Texture(a) < min_texture ||
+      Texture(b) < min_texture)
+    return out;
+  std::vector<double> cost(2 * max_shift + 1);
+  int best = -max_shift;
+  for (int d = -max_shift; d <= max_shift; ++d) {
+    double s = 0;
+    int m = 0;
+    const int i0 = std::max(0, -d), i1 = std::min(n, n - d);
+    for (int i = i0; i < i1; ++i) {
+      const float e = (a[i] - b[i + d]) * (a[i] - b[i + d]);
+      if (!std::isnan(e)) s += e, ++m;  // bins where either picture may show the ball: left out
+    }
+    cost[d + max_shift] = m > 0 ? s / m : std::numeric_limits<double>::max();
+    if (cost[d + max_shift] < cost[best + max_shift]) best = d;
+  }
+  std::vector<double> sorted = cost;
+  std::nth_element(sorted.begin(), sorted.begin() + max_shift, sorted.end());
+  const double c0 = cost[best + max_shift];
+  if (std::abs(best) >= max_shift || !(c0 < kSharpness * sorted[max_shift])) return out;
+  const double cm = cost[best + max_shift - 1], cp = cost[best + max_shift + 1];
+  // A smooth minimum: the parabola through it and its neighbours.
+  const double curve = cm - 2 * c0 + cp;
+  out.ok = true;
+  out.whole = best;
+  out.refined = best + (curve > 0 ? std::clamp(0.5 * (cm - cp) / curve, -0.5, 0.5) : 0.0);
+  return out;
+}
+
+}  // namespace
+
+CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params, cv::Rect2d ignore) {
+  CameraProfiles out;
+  const int W = frame.image.cols, H = frame.image.rows, t = params.tiles;
+  out.size = frame.image.size();
+  if (W < 2 * t || H < 2 * t) return out;
+  const int bin = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(W) * H / params.cell_pixels)));
+  out.bin = bin;
+  // Every row and column summed (a subsample aliases: a ruler's ticks, a tiled floor).
+  thread_local cv::Mat grey, col_sums, row_sums;
+  if (frame.format == PixelFormat::kYuyv)
+    cv::extractChannel(frame.image, grey, 0);
+  else
+    cv::cvtColor(frame.image, grey, cv::COLOR_BGR2GRAY);
+  for (int ty = 0; ty < t; ++ty)
+    for (int tx = 0; tx < t; ++tx) {
+      const int x0 = tx * W / t, x1 = (tx + 1) * W / t, y0 = ty * H / t, y1 = (ty + 1) * H / t;
+      std::vector<float> cols((x1 - x0) / bin), rows((y1 - y0) / bin);
+      {
+        const cv::Mat tile = grey(cv::Rect(x0, y0, x1 - x0, y1 - y0));
+        cv::reduce(tile, col_sums, 0, cv::REDUCE_SUM, CV_32S);
+        cv::reduce(tile, row_sums, 1, cv::REDUCE_SUM, CV_32S);
+        const int* c = col_sums.ptr<int>(0);
+        for (size_t i = 0; i < cols.size(); ++i) {
+          int s = 0;
+          for (int k = 0; k < bin; ++k) s += c[i * bin + k];
+          cols[i] = static_cast<float>(s) / static_cast<float>(bin * (y1 - y0));
+        }
+        for (size_t j = 0; j < rows.size(); ++j) {
+          int s = 0;
+          for (int k = 0; k < bin; ++k) s += row_sums.at<int>(static_cast<int>(j) * bin + k, 0);
+          rows[j] = static_cast<float>(s) / static_cast<float>(bin * (x1 - x0));
+        }
+      }
+      // Where the ball may be, the tile's columns and rows are not the scene's: unknown.
+      const cv::Rect2d ball = ignore & cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
+      if (ball.area() > 0) {
+        for (size_t i = 0; i < cols.size(); ++i) {
+          const double c0 = x0 + static_cast<double>(i * bin);
+          if (c0 + bin > ball.x && c0 < ball.x + ball.width) cols[i] = kUnknown;
+        }
+        for (size_t j = 0; j < rows.size(); ++j) {
+          const double r0 = y0 + static_cast<double>(j * bin);
+          if (r0 + bin > ball.y && r0 < ball.y + ball.height) rows[j] = kUnknown;
+        }
+      }
+      // Matched by their steps: a profile averaged over many rows is smooth, its mismatch
+      // rises slowly with the shift; its steps (the picture's edges) make a sharp minimum.
+      ToSteps(cols);
+      ToSteps(rows);
+      out.columns.push_back(std::move(cols));
+      out.rows.push_back(std::move(rows));
+    }
+  return out;
+}
+
+namespace {
+
+std::vector<TileShift> TileShifts(const std::vector<std::vector<float>>& a,
+                                  const std::vector<std::vector<float>>& b, const CameraMotionParams& params) {
+  std::vector<TileShift> out(std::min(a.size(), b.size()));
+  for (size_t k = 0; k < out.size(); ++k) out[k] = BestShift(a[k], b[k], params.max_shift_bins, params.min_texture);
+  return out;
+}
+
+// The shift most tiles agree on (not those `skip` names): the whole shift with the most tiles
+// within a bin of it (one shift's tiles fall either side of a half bin), refined by their median.
+AxisShift Consensus(const std::vector<TileShift>& tiles, const std::vector<bool>& skip,
+                    const CameraMotionParams& params) {
+  AxisShift out;
+  std::vector<double> told;
+  for (size_t k = 0; k < tiles.size(); ++k)
+    if (tiles[k].ok && !skip[k]) told.push_back(tiles[k].refined);
+  out.told = static_cast<int>(told.size());
+  int most = 0;
+  std::vector<double> agreeing, best;
+  for (const TileShift& candidate : tiles) {
+    if (!candidate.ok) continue;
+    agreeing.clear();
+    for (double r : told)
+      if (std::abs(r - candidate.whole) <= 1.0) agreeing.push_back(r);
+    if (static_cast<int>(agreeing.size()) > most) most = static_cast<int>(agreeing.size()), best = agreeing;
+  }
+  if (most < params.min_agreeing || most < params.min_agreeing_share * out.told) return out;
+  const auto mid = best.begin() + static_cast<long>(best.size() / 2);
+  std::nth_element(best.begin(), mid, best.end());
+  out.bins = *mid;
+  out.whole = static_cast<int>(std::lround(out.bins));
+  out.ok = true;
+  return out;
+}
+
+// Tiles whose shift along an axis disagrees with that axis's consensus: the ball, a hand, a
+// door that moved there, not the camera.
+std::vector<bool> Disagreeing(const std::vector<TileShift>& tiles, const AxisShift& consensus) {
+  std::vector<bool> out(tiles.size(), false);
+  if (!consensus.ok) return out;
+  for (size_t k = 0; k < tiles.size(); ++k)
+    out[k] = tiles[k].ok && std::abs(tiles[k].refined - consensus.bins) > 1.0;
+  return out;
+}
+
+}  // namespace
+
+PictureMotion MeasurePictureMotion(const CameraProfiles& a, const CameraProfiles& b,
+                                   const CameraMotionParams& params) {
+  PictureMotion out;
+  if (a.size != b.size || a.columns.size() != b.columns.size()) return out;
+  const std::vector<TileShift> tx = TileShifts(a.columns, b.columns, params);
+  const std::vector<TileShift> ty = TileShifts(a.rows, b.rows, params);
+  const std::vector<bool> none(tx.size(), false);
+  // Each axis on its own first; then each again without the tiles the other axis says
+  // something else moved in (a tile of vertical stripes tells dx only: it is kept).
+  const AxisShift x0 = Consensus(tx, none, params), y0 = Consensus(ty, none, params);
+  out.x = Consensus(tx, Disagreeing(ty, y0), params);
+  out.y = Consensus(ty, Disagreeing(tx, x0), params);
+  return out;
+}
+
+void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore) {
+  CameraProfiles now = CameraProfilesOf(frame, params_, ignore);
+  if (reference_.empty() || reference_.size != now.size) {
+    // The first frame (or a new picture size): the scene as it is measured against.
+    reference_ = now;
+    previous_ = std::move(now);
+    ref_dx_ = dx_, ref_dy_ = dy_;
+    return;
+  }
+  const PictureMotion m = MeasurePictureMotion(reference_, now, params_);
+  const AxisShift& sx = m.x;
+  const AxisShift& sy = m.y;
+  if (!moving_) {
+    // A still camera: nothing has moved until the picture moved by whole bins in several of
+    // the last frames (one frame's vote can be a large foreground's). The motion is followed
+    // all along, and reported from then on.
+    recent_moves_.push_back((sx.ok && sx.whole != 0) || (sy.ok && sy.whole != 0));
+    if (recent_moves_.size() > static_cast<size_t>(params_.trigger_frames)) recent_moves_.pop_front();
+    moving_ = std::count(recent_moves_.begin(), recent_moves_.end(), true) >= params_.trigger_moves;
+  }
+  const double bin = now.bin;
+  // An axis not found against the reference (too far from it, or something crossed it): the
+  // previous frame's shift and the step from it; else the previous frame's shift.
+  PictureMotion step;
+  if (!sx.ok || !sy.ok) step = MeasurePictureMotion(previous_, now, params_);
+  // An axis no tile has texture along (a door's plain panels) says nothing: its shift is kept
+  // and not counted as a failure.
+  auto axis = [&](const AxisShift& s, double ref, const AxisShift& from_previous, double* d) {
+    if (s.ok) {
+      *d = ref + s.bins * bin;
+      return true;
+    }
+    if (from_previous.ok) *d += from_previous.bins * bin;
+    return s.told == 0;
+  };
+  const bool ok_x = axis(sx, ref_dx_, step.x, &dx_);
+  const bool ok_y = axis(sy, ref_dy_, step.y, &dy_);
+  if (moving_) max_offset_ = std::max(max_offset_, std::hypot(dx_, dy_));
+  // A new reference once the picture has moved far from it (while both axes are known), or
+  // once it has not been found for several frames (the scene changed).
+  failures_ = ok_x && ok_y ? 0 : failures_ + 1;
+  if (failures_ > 0 && moving_) ++unmeasured_;
+  const bool far = std::max(sx.ok ? std::abs(sx.whole) : 0, sy.ok ? std::abs(sy.whole) : 0) >= params_.rekey_bins;
+  if ((ok_x && ok_y && far) || failures_ >= params_.rekey_after_failures) {
+    reference_ = now, ref_dx_ = dx_, ref_dy_ = dy_;
+    failures_ = 0;
+  }
+  previous_ = std::move(now);
+}
+
+}  // namespace bouncefit
