@@ -145,6 +145,12 @@ void AddSynthCommand(CLI::App& app) {
   cmd->add_option("--roll", c.roll_deg,
                   "Camera roll, degrees: the scene turns counter-clockwise on screen")
       ->capture_default_str();
+  cmd->add_option("--camera-jitter", c.camera_jitter_px,
+                  "A camera held in a hand: each frame moved by up to this much each way, px")
+      ->capture_default_str();
+  cmd->add_option("--camera-sway", c.camera_sway_px,
+                  "A camera held in a hand: a slow sway (0.7 Hz) of this amplitude, px")
+      ->capture_default_str();
   cmd->add_option("--exposure", c.exposure_s,
                   "Exposure time for motion blur, seconds (0 = no blur, at most 1/fps)")
       ->capture_default_str();

@@ -1,11 +1,14 @@
 #include "synth/synth_clip.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <random>
 #include <stdexcept>
 
 #include "model/point_mass_drop.h"
@@ -49,6 +52,8 @@ void Validate(const SynthClipConfig& c) {
   Require(c.duration_s * c.fps <= 1e6, "clip too long (more than a million frames)");
   Require(c.px_per_m >= 0, "px per metre must be >= 0 (0 = fit the drop into the frame)");
   Require(std::abs(c.roll_deg) <= 90, "roll must be in [-90, 90] degrees");
+  Require(c.camera_jitter_px >= 0 && c.camera_jitter_px <= 50, "camera jitter must be in 0-50 px");
+  Require(c.camera_sway_px >= 0 && c.camera_sway_px <= 100, "camera sway must be in 0-100 px");
   Require(c.ball_x >= 0 && c.ball_x <= 1, "ball x must be a fraction of the width, 0-1");
   Require(c.floor_y > 0.1 && c.floor_y <= 1, "floor y must be a fraction of the height, 0.1-1");
   Require(c.exposure_s >= 0 && c.exposure_s <= 1 / c.fps + 1e-12,
@@ -65,6 +70,32 @@ void Validate(const SynthClipConfig& c) {
   ValidateColor(c.wall_bgr, "wall");
   ValidateColor(c.floor_bgr, "floor");
 }
+
+// A hand's jitter (uniform, fresh each frame, from the seed) and sway (0.7 Hz), less where
+// they put the first frame.
+class HeldCamera {
+ public:
+  explicit HeldCamera(const SynthClipConfig& c) : c_(c) {
+    std::mt19937_64 rng(c.seed * 0x9E3779B97F4A7C15ull + 17);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const int n = std::max(1, static_cast<int>(std::lround(c.duration_s * c.fps)));
+    for (int i = 0; i < n; ++i) jitter_.emplace_back(u(rng), u(rng));
+  }
+  cv::Point2d At(int i) const {
+    if (c_.camera_jitter_px == 0 && c_.camera_sway_px == 0) return {0, 0};
+    return Raw(i) - Raw(0);
+  }
+
+ private:
+  cv::Point2d Raw(int i) const {
+    const double w = 2 * std::numbers::pi * 0.7 * i / c_.fps;
+    const cv::Point2d j = jitter_[static_cast<size_t>(i) % jitter_.size()];
+    return {c_.camera_jitter_px * j.x + c_.camera_sway_px * std::sin(w),
+            c_.camera_jitter_px * j.y + c_.camera_sway_px * std::cos(w)};
+  }
+  const SynthClipConfig& c_;
+  std::vector<cv::Point2d> jitter_;
+};
 
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
@@ -288,7 +319,11 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   truth.comes_to_rest = traj.comes_to_rest && in_clip(traj.rest_time_s);
   truth.rest_t_s = truth.comes_to_rest ? traj.rest_time_s - offset : 0;
 
-  cv::Mat frame;
+  // Where a hand holds the camera in frame i, relative to the first frame: the picture moves by it.
+  const HeldCamera held(c);
+  truth.camera_jitter_px = c.camera_jitter_px;
+  truth.camera_sway_px = c.camera_sway_px;
+  cv::Mat frame, moved;
   double scene_s = 0, noise_s = 0, encode_s = 0;
   std::vector<BallShape> subs;
   truth.frames.reserve(frame_count);
@@ -323,9 +358,18 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
       f.height_m += b.bottom_m / n;
       f.fully_in_view = f.fully_in_view && scene.FullyInView(b.shape);
     }
+    const cv::Point2d camera = held.At(i);
+    f.cx += camera.x, f.cy += camera.y;
+    f.camera_dx = camera.x, f.camera_dy = camera.y;
     truth.frames.push_back(f);
     const double t0 = CpuSeconds();
     scene.Render(subs, &frame);
+    if (camera != cv::Point2d(0, 0)) {
+      // What the scene showed at p, the sensor shows at p + camera (the edges mirrored in).
+      const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, camera.x, 0, 1, camera.y);
+      cv::warpAffine(frame, moved, m, frame.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
+      std::swap(frame, moved);
+    }
     const double t1 = CpuSeconds();
     noise.Add(&frame);
     const double t2 = CpuSeconds();

@@ -39,6 +39,11 @@ struct SynthClipConfig {
   double duration_s = 5;        // clip length, s (frames = round(duration * fps))
   double px_per_m = 0;          // image scale; 0 = the drop fits the frame height
   double roll_deg = 0;          // camera roll: scene rotated counter-clockwise on screen
+  // A camera held in a hand: each frame's picture moved by a jitter of up to this much each
+  // way (drawn from the seed) and a sway of this amplitude at 0.7 Hz, px; the first frame is
+  // where the camera starts (the truth's per-frame camera_dx, camera_dy: the motion since).
+  double camera_jitter_px = 0;
+  double camera_sway_px = 0;
   double ball_x = 0.5;          // ball centre, fraction of the width (scene, before roll)
   double floor_y = 0.86;        // floor contact line, fraction of the height (before roll)
   double exposure_s = 0.004;    // motion blur: exposure time centred on each frame time, s

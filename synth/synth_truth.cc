@@ -49,7 +49,9 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
                  {"blur_samples", t.blur_samples},
                  {"noise_sigma", t.noise_sigma},
                  {"seed", t.seed},
-                 {"distractor", t.distractor}};
+                 {"distractor", t.distractor},
+                 {"camera_jitter_px", t.camera_jitter_px},
+                 {"camera_sway_px", t.camera_sway_px}};
   j["release_t_s"] = t.release_t_s;
   j["impact_times_s"] = t.impact_times_s;
   j["first_apex"] = t.first_apex;
@@ -64,13 +66,16 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
                   {"hum", t.sound_hum},
                   {"impact_speeds_mps", t.impact_speeds_mps}};
   ojson frames = ojson::array();
-  for (const auto& f : t.frames)
+  for (const auto& f : t.frames) {
     frames.push_back({{"i", f.index},
                       {"t_s", f.t_s},
                       {"cx", f.cx},
                       {"cy", f.cy},
                       {"height_m", f.height_m},
                       {"fully_in_view", f.fully_in_view}});
+    if (f.camera_dx != 0 || f.camera_dy != 0)
+      frames.back().push_back({"camera_dx", f.camera_dx}), frames.back().push_back({"camera_dy", f.camera_dy});
+  }
 
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write truth file " + path.string());
@@ -168,6 +173,9 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
   t.noise_sigma = Get<double>(render, "noise_sigma", where + " render");
   t.seed = Get<unsigned long long>(render, "seed", where + " render");
   t.distractor = Get<bool>(render, "distractor", where + " render");
+  // Absent in files written before held cameras existed: a still camera.
+  t.camera_jitter_px = render.value("camera_jitter_px", 0.0);
+  t.camera_sway_px = render.value("camera_sway_px", 0.0);
 
   t.release_t_s = Get<double>(j, "release_t_s", where);
   t.impact_times_s = Get<std::vector<double>>(j, "impact_times_s", where);
@@ -200,6 +208,8 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
     f.cy = Get<double>(frames[i], "cy", fw);
     f.height_m = Get<double>(frames[i], "height_m", fw);
     f.fully_in_view = Get<bool>(frames[i], "fully_in_view", fw);
+    f.camera_dx = frames[i].value("camera_dx", 0.0);
+    f.camera_dy = frames[i].value("camera_dy", 0.0);
     t.frames.push_back(f);
   }
   if (static_cast<int>(t.frames.size()) != t.frame_count)

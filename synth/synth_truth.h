@@ -15,6 +15,9 @@ struct SynthTruthFrame {
                              // the top-left pixel's centre, y down, after roll)
   double height_m = 0;       // ball bottom above the floor, m (exposure average)
   bool fully_in_view = false;  // the whole ball (every sub-exposure) lies inside the image
+  // A held camera (SynthClipConfig::camera_jitter_px): how far the picture has moved since the
+  // first frame, px; cx, cy include it.
+  double camera_dx = 0, camera_dy = 0;
 };
 
 struct SynthTruth {
@@ -43,6 +46,7 @@ struct SynthTruth {
   double drop_height_m = 0;
   std::string trajectory;    // "point-mass" or what rendered it ("bullet-softbody", ...)
 
+  double camera_jitter_px = 0, camera_sway_px = 0;  // a held camera's (0: a still one)
   double exposure_s = 0;
   int blur_samples = 1;      // sub-exposures averaged per frame (0 = chosen per frame)
   double noise_sigma = 0;    // grey levels
