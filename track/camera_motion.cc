@@ -1,5 +1,6 @@
 #include "track/camera_motion.h"
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -39,41 +40,84 @@ struct TileShift {
   double refined = 0;
 };
 
-// The shift d of b against a (b[i + d] ~ a[i]) with the least mean squared difference over
-// the overlap, refined between its neighbours.
-// ok: both have texture, the least is inside the search and well under the typical mismatch.
-TileShift BestShift(const std::vector<float>& a, const std::vector<float>& b, int max_shift,
-                    double min_texture) {
+// Mean squared mismatch of a against b moved by d over their overlap, bins where either is
+// unknown (weight 0) left out; +inf without overlap.
+double Mismatch(const std::vector<float>& va, const std::vector<float>& wa, const std::vector<float>& vb,
+                const std::vector<float>& wb, int d) {
+  const int n = static_cast<int>(va.size());
+  const int i0 = std::max(0, -d), i1 = std::min(n, n - d);
+  float s = 0, m = 0;
+  int i = i0;
+#if CV_SIMD128
+  cv::v_float32x4 vs = cv::v_setzero_f32(), vm = cv::v_setzero_f32();
+  for (; i + 4 <= i1; i += 4) {
+    const cv::v_float32x4 e = cv::v_load(&va[i]) - cv::v_load(&vb[i + d]);
+    const cv::v_float32x4 w = cv::v_load(&wa[i]) * cv::v_load(&wb[i + d]);
+    vs += e * e * w;
+    vm += w;
+  }
+  s = cv::v_reduce_sum(vs), m = cv::v_reduce_sum(vm);
+#endif
+  for (; i < i1; ++i) {
+    const float e = va[i] - vb[i + d], w = wa[i] * wb[i + d];
+    s += e * e * w, m += w;
+  }
+  return m > 0 ? s / m : std::numeric_limits<double>::infinity();
+}
+
+// The least of cost[d] over [lo, hi] (d from -max_shift), ok when inside that range and well
+// under the range's typical mismatch; refined by the parabola through it and its neighbours.
+TileShift BestIn(const std::vector<double>& cost, int max_shift, int lo, int hi) {
   TileShift out;
-  const int n = static_cast<int>(a.size());
-  max_shift = std::min(max_shift, n / 3);  // a small picture's tiles: a shorter search
-  if (n != static_cast<int>(b.size()) || max_shift < 4 || Texture(a) < min_texture ||
-      Texture(b) < min_texture)
-    return out;
-  std::vector<double> cost(2 * max_shift + 1);
-  int best = -max_shift;
-  for (int d = -max_shift; d <= max_shift; ++d) {
-    double s = 0;
-    int m = 0;
-    const int i0 = std::max(0, -d), i1 = std::min(n, n - d);
-    for (int i = i0; i < i1; ++i) {
-      const float e = (a[i] - b[i + d]) * (a[i] - b[i + d]);
-      if (!std::isnan(e)) s += e, ++m;  // bins where either picture may show the ball: left out
-    }
-    cost[d + max_shift] = m > 0 ? s / m : std::numeric_limits<double>::max();
+  int best = lo;
+  std::vector<double> range;
+  for (int d = lo; d <= hi; ++d) {
+    range.push_back(cost[d + max_shift]);
     if (cost[d + max_shift] < cost[best + max_shift]) best = d;
   }
-  std::vector<double> sorted = cost;
-  std::nth_element(sorted.begin(), sorted.begin() + max_shift, sorted.end());
+  const auto mid = range.begin() + static_cast<long>(range.size() / 2);
+  std::nth_element(range.begin(), mid, range.end());
   const double c0 = cost[best + max_shift];
-  if (std::abs(best) >= max_shift || !(c0 < kSharpness * sorted[max_shift])) return out;
+  if (best == lo || best == hi || !(c0 < kSharpness * *mid)) return out;
   const double cm = cost[best + max_shift - 1], cp = cost[best + max_shift + 1];
-  // A smooth minimum: the parabola through it and its neighbours.
   const double curve = cm - 2 * c0 + cp;
   out.ok = true;
   out.whole = best;
   out.refined = best + (curve > 0 ? std::clamp(0.5 * (cm - cp) / curve, -0.5, 0.5) : 0.0);
   return out;
+}
+
+// The shift d of b against a (b[i + d] ~ a[i]) with the least mean squared difference over
+// the overlap, looked for first within a few bins of `expected` (the camera moves little
+// from one frame to the next), then, if not found there, over the whole search.
+TileShift BestShift(const std::vector<float>& a, const std::vector<float>& b, int max_shift,
+                    double min_texture, int expected) {
+  const int n = static_cast<int>(a.size());
+  max_shift = std::min(max_shift, n / 3);  // a small picture's tiles: a shorter search
+  if (n != static_cast<int>(b.size()) || max_shift < 4 || Texture(a) < min_texture ||
+      Texture(b) < min_texture)
+    return {};
+  // Bins where either picture may show the ball are left out: values 0, weights 0.
+  thread_local std::vector<float> va, wa, vb, wb;
+  auto split = [&](const std::vector<float>& p, std::vector<float>& v, std::vector<float>& w) {
+    v.resize(p.size()), w.resize(p.size());
+    for (size_t i = 0; i < p.size(); ++i) w[i] = std::isnan(p[i]) ? 0.0f : 1.0f, v[i] = w[i] > 0 ? p[i] : 0.0f;
+  };
+  split(a, va, wa), split(b, vb, wb);
+  constexpr int kNear = 6;
+  std::vector<double> cost(2 * max_shift + 1, -1.0);
+  auto costs = [&](int lo, int hi) {
+    for (int d = lo; d <= hi; ++d)
+      if (cost[d + max_shift] < 0) cost[d + max_shift] = Mismatch(va, wa, vb, wb, d);
+  };
+  const int lo = std::max(-max_shift, expected - kNear), hi = std::min(max_shift, expected + kNear);
+  if (hi - lo >= kNear) {
+    costs(lo, hi);
+    const TileShift near = BestIn(cost, max_shift, lo, hi);
+    if (near.ok) return near;
+  }
+  costs(-max_shift, max_shift);
+  return BestIn(cost, max_shift, -max_shift, max_shift);
 }
 
 }  // namespace
@@ -85,31 +129,72 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
   if (W < 2 * t || H < 2 * t) return out;
   const int bin = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(W) * H / params.cell_pixels)));
   out.bin = bin;
-  // Every row and column summed (a subsample aliases: a ruler's ticks, a tiled floor).
-  thread_local cv::Mat grey, col_sums, row_sums;
+  // Luma (OpenCV's BT.601 weights), then every row and column of it summed (a subsample
+  // aliases: a ruler's ticks, a tiled floor; one row in two on a 1080p clip flipped the
+  // detection of a few shaken copies) in one pass: into each band of tiles' column sums and
+  // each row's sum per column of tiles, in 16 bits for up to 256 rows (columns) and 128 steps
+  // of 16 (rows), then in 32.
+  const int hs = H;
+  thread_local cv::Mat grey;
   if (frame.format == PixelFormat::kYuyv)
     cv::extractChannel(frame.image, grey, 0);
   else
     cv::cvtColor(frame.image, grey, cv::COLOR_BGR2GRAY);
+  thread_local std::vector<int32_t> col_sums, row_sums;
+  thread_local std::vector<uint16_t> col16;
+  col_sums.assign(static_cast<size_t>(t) * W, 0);
+  row_sums.assign(static_cast<size_t>(t) * hs, 0);
+  col16.assign(static_cast<size_t>(W), 0);
+  std::vector<int> x_edges(t + 1), y_edges(t + 1);
+  for (int k = 0; k <= t; ++k) x_edges[k] = k * W / t, y_edges[k] = k * H / t;
+  auto flush = [&](int band) {
+    int32_t* c = &col_sums[static_cast<size_t>(band) * W];
+    for (size_t i = 0; i < col16.size(); ++i) c[i] += col16[i];
+    std::fill(col16.begin(), col16.end(), 0);
+  };
+  for (int band = 0; band < t; ++band) {
+    for (int y = y_edges[band]; y < y_edges[band + 1]; ++y) {
+      const uint8_t* p = grey.ptr<uint8_t>(y);
+      for (int tx = 0; tx < t; ++tx) {
+        uint32_t s = 0;
+        int i = x_edges[tx];
+        const int i1 = x_edges[tx + 1];
+#if CV_SIMD128
+        while (i + 16 <= i1) {
+          cv::v_uint16x8 acc = cv::v_setzero_u16();
+          for (int steps = 0; steps < 128 && i + 16 <= i1; ++steps, i += 16) {
+            cv::v_uint16x8 lo, hi;
+            cv::v_expand(cv::v_load(p + i), lo, hi);
+            cv::v_store(&col16[i], cv::v_load(&col16[i]) + lo);
+            cv::v_store(&col16[i + 8], cv::v_load(&col16[i + 8]) + hi);
+            acc += lo + hi;
+          }
+          s += cv::v_reduce_sum(acc);
+        }
+#endif
+        for (; i < i1; ++i) col16[i] += p[i], s += p[i];
+        row_sums[static_cast<size_t>(tx) * hs + y] = static_cast<int32_t>(s);
+      }
+      if ((y - y_edges[band]) % 256 == 255) flush(band);
+    }
+    flush(band);
+  }
   for (int ty = 0; ty < t; ++ty)
     for (int tx = 0; tx < t; ++tx) {
-      const int x0 = tx * W / t, x1 = (tx + 1) * W / t, y0 = ty * H / t, y1 = (ty + 1) * H / t;
+      const int x0 = x_edges[tx], x1 = x_edges[tx + 1], y0 = y_edges[ty], y1 = y_edges[ty + 1];
       std::vector<float> cols((x1 - x0) / bin), rows((y1 - y0) / bin);
-      {
-        const cv::Mat tile = grey(cv::Rect(x0, y0, x1 - x0, y1 - y0));
-        cv::reduce(tile, col_sums, 0, cv::REDUCE_SUM, CV_32S);
-        cv::reduce(tile, row_sums, 1, cv::REDUCE_SUM, CV_32S);
-        const int* c = col_sums.ptr<int>(0);
-        for (size_t i = 0; i < cols.size(); ++i) {
-          int s = 0;
-          for (int k = 0; k < bin; ++k) s += c[i * bin + k];
-          cols[i] = static_cast<float>(s) / static_cast<float>(bin * (y1 - y0));
-        }
-        for (size_t j = 0; j < rows.size(); ++j) {
-          int s = 0;
-          for (int k = 0; k < bin; ++k) s += row_sums.at<int>(static_cast<int>(j) * bin + k, 0);
-          rows[j] = static_cast<float>(s) / static_cast<float>(bin * (x1 - x0));
-        }
+      const int band_rows = y1 - y0;
+      const int32_t* c = &col_sums[static_cast<size_t>(ty) * W];
+      for (size_t i = 0; i < cols.size(); ++i) {
+        int s = 0;
+        for (int k = 0; k < bin; ++k) s += c[x0 + static_cast<int>(i) * bin + k];
+        cols[i] = static_cast<float>(s) / static_cast<float>(bin * band_rows);
+      }
+      const int32_t* r = &row_sums[static_cast<size_t>(tx) * hs];
+      for (size_t j = 0; j < rows.size(); ++j) {
+        int s = 0;
+        for (int k = 0; k < bin; ++k) s += r[y0 + static_cast<int>(j) * bin + k];
+        rows[j] = static_cast<float>(s) / static_cast<float>(bin * (x1 - x0));
       }
       // Where the ball may be, the tile's columns and rows are not the scene's: unknown.
       const cv::Rect2d ball = ignore & cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
@@ -136,9 +221,11 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
 namespace {
 
 std::vector<TileShift> TileShifts(const std::vector<std::vector<float>>& a,
-                                  const std::vector<std::vector<float>>& b, const CameraMotionParams& params) {
+                                  const std::vector<std::vector<float>>& b, const CameraMotionParams& params,
+                                  int expected) {
   std::vector<TileShift> out(std::min(a.size(), b.size()));
-  for (size_t k = 0; k < out.size(); ++k) out[k] = BestShift(a[k], b[k], params.max_shift_bins, params.min_texture);
+  for (size_t k = 0; k < out.size(); ++k)
+    out[k] = BestShift(a[k], b[k], params.max_shift_bins, params.min_texture, expected);
   return out;
 }
 
@@ -182,11 +269,11 @@ std::vector<bool> Disagreeing(const std::vector<TileShift>& tiles, const AxisShi
 }  // namespace
 
 PictureMotion MeasurePictureMotion(const CameraProfiles& a, const CameraProfiles& b,
-                                   const CameraMotionParams& params) {
+                                   const CameraMotionParams& params, cv::Point expected) {
   PictureMotion out;
   if (a.size != b.size || a.columns.size() != b.columns.size()) return out;
-  const std::vector<TileShift> tx = TileShifts(a.columns, b.columns, params);
-  const std::vector<TileShift> ty = TileShifts(a.rows, b.rows, params);
+  const std::vector<TileShift> tx = TileShifts(a.columns, b.columns, params, expected.x);
+  const std::vector<TileShift> ty = TileShifts(a.rows, b.rows, params, expected.y);
   const std::vector<bool> none(tx.size(), false);
   // Each axis on its own first; then each again without the tiles the other axis says
   // something else moved in (a tile of vertical stripes tells dx only: it is kept).
@@ -197,6 +284,7 @@ PictureMotion MeasurePictureMotion(const CameraProfiles& a, const CameraProfiles
 }
 
 void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore) {
+  if (!moving_ && frames_++ % std::max(1, params_.still_every) != 0) return;
   CameraProfiles now = CameraProfilesOf(frame, params_, ignore);
   if (reference_.empty() || reference_.size != now.size) {
     // The first frame (or a new picture size): the scene as it is measured against.
@@ -205,7 +293,11 @@ void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore) {
     ref_dx_ = dx_, ref_dy_ = dy_;
     return;
   }
-  const PictureMotion m = MeasurePictureMotion(reference_, now, params_);
+  // Where the last frame was against the reference: this one is near it, most often.
+  const double bin = now.bin;
+  const cv::Point expected(static_cast<int>(std::lround((dx_ - ref_dx_) / bin)),
+                           static_cast<int>(std::lround((dy_ - ref_dy_) / bin)));
+  const PictureMotion m = MeasurePictureMotion(reference_, now, params_, expected);
   const AxisShift& sx = m.x;
   const AxisShift& sy = m.y;
   if (!moving_) {
@@ -216,7 +308,6 @@ void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore) {
     if (recent_moves_.size() > static_cast<size_t>(params_.trigger_frames)) recent_moves_.pop_front();
     moving_ = std::count(recent_moves_.begin(), recent_moves_.end(), true) >= params_.trigger_moves;
   }
-  const double bin = now.bin;
   // An axis not found against the reference (too far from it, or something crossed it): the
   // previous frame's shift and the step from it; else the previous frame's shift.
   PictureMotion step;

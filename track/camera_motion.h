@@ -32,7 +32,10 @@ struct CameraMotionParams {
                               // (each new reference inherits its frame's error: rarely)
   int rekey_after_failures = 5;  // ... or once it was not found in this many frames in a row
   int trigger_moves = 3;      // the camera moves once this many of ...
-  int trigger_frames = 8;     // ... the last this many frames moved by whole bins
+  int trigger_frames = 8;     // ... the last this many frames measured moved by whole bins
+  int still_every = 2;        // until then, every this many frames is measured (a still camera
+                              // costs half: most are still; every third delayed some
+                              // hand-held clips' first motion too long)
   double min_texture = 0.15;  // a tile's profile must vary this much (mean |step|, luma) to say anything
   int min_agreeing = 3;       // tiles that must agree on one whole shift of an axis ...
   double min_agreeing_share = 0.6;  // ... and this share of the tiles that said anything
@@ -65,8 +68,9 @@ struct PictureMotion {
 };
 // How far b's picture moved against a's (same size, else nothing): each axis by the tiles
 // that agree, without those whose other axis says something else moved in them.
+// `expected`: the shift looked for first, bins (the camera moves little between frames).
 PictureMotion MeasurePictureMotion(const CameraProfiles& a, const CameraProfiles& b,
-                                   const CameraMotionParams& params = {});
+                                   const CameraMotionParams& params = {}, cv::Point expected = {});
 
 class CameraMotion {
  public:
@@ -94,6 +98,7 @@ class CameraMotion {
   double dx_ = 0, dy_ = 0;
   bool moving_ = false;
   long unmeasured_ = 0;
+  long frames_ = 0;
   double max_offset_ = 0;
 };
 
