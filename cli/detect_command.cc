@@ -142,6 +142,9 @@ void RunDetect(const DetectOptions& o) {
               static_cast<long long>(st.peaks), static_cast<long long>(st.calibrations),
               static_cast<long long>(bus.decode_failures()),
               static_cast<long long>(st.rejected + bus.handler_failures()), st.detect_s);
+  if (bus.decode_failures() > 0 && st.boxes == 0)
+    std::fprintf(stderr, "detect: warning: no BALL_BOX message could be decoded: sent or recorded by another "
+                         "version of bouncefit? (ball_box_t gained camera_dx, camera_dy on 28 Nov 2026)\n");
   std::fflush(stdout);
   if (!failure.empty()) throw std::runtime_error(failure);
 }
