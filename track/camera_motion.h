@@ -37,11 +37,12 @@ struct CameraMotionParams {
                               // costs half: most are still; every third delayed some
                               // hand-held clips' first motion too long)
   double min_texture = 0.15;  // a tile's profile must vary this much (mean |step|, luma) to say anything
-  int min_agreeing = 3;       // tiles that must agree on one whole shift of an axis ...
+  int min_agreeing = 3;       // tiles that must agree (within a bin) on one shift of an axis ...
   double min_agreeing_share = 0.6;  // ... and this share of the tiles that said anything
 };
 
-// One frame's tile profiles (mean luma per bin, each tile's mean removed).
+// One frame's tile profiles: the steps of the mean luma from bin to bin, smoothed (sigma 1
+// bin); NaN where the ball may be.
 struct CameraProfiles {
   cv::Size size;
   int bin = 1;  // frame pixels per profile bin
@@ -49,9 +50,9 @@ struct CameraProfiles {
   bool empty() const { return columns.empty(); }
 };
 
-// Profiles of a BGR or YUYV frame: `bin` x `bin` cells, every 4th cell across the profile
-// summed (the sums are smooth; the profile's own axis is read whole).
-// Tiles meeting `ignore` get empty profiles.
+// Profiles of a BGR or YUYV frame, every pixel of each tile summed into its column and row
+// sums, binned by `bin` pixels (more bins than pixels / cell_pixels, no). The columns and
+// rows of a tile that meet `ignore` (the ball) are NaN.
 CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params = {},
                                 cv::Rect2d ignore = {});
 
