@@ -51,7 +51,7 @@ struct CameraProfiles {
 };
 
 // Profiles of a BGR or YUYV frame, every pixel of each tile summed into its column and row
-// sums, binned by `bin` pixels (more bins than pixels / cell_pixels, no). The columns and
+// sums, binned by `bin` pixels (the whole part of sqrt(pixels / cell_pixels), at least 1). The columns and
 // rows of a tile that meet `ignore` (the ball) are NaN.
 CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params = {},
                                 cv::Rect2d ignore = {});
