@@ -110,22 +110,13 @@ TEST_P(HeldCamera, ItsMotionIsTakenOutAndEveryApexIsAsAStillCamerasWould) {
       << out;
   EXPECT_NE(out.find("the camera moved"), std::string::npos) << out;
   // Frame by frame (track.csv's camera columns), once the motion is reported.
-  std::ifstream track(o / "track.csv");
-  std::string line;
-  std::getline(track, line);
+  const auto track = testing::ReadCsv(o / "track.csv");
   double worst = 0;
   int compared = 0;
-  for (size_t i = 0; std::getline(track, line) && i < truth.frames.size(); ++i) {
-    double cells[11] = {};
-    size_t at = 0;
-    for (int c = 0; c < 11; ++c) {
-      const size_t comma = line.find(',', at);
-      const std::string cell = line.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
-      cells[c] = cell.empty() ? 0 : std::stod(cell);
-      at = comma == std::string::npos ? line.size() : comma + 1;
-    }
-    if (cells[9] == 0 && cells[10] == 0) continue;  // not reported yet
-    worst = std::max({worst, std::abs(cells[9] - truth.frames[i].camera_dx), std::abs(cells[10] - truth.frames[i].camera_dy)});
+  for (size_t i = 0; i < track.size() && i < truth.frames.size(); ++i) {
+    const double dx = std::stod(track[i].at("camera_dx_px")), dy = std::stod(track[i].at("camera_dy_px"));
+    if (dx == 0 && dy == 0) continue;  // not reported yet
+    worst = std::max({worst, std::abs(dx - truth.frames[i].camera_dx), std::abs(dy - truth.frames[i].camera_dy)});
     ++compared;
   }
   EXPECT_GT(compared, static_cast<int>(truth.frames.size()) - 8) << out;

@@ -22,6 +22,7 @@ namespace bouncefit {
 namespace {
 
 using testing::BouncefitExe;
+using testing::ReadCsv;
 using testing::RunCommand;
 namespace fs = std::filesystem;
 
@@ -41,28 +42,6 @@ const fs::path& PingPongClip() {
   return clip;
 }
 
-std::vector<std::map<std::string, std::string>> ReadCsv(const fs::path& path) {
-  std::ifstream f(path);
-  std::string line;
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  auto split = [](const std::string& s) {
-    std::vector<std::string> cells;
-    std::stringstream ss(s);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (!s.empty() && s.back() == ',') cells.push_back("");
-    return cells;
-  };
-  if (std::getline(f, line)) header = split(line);
-  while (std::getline(f, line)) {
-    const auto cells = split(line);
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < header.size(); ++i) row[header[i]] = i < cells.size() ? cells[i] : "";
-    rows.push_back(row);
-  }
-  return rows;
-}
 
 TEST(Run, WritesTheOutputDirectoryWithPeaksThatMatchTruth) {
   const fs::path dir = testing::ScratchDir("run_outputs") / "out";

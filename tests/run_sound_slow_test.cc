@@ -20,33 +20,10 @@ namespace bouncefit {
 namespace {
 
 using testing::BouncefitExe;
+using testing::ReadCsv;
 using testing::RunCommand;
 using testing::ScratchDir;
 
-// A CSV file as rows of column name -> cell.
-std::vector<std::map<std::string, std::string>> ReadCsv(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::vector<std::map<std::string, std::string>> rows;
-  std::string line;
-  std::vector<std::string> header;
-  auto split = [](const std::string& l) {
-    std::vector<std::string> cells;
-    std::stringstream ss(l);
-    std::string c;
-    while (std::getline(ss, c, ',')) cells.push_back(c);
-    if (!l.empty() && l.back() == ',') cells.push_back("");
-    return cells;
-  };
-  if (!std::getline(in, line)) return rows;
-  header = split(line);
-  while (std::getline(in, line)) {
-    const auto cells = split(line);
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  return rows;
-}
 
 double Num(const std::map<std::string, std::string>& row, const std::string& col) {
   const auto it = row.find(col);

@@ -7,6 +7,8 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 
 namespace bouncefit::testing {
 
@@ -49,6 +51,29 @@ std::filesystem::path RealClipsDir() {
 std::string UniqueUdpmUrl() {
   const int port = 20000 + static_cast<int>(::getpid() % 20000);
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
+}
+
+std::vector<std::map<std::string, std::string>> ReadCsv(const std::filesystem::path& path) {
+  std::ifstream f(path);
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  auto split = [](const std::string& s) {
+    std::vector<std::string> cells;
+    std::stringstream ss(s);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (!s.empty() && s.back() == ',') cells.push_back("");
+    return cells;
+  };
+  if (std::getline(f, line)) header = split(line);
+  while (std::getline(f, line)) {
+    const auto cells = split(line);
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < header.size(); ++i) row[header[i]] = i < cells.size() ? cells[i] : "";
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 }  // namespace bouncefit::testing

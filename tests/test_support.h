@@ -1,7 +1,9 @@
 #pragma once
 // Helpers shared by the tests: paths, a scratch directory, running the CLI.
 #include <filesystem>
+#include <map>
 #include <string>
+#include <vector>
 
 namespace bouncefit::testing {
 
@@ -22,5 +24,9 @@ std::filesystem::path RealClipsDir();
 
 // A UDP multicast URL with ttl=0 on a port unique to this process, so tests never collide.
 std::string UniqueUdpmUrl();
+
+// A CSV file with a header line (a run's track.csv, peaks.csv, impacts.csv) as rows of
+// column name -> cell; a cell a line lacks is "".
+std::vector<std::map<std::string, std::string>> ReadCsv(const std::filesystem::path& path);
 
 }  // namespace bouncefit::testing
