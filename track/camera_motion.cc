@@ -134,7 +134,6 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
   // detection of a few shaken copies) in one pass: into each band of tiles' column sums and
   // each row's sum per column of tiles, in 16 bits for up to 256 rows (columns) and 128 steps
   // of 16 (rows), then in 32.
-  const int hs = H;
   thread_local cv::Mat grey;
   if (frame.format == PixelFormat::kYuyv)
     cv::extractChannel(frame.image, grey, 0);
@@ -143,7 +142,7 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
   thread_local std::vector<int32_t> col_sums, row_sums;
   thread_local std::vector<uint16_t> col16;
   col_sums.assign(static_cast<size_t>(t) * W, 0);
-  row_sums.assign(static_cast<size_t>(t) * hs, 0);
+  row_sums.assign(static_cast<size_t>(t) * H, 0);
   col16.assign(static_cast<size_t>(W), 0);
   std::vector<int> x_edges(t + 1), y_edges(t + 1);
   for (int k = 0; k <= t; ++k) x_edges[k] = k * W / t, y_edges[k] = k * H / t;
@@ -173,7 +172,7 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
         }
 #endif
         for (; i < i1; ++i) col16[i] += p[i], s += p[i];
-        row_sums[static_cast<size_t>(tx) * hs + y] = static_cast<int32_t>(s);
+        row_sums[static_cast<size_t>(tx) * H + y] = static_cast<int32_t>(s);
       }
       if ((y - y_edges[band]) % 256 == 255) flush(band);
     }
@@ -190,7 +189,7 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
         for (int k = 0; k < bin; ++k) s += c[x0 + static_cast<int>(i) * bin + k];
         cols[i] = static_cast<float>(s) / static_cast<float>(bin * band_rows);
       }
-      const int32_t* r = &row_sums[static_cast<size_t>(tx) * hs];
+      const int32_t* r = &row_sums[static_cast<size_t>(tx) * H];
       for (size_t j = 0; j < rows.size(); ++j) {
         int s = 0;
         for (int k = 0; k < bin; ++k) s += r[y0 + static_cast<int>(j) * bin + k];
