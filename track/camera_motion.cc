@@ -122,7 +122,8 @@ TileShift BestShift(const std::vector<float>& a, const std::vector<float>& b, in
 
 }  // namespace
 
-CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params, cv::Rect2d ignore) {
+CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params, cv::Rect2d ignore,
+                                const cv::Mat* luma) {
   CameraProfiles out;
   const int W = frame.image.cols, H = frame.image.rows, t = params.tiles;
   out.size = frame.image.size();
@@ -134,11 +135,15 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
   // detection of a few shaken copies) in one pass: into each band of tiles' column sums and
   // each row's sum per column of tiles, in 16 bits for up to 256 rows (columns) and 128 steps
   // of 16 (rows), then in 32.
-  thread_local cv::Mat grey;
-  if (frame.format == PixelFormat::kYuyv)
-    cv::extractChannel(frame.image, grey, 0);
-  else
-    cv::cvtColor(frame.image, grey, cv::COLOR_BGR2GRAY);
+  thread_local cv::Mat converted;
+  if (!luma || luma->size() != frame.image.size() || luma->type() != CV_8U) {
+    if (frame.format == PixelFormat::kYuyv)
+      cv::extractChannel(frame.image, converted, 0);
+    else
+      cv::cvtColor(frame.image, converted, cv::COLOR_BGR2GRAY);
+    luma = &converted;
+  }
+  const cv::Mat& grey = *luma;
   thread_local std::vector<int32_t> col_sums, row_sums;
   thread_local std::vector<uint16_t> col16;
   col_sums.assign(static_cast<size_t>(t) * W, 0);
@@ -282,9 +287,9 @@ PictureMotion MeasurePictureMotion(const CameraProfiles& a, const CameraProfiles
   return out;
 }
 
-void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore) {
+void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore, const cv::Mat* luma) {
   if (!moving_ && frames_++ % std::max(1, params_.still_every) != 0) return;
-  CameraProfiles now = CameraProfilesOf(frame, params_, ignore);
+  CameraProfiles now = CameraProfilesOf(frame, params_, ignore, luma);
   if (reference_.empty() || reference_.size != now.size) {
     // The first frame (or a new picture size): the scene as it is measured against.
     reference_ = now;

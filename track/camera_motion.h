@@ -52,9 +52,11 @@ struct CameraProfiles {
 
 // Profiles of a BGR or YUYV frame, every pixel of each tile summed into its column and row
 // sums, binned by `bin` pixels (the whole part of sqrt(pixels / cell_pixels), at least 1). The columns and
-// rows of a tile that meet `ignore` (the ball) are NaN.
+// rows of a tile that meet `ignore` (the ball) are NaN. `luma`: the frame's luma when it was
+// already converted (CV_8U, frame size: cv::COLOR_BGR2GRAY of a BGR frame, the Y bytes of a
+// YUYV one), else converted here.
 CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params = {},
-                                cv::Rect2d ignore = {});
+                                cv::Rect2d ignore = {}, const cv::Mat* luma = nullptr);
 
 // The shift of b's picture against a's along one axis (b shows at x + d what a showed at x),
 // in bins, with the agreement behind it.
@@ -77,8 +79,9 @@ class CameraMotion {
  public:
   explicit CameraMotion(CameraMotionParams params = {}) : params_(params) {}
   // Measures this frame against the reference (the first frame, or a later one).
-  // Tiles that meet `ignore` (the ball, where the tracker expects it) are left out.
-  void Update(const Frame& frame, cv::Rect2d ignore = {});
+  // Tiles that meet `ignore` (the ball, where the tracker expects it) are left out. `luma`:
+  // as for CameraProfilesOf.
+  void Update(const Frame& frame, cv::Rect2d ignore = {}, const cv::Mat* luma = nullptr);
   // What the first frame showed at p this frame shows at p + (dx, dy), frame pixels.
   double dx() const { return moving_ ? dx_ : 0; }
   double dy() const { return moving_ ? dy_ : 0; }

@@ -62,6 +62,8 @@ class LumaContrast {
   double MovedFraction(cv::Rect2f box) const;
 
   const LumaContrastParams& params() const { return params_; }
+  // The last frame's luma (CV_8U; of a YUYV frame, rescaled to full range).
+  const cv::Mat& luma() const { return grey_; }
 
  private:
   static constexpr int kSoftScale = 8;  // the drift and soft-change copies are this much smaller

@@ -91,8 +91,14 @@ BallObservation Tracker::Track(const Frame& frame) {
       throw std::invalid_argument("tracker: ROI lies outside the " + frame_size + " frame");
   }
   ++frames_;
+  // A brightness lock converts the frame to luma first: the camera's profiles reuse it (a
+  // BGR frame's; a YUYV frame's is rescaled there and taken raw here).
+  const long luma_starts = luma_starts_;
+  if (luma_) SetLumaFrame(frame);
   if (config_.follow_camera) {
-    camera_.Update(frame, WhereBallMayBe(static_cast<double>(frame.utime) * 1e-6));
+    const bool shared = luma_ && frame.format != PixelFormat::kYuyv;
+    camera_.Update(frame, WhereBallMayBe(static_cast<double>(frame.utime) * 1e-6),
+                   shared ? &luma_->luma() : nullptr);
     obs.camera_dx = static_cast<float>(camera_.dx());
     obs.camera_dy = static_cast<float>(camera_.dy());
   }
@@ -103,11 +109,12 @@ BallObservation Tracker::Track(const Frame& frame) {
     ++lost_;
     return obs;
   }
-  if (luma_) {
-    const double followed_r = FollowedRadius();
-    luma_->SetFrame(frame, IsCloseUp(followed_r) ? followed_r : 0);
+  // Brightness chosen just now (given, or the automatic choice's).
+  if (luma_ && luma_starts_ != luma_starts) SetLumaFrame(frame);
+  if (luma_ && forget_ball_) {
     // Chosen just now: the ball is in the first background; take it out.
-    if (forget_ball_) luma_->ForgetBall(chosen_.x, chosen_.y, chosen_.r), forget_ball_ = false;
+    luma_->ForgetBall(chosen_.x, chosen_.y, chosen_.r);
+    forget_ball_ = false;
   }
   if (lookalikes_pending_) RememberLookalikes(frame), lookalikes_pending_ = false;
   const double t = static_cast<double>(frame.utime) * 1e-6;
@@ -557,10 +564,16 @@ cv::Rect2d Tracker::WhereBallMayBe(double t) const {
                     std::abs(py - last_cy_) + 2 * m);
 }
 
+void Tracker::SetLumaFrame(const Frame& frame) {
+  const double followed_r = FollowedRadius();
+  luma_->SetFrame(frame, IsCloseUp(followed_r) ? followed_r : 0);
+}
+
 void Tracker::StartLumaMode(int polarity) {
   LumaContrastParams params = config_.luma;
   params.polarity = polarity;
   luma_ = std::make_unique<LumaContrast>(params);
+  ++luma_starts_;
   color_ = LumaContrast::BallModel(params, config_.color);
   how_ = std::string(": brightness, ") + (polarity > 0 ? "brighter" : polarity < 0 ? "darker" : "brighter or darker") +
          " than a background model by >= " + Fmt("%.0f luma (clamped at %.0f)", params.min_contrast_luma,
