@@ -3,6 +3,9 @@
 // each with the paper's min/max box.
 #include <opencv2/core.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "track/color_model.h"
@@ -19,6 +22,11 @@ struct Blob {
   bool touches_edge = false;  // touches the region's border
   float fill = 0;        // pixels / box area (a disc is ~0.785, a square 1)
 };
+
+// The radius of a disc of the blob's pixels.
+inline double EquivalentRadius(const Blob& b) {
+  return std::sqrt(std::max(b.pixels, 1) / std::numbers::pi);
+}
 
 struct SegmenterParams {
   double min_box_px = 4;    // blobs whose box side is smaller are ignored, pixels

@@ -12,19 +12,11 @@
 
 namespace bouncefit {
 
-namespace {
-
-double EquivalentRadius(const Blob& b) {
-  return std::sqrt(std::max(b.pixels, 1) / std::numbers::pi);
-}
-
-std::string Fmt(const char* fmt, double a, double b) {
+std::string Tracker::Fmt(const char* fmt, double a, double b) {
   char buf[96];
   std::snprintf(buf, sizeof buf, fmt, a, b);
   return buf;
 }
-
-}  // namespace
 
 bool TrackerConfig::IsValid(std::string* error) const {
   auto fail = [&](const std::string& why) {
@@ -200,150 +192,6 @@ bool Tracker::ChooseColor(const Frame& frame) {
   anchor_ = color_;
   if (!luma_) how_ += ": " + color_.ToString();
   return true;
-}
-
-bool Tracker::AutoChoose(const Frame& frame) {
-  const double t = static_cast<double>(frame.utime) * 1e-6;
-  const auto cands = finder_.Find(frame, roi_);
-  still_finder_.Remember(frame, roi_);
-  for (const BallCandidate& c : cands)
-    if (!Rejected(c, t)) {
-      Adopt(c);
-      return true;
-    }
-  if (how_.rfind("automatic: dropped", 0) != 0)
-    how_ = "automatic: waiting for a round blob that moves and stands out of its surroundings";
-  return false;
-}
-
-bool Tracker::Rejected(const BallCandidate& c, double t) const {
-  for (const RejectedLock& r : rejected_)
-    if (t < r.until_t && std::hypot(c.x - r.x, c.y - r.y) < 1.5 * std::max(r.r, c.r) + 4) return true;
-  return false;
-}
-
-void Tracker::Adopt(const BallCandidate& c) {
-  chosen_ = c;
-  auto_ = true;
-  last_review_t_ = -1e9;  // a new choice is reviewed at once (pingpong_white: a wrong one)
-  last_found_t_ = c.t;
-  has_seed_ = true;
-  arc_.Reset();
-  predictor_.Reset();
-  radius_ = 0;
-  lost_ = 1 << 20;
-  distractors_.clear();
-  last_candidates_.clear();
-  luma_.reset();
-  ++choices_;
-  if (c.by_luma) {
-    StartLumaMode(c.polarity);
-    forget_ball_ = true;
-    how_ = "automatic: " + c.Why() + how_;
-  } else {
-    color_ = c.color;
-    lookalikes_pending_ = true;
-    how_ = "automatic: " + c.Why() + ": " + color_.ToString();
-  }
-  anchor_ = color_;
-}
-
-void Tracker::RememberLookalikes(const Frame& frame) {
-  Planes(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
-  cv::Mat mask;
-  for (const Blob& b : SegmentBlobs(wide_, color_, SegmentParamsFor(chosen_.r), &mask)) {
-    const double r = EquivalentRadius(b);
-    if (std::hypot(b.centroid.x - chosen_.x, b.centroid.y - chosen_.y) < 2 * (r + chosen_.r)) continue;
-    if (distractors_.size() < 32) distractors_.push_back({b.centroid, static_cast<float>(r), true});
-  }
-}
-
-void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
-  const double t = static_cast<double>(frame.utime) * 1e-6;
-  if (obs.found) last_found_t_ = t;
-  if (obs.found && arc_.Add(t, obs.cx - cam_x_, obs.cy - cam_y_, obs.radius_px)) {
-    auto_ = false;
-    how_ += Fmt("; confirmed at %.2f s: its track became a ballistic arc", t, 0);
-    if (choices_ > 1) how_ += Fmt(" (choice %.0f)", static_cast<double>(choices_), 0);
-    return;
-  }
-  const double here_x = obs.found ? obs.cx : last_cx_, here_y = obs.found ? obs.cy : last_cy_;
-  const double here_r = std::max(radius_, chosen_.r);
-  std::string drop;
-  if (arc_.moving_s() > config_.auto_drop_moving_s)
-    drop = Fmt("moved for %.1f s without a ballistic arc", arc_.moving_s(), 0);
-  else if (t - last_found_t_ > config_.auto_drop_lost_s)
-    drop = Fmt("not seen for %.1f s", t - last_found_t_, 0);
-  const bool still = obs.found && arc_.RecentTravel(0.2) < 0.5 * here_r;
-  // A lock that holds, moves and has its colour looks at no candidate below: the finder only
-  // keeps its history then (the search is most of the tracking time until a lock confirms).
-  // One that follows brightness looks every frame (the same ball may show a colour of its
-  // own, and the sooner the better); one that stands still (a ball held before the drop, or
-  // a decoy while the ball is held), every auto_review_s.
-  const bool by_luma = obs.found && chosen_.by_luma;
-  const bool due = t - last_review_t_ >= config_.auto_review_s;
-  if (drop.empty() && !by_luma && (!still || !due)) {
-    finder_.Remember(frame, roi_);
-    still_finder_.Remember(frame, roi_);
-    return;
-  }
-  last_review_t_ = t;
-  // With the lock holding, a review only asks whether something else moves like a ball (a
-  // still lock) or the same ball shows a colour of its own (a brightness lock). Smaller
-  // frames look first: only a candidate there that could matter (elsewhere, a quarter of the
-  // strength a switch needs; by colour, near a brightness lock) sends the finder to its own
-  // size, which decides as always.
-  if (drop.empty()) {
-    bool worth_a_look = false;
-    for (const BallCandidate& c : still_finder_.Find(frame, roi_)) {
-      const double d = std::hypot(c.x - here_x, c.y - here_y), near = 3 * std::max(here_r, c.r);
-      worth_a_look = worth_a_look || (by_luma && !c.by_luma && d < 1.5 * near) ||
-                     (still && !Rejected(c, t) && d >= near && c.score >= 0.25 * 0.5 * chosen_.score);
-    }
-    if (!worth_a_look) {
-      finder_.Remember(frame, roi_);
-      return;
-    }
-  } else {
-    still_finder_.Remember(frame, roi_);
-  }
-  const std::vector<BallCandidate> found = finder_.Find(frame, roi_);
-  for (const BallCandidate& c : found) {
-    const bool same = std::hypot(c.x - here_x, c.y - here_y) < 3 * std::max(here_r, c.r);
-    if (obs.found && chosen_.by_luma && !c.by_luma && SameAsLock(c, here_x, here_y, here_r)) {
-      // The same ball, now with a colour of its own against its surroundings: colour
-      // segments it better than a background model.
-      Adopt(c);
-      return;
-    }
-    if (Rejected(c, t) || same) continue;
-    if (drop.empty() && !(still && c.score >= 0.5 * chosen_.score)) break;
-    // The lock failed, or stands still while something else moves like a ball: switch.
-    if (!drop.empty())
-      rejected_.push_back({here_x, here_y, here_r, t + config_.auto_reject_s});
-    ++dropped_locks_;
-    Adopt(c);
-    return;
-  }
-  if (drop.empty()) return;
-  rejected_.push_back({here_x, here_y, here_r, t + config_.auto_reject_s});
-  ++dropped_locks_;
-  auto_ = false;
-  color_ = ColorModel();
-  luma_.reset();
-  predictor_.Reset();
-  lost_ = 1 << 20;
-  how_ = "automatic: dropped the lock at " + Fmt("%.0f,%.0f", here_x, here_y) + " (" + drop + "); waiting for another";
-}
-
-bool Tracker::SameAsLock(const BallCandidate& c, double here_x, double here_y, double here_r) const {
-  // Where the lock was when the finder saw the candidate (its middle frame, a lag before
-  // now, or the newest): a ball falling at 20 fps moves radii a frame, and a patch of colour
-  // three radii from where the lock is now may be six from where it was then.
-  double x = here_x, y = here_y;
-  if (arc_.PositionAt(c.t, &x, &y)) x += cam_x_, y += cam_y_;
-  return std::hypot(c.x - x, c.y - y) < 3 * std::max(here_r, c.r) &&
-         SizeMatches(c.r, here_r);
 }
 
 bool Tracker::SizeMatches(double r, double ref_r) const {

@@ -147,6 +147,7 @@ class Tracker {
   // The predictor's position at t (in the scene) where this frame shows it.
   bool PredictInFrame(double t, double* x, double* y, double* speed = nullptr) const;
   void StartLumaMode(int polarity);
+  static std::string Fmt(const char* fmt, double a, double b);  // snprintf of two numbers
   void SetLumaFrame(const Frame& frame);  // the brightness lock's per-frame start
   long luma_starts_ = 0;                  // brightness locks started (a new one needs its frame)
 
