@@ -44,6 +44,8 @@ bool TrackerConfig::IsValid(std::string* error) const {
   if (luma.min_contrast_luma <= 0 || luma.clamp_luma <= luma.min_contrast_luma)
     return fail("luma contrast limits must satisfy 0 < min < clamp");
   if (luma.background_rate <= 0 || luma.background_rate > 1) return fail("background rate must be in (0, 1]");
+  if (!(luma_contrast_share > 0) || !(luma_min_scale > 0 && luma_min_scale <= 1))
+    return fail("luma contrast share must be > 0 and its least scale in (0, 1]");
   return true;
 }
 
@@ -417,9 +419,17 @@ void Tracker::SetLumaFrame(const Frame& frame) {
   luma_->SetFrame(frame, IsCloseUp(followed_r) ? followed_r : 0);
 }
 
-void Tracker::StartLumaMode(int polarity) {
+void Tracker::StartLumaMode(int polarity, double contrast_luma) {
   LumaContrastParams params = config_.luma;
   params.polarity = polarity;
+  // A ball that stands out of its surroundings by little (a white ball on a pale wall, a
+  // camera's flat tone curve) stands out of the background model by about half as much: the
+  // thresholds scale down with it, to a floor above the noise.
+  const double scale = contrast_luma > 0 ? std::clamp(config_.luma_contrast_share * contrast_luma /
+                                                          params.min_contrast_luma, config_.luma_min_scale, 1.0)
+                                         : 1.0;
+  params.min_contrast_luma *= scale;
+  params.clamp_luma *= scale;
   luma_ = std::make_unique<LumaContrast>(params);
   ++luma_starts_;
   color_ = LumaContrast::BallModel(params, config_.color);

@@ -45,6 +45,9 @@ struct TrackerConfig {
   bool luma_mode = false;
   LumaContrastParams luma;
   int luma_still_frames = 15;       // a ball still for longer may fade into the background
+  double luma_contrast_share = 0.35;  // a brightness lock's threshold: this share of the contrast
+                                      // the finder saw, if below luma.min_contrast_luma ...
+  double luma_min_scale = 0.4;        // ... down to this share of it (its clamp scales alike)
   // Region of interest, pixels; width or height 0 = whole frame.
   int roi_x = 0, roi_y = 0, roi_w = 0, roi_h = 0;
 
@@ -146,7 +149,8 @@ class Tracker {
   cv::Rect2d WhereBallMayBe(double t) const;
   // The predictor's position at t (in the scene) where this frame shows it.
   bool PredictInFrame(double t, double* x, double* y, double* speed = nullptr) const;
-  void StartLumaMode(int polarity);
+  // `contrast_luma`: how far the ball stands out of its surroundings (the finder's), 0: unknown.
+  void StartLumaMode(int polarity, double contrast_luma = 0);
   static std::string Fmt(const char* fmt, double a, double b);  // snprintf of two numbers
   void SetLumaFrame(const Frame& frame);  // the brightness lock's per-frame start
   long luma_starts_ = 0;                  // brightness locks started (a new one needs its frame)

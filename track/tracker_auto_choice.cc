@@ -44,7 +44,7 @@ void Tracker::Adopt(const BallCandidate& c) {
   luma_.reset();
   ++choices_;
   if (c.by_luma) {
-    StartLumaMode(c.polarity);
+    StartLumaMode(c.polarity, c.contrast);
     forget_ball_ = true;
     how_ = "automatic: " + c.Why() + how_;
   } else {
