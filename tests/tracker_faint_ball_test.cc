@@ -10,6 +10,7 @@
 
 #include <cmath>
 
+#include "tests/tracker_test_util.h"
 #include "track/tracker.h"
 
 namespace bouncefit {
@@ -33,16 +34,8 @@ FaintRun TrackFaintBall(double contrast) {
   for (int i = 0; i < 150; ++i) {
     const double x = x0 + 0.5 * i;
     cv::Mat img(600, 640, CV_8UC3, cv::Scalar(200, 200, 200));
-    cv::circle(img, cv::Point(static_cast<int>(std::lround(x * 16)), static_cast<int>(std::lround(y * 16))),
-               static_cast<int>(r * 16), cv::Scalar::all(200 + contrast), cv::FILLED, cv::LINE_AA, 4);
-    cv::Mat noise(img.size(), CV_8UC3);
-    rng.fill(noise, cv::RNG::NORMAL, 0, 2);
-    img += noise;
-    Frame f;
-    f.image = img;
-    f.index = i;
-    f.utime = static_cast<int64_t>(std::llround(i / fps * 1e6));
-    const BallObservation o = tracker.Track(f);
+    testing::DrawBall(img, x, y, r, cv::Scalar::all(200 + contrast));
+    const BallObservation o = tracker.Track(testing::DrawnFrame(img, i, fps, rng));
     chosen = chosen || o.found;
     if (chosen) {
       ++run.frames_after_choice;

@@ -30,16 +30,8 @@ TEST(TrackerMergedBlob, ASlowBallJoinedByAPatchOfItsColourIsFoundByItsRim) {
     if (patch)
       cv::ellipse(img, cv::Point2d(x + 0.4 * r, y + 0.85 * r), cv::Size2d(2.6 * r, 0.45 * r), 0, 0, 360,
                   ball_colour, cv::FILLED, cv::LINE_AA);
-    cv::circle(img, cv::Point(static_cast<int>(std::lround(x * 16)), static_cast<int>(std::lround(y * 16))),
-               static_cast<int>(r * 16), ball_colour, cv::FILLED, cv::LINE_AA, 4);
-    cv::Mat noise(img.size(), CV_8UC3);
-    rng.fill(noise, cv::RNG::NORMAL, 0, 2);
-    img += noise;
-    Frame f;
-    f.image = img;
-    f.index = i;
-    f.utime = static_cast<int64_t>(std::llround(i / fps * 1e6));
-    const BallObservation o = tracker.Track(f);
+    testing::DrawBall(img, x, y, r, ball_colour);
+    const BallObservation o = tracker.Track(testing::DrawnFrame(img, i, fps, rng));
     if (!patch) continue;
     ++joined;
     if (!o.found) continue;

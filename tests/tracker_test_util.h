@@ -33,6 +33,25 @@ struct TrackScore {
   std::vector<BallObservation> obs;
 };
 
+// A disc drawn with sub-pixel centre and radius (OpenCV's 4 fractional bits, antialiased).
+inline void DrawBall(cv::Mat& img, double x, double y, double r, const cv::Scalar& bgr) {
+  cv::circle(img, cv::Point(static_cast<int>(std::lround(x * 16)), static_cast<int>(std::lround(y * 16))),
+             static_cast<int>(r * 16), bgr, cv::FILLED, cv::LINE_AA, 4);
+}
+
+// A drawn picture as the tracker gets it: sensor noise added (drawn into 8 bits by `rng`, so
+// its positive half, sigma in grey levels), stamped as frame `index` of a clip at `fps`.
+inline Frame DrawnFrame(cv::Mat img, int index, double fps, cv::RNG& rng, double noise_sigma = 2) {
+  cv::Mat noise(img.size(), img.type());
+  rng.fill(noise, cv::RNG::NORMAL, 0, noise_sigma);
+  img += noise;
+  Frame f;
+  f.image = img;
+  f.index = index;
+  f.utime = static_cast<int64_t>(std::llround(index / fps * 1e6));
+  return f;
+}
+
 // YUYV (limited-range BT.601, chroma of each pixel pair averaged) from a BGR frame, the way a
 // V4L2 camera delivers it.
 inline cv::Mat BgrToYuyv(const cv::Mat& bgr) {
