@@ -87,8 +87,8 @@ BallObservation Tracker::Track(const Frame& frame) {
   ++frames_;
   // A brightness lock converts the frame to luma first: the camera's profiles reuse it (a
   // BGR frame's; a YUYV frame's is rescaled there and taken raw here).
-  const long luma_starts = luma_starts_;
-  if (luma_) SetLumaFrame(frame);
+  const bool had_luma = luma_ != nullptr;
+  if (had_luma) SetLumaFrame(frame);
   if (config_.follow_camera) {
     const bool shared = luma_ && frame.format != PixelFormat::kYuyv;
     camera_.Update(frame, WhereBallMayBe(static_cast<double>(frame.utime) * 1e-6),
@@ -103,8 +103,9 @@ BallObservation Tracker::Track(const Frame& frame) {
     ++lost_;
     return obs;
   }
-  // Brightness chosen just now (given, or the automatic choice's).
-  if (luma_ && luma_starts_ != luma_starts) SetLumaFrame(frame);
+  // Brightness chosen just now (given, or the automatic choice's): a lock that held at the
+  // top has its colour, so ChooseColor did not run and could not replace it.
+  if (luma_ && !had_luma) SetLumaFrame(frame);
   if (luma_ && forget_ball_) {
     // Chosen just now: the ball is in the first background; take it out.
     luma_->ForgetBall(chosen_.x, chosen_.y, chosen_.r);
@@ -431,7 +432,6 @@ void Tracker::StartLumaMode(int polarity, double contrast_luma) {
   params.min_contrast_luma *= scale;
   params.clamp_luma *= scale;
   luma_ = std::make_unique<LumaContrast>(params);
-  ++luma_starts_;
   color_ = LumaContrast::BallModel(params, config_.color);
   how_ = std::string(": brightness, ") + (polarity > 0 ? "brighter" : polarity < 0 ? "darker" : "brighter or darker") +
          " than a background model by >= " + Fmt("%.0f luma (clamped at %.0f)", params.min_contrast_luma,

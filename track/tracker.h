@@ -153,7 +153,6 @@ class Tracker {
   void StartLumaMode(int polarity, double contrast_luma = 0);
   static std::string Fmt(const char* fmt, double a, double b);  // snprintf of two numbers
   void SetLumaFrame(const Frame& frame);  // the brightness lock's per-frame start
-  long luma_starts_ = 0;                  // brightness locks started (a new one needs its frame)
 
   TrackerConfig config_;
   cv::Rect roi_;
