@@ -22,32 +22,27 @@ struct FaintRun {
   std::string describe;
 };
 
-// A grey ball of radius 40 px `contrast` luma brighter than a grey wall, dropped and bouncing
-// (60 fps, 600 px a metre, restitution 0.8), drawn with sub-pixel edges, noise sigma 2.
+// A grey ball of radius 40 px `contrast` luma brighter than a grey wall (testing::DroppedBall),
+// drawn with sub-pixel edges, noise sigma 2.
 FaintRun TrackFaintBall(double contrast) {
   Tracker tracker{TrackerConfig{}};
-  const double fps = 60, g = 9.81 * 600, r = 40, floor_y = 560, x0 = 300;
-  double y = 60, vy = 0;
+  testing::DroppedBall ball;
+  ball.r = 40;
   cv::RNG rng(11);
   FaintRun run;
   bool chosen = false;
-  for (int i = 0; i < 150; ++i) {
-    const double x = x0 + 0.5 * i;
+  for (int i = 0; i < 150; ++i, ball.Step()) {
     cv::Mat img(600, 640, CV_8UC3, cv::Scalar(200, 200, 200));
-    testing::DrawBall(img, x, y, r, cv::Scalar::all(200 + contrast));
-    const BallObservation o = tracker.Track(testing::DrawnFrame(img, i, fps, rng));
+    testing::DrawBall(img, ball.x, ball.y, ball.r, cv::Scalar::all(200 + contrast));
+    const BallObservation o = tracker.Track(testing::DrawnFrame(img, i, ball.kFps, rng));
     chosen = chosen || o.found;
     if (chosen) {
       ++run.frames_after_choice;
       if (o.found) {
         ++run.found;
-        run.worst_px = std::max(run.worst_px, std::hypot(o.cx - x, o.cy - y));
+        run.worst_px = std::max(run.worst_px, std::hypot(o.cx - ball.x, o.cy - ball.y));
       }
     }
-    // The next frame's ball: free fall, a bounce off the floor line.
-    vy += g / fps;
-    y += vy / fps;
-    if (y + r > floor_y && vy > 0) y = 2 * (floor_y - r) - y, vy = -0.8 * vy;
   }
   run.describe = tracker.Describe();
   return run;

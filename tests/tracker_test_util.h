@@ -33,6 +33,21 @@ struct TrackScore {
   std::vector<BallObservation> obs;
 };
 
+// A ball dropped from (300, 60) px in a 640 x 600 frame and bouncing on the line y = 560 (60
+// fps, 600 px a metre, restitution 0.8), drifting 0.5 px a frame sideways: its centre on
+// frame i after i calls of Step().
+struct DroppedBall {
+  double r = 30;
+  double x = 300, y = 60, vy = 0;  // px, px/s
+  static constexpr double kFps = 60, kG = 9.81 * 600, kFloorY = 560;
+  void Step() {
+    x += 0.5;
+    vy += kG / kFps;
+    y += vy / kFps;
+    if (y + r > kFloorY && vy > 0) y = 2 * (kFloorY - r) - y, vy = -0.8 * vy;
+  }
+};
+
 // A disc drawn with sub-pixel centre and radius (OpenCV's 4 fractional bits, antialiased).
 inline void DrawBall(cv::Mat& img, double x, double y, double r, const cv::Scalar& bgr) {
   cv::circle(img, cv::Point(static_cast<int>(std::lround(x * 16)), static_cast<int>(std::lround(y * 16))),

@@ -158,10 +158,13 @@ SegBlob SegmentNear(const cv::Mat& ycc, cv::Point2d centre, double half, IsBall 
 }  // namespace
 
 std::string BallCandidate::Why() const {
-  char buf[200];
+  char buf[256];
+  char colour[80] = "no colour of its own";
+  if (weaker_colour > 0)
+    std::snprintf(colour, sizeof colour, "its colour only %.2f chroma/luma from theirs", weaker_colour);
   if (by_luma)
-    std::snprintf(buf, sizeof buf, "a round blob that moved, %s than its surroundings by %.0f luma (no colour of its own), at %.0f,%.0f, radius %.1f px",
-                  polarity > 0 ? "brighter" : "darker", contrast, x, y, r);
+    std::snprintf(buf, sizeof buf, "a round blob that moved, %s than its surroundings by %.0f luma (%s), at %.0f,%.0f, radius %.1f px",
+                  polarity > 0 ? "brighter" : "darker", contrast, colour, x, y, r);
   else
     std::snprintf(buf, sizeof buf, "a round blob that moved, its colour %.2f chroma/luma from its surroundings' colour, at %.0f,%.0f, radius %.1f px",
                   contrast, x, y, r);
@@ -306,8 +309,14 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
     const double chroma_contrast = std::hypot(ball.nu - around.nu, ball.nv - around.nv);
     const double luma_contrast = ball.y - around.y;
     ColorModel model;
-    if (chroma_contrast >= params_.min_chroma_contrast &&
-        std::hypot(ball.nu, ball.nv) >= params_.min_ball_chroma) {
+    // Followed by what sets it apart the most: a white ball under warm light has a faint tint
+    // that a black cloth lacks, and a far larger step of brightness.
+    const bool has_colour = chroma_contrast >= params_.min_chroma_contrast &&
+                            std::hypot(ball.nu, ball.nv) >= params_.min_ball_chroma;
+    const bool brightness_stronger = std::abs(luma_contrast) / kLumaContrastUnit >=
+                                         2 * chroma_contrast / kChromaContrastUnit &&
+                                     std::abs(luma_contrast) >= params_.min_luma_contrast;
+    if (has_colour && !brightness_stronger) {
       model = ColorModel(ball.nu, ball.nv, color_);
       model.KeepOut(around.nu, around.nv);
       // The ring must not match the ball's colour: a model that takes in the surroundings
@@ -318,6 +327,7 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
       c.by_luma = true;
       c.polarity = luma_contrast > 0 ? 1 : -1;
       c.contrast = std::abs(luma_contrast);
+      if (has_colour) c.weaker_colour = chroma_contrast;
     } else {
       continue;
     }

@@ -38,6 +38,8 @@ struct BallCandidate {
   int polarity = 0;            // by_luma: +1 brighter than its surroundings, -1 darker
   ColorModel color;            // !by_luma: its colour
   double contrast = 0;         // against its surroundings: chroma/luma, or luma 0-255
+  double weaker_colour = 0;    // by_luma: the colour it has, chroma/luma from its surroundings'
+                               // (a step of brightness twice as large, in units of each, won)
   double roundness = 0;        // 0-1
   double score = 0;            // roundness x contrast x sqrt(area), frame pixels
   std::string Why() const;     // "moving round blob, colour ... against its surroundings ..."

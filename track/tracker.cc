@@ -310,6 +310,10 @@ bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
   for (size_t i = 0; i < order.size() && i < 3; ++i) {
     const Blob& b = blobs[order[i].second];
     const double r = EquivalentRadius(b);
+    // A ball the frame's border cuts shows a cap whose chord along the border is as long as
+    // its radius once the cap is an eighth of a radius deep; a shorter sliver there (a glint at
+    // the top of the frame while the ball falls at its bottom) is not taken for the ball.
+    if (radius_ > 0 && CutByRoiBorder(b.box) && std::max(b.box.width, b.box.height) < radius_) continue;
     if (TryWindow(frame, b.centroid, 1.6 * r + 10, r + 4, obs)) {
       for (const auto& [s, k] : order) {
         const Blob& o = blobs[k];
