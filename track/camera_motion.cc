@@ -120,18 +120,30 @@ TileShift BestShift(const std::vector<float>& a, const std::vector<float>& b, in
   return BestIn(cost, max_shift, -max_shift, max_shift);
 }
 
-// A row added into 16-bit column sums, and a run of bytes summed: whole rows, so that the
-// compiler's vector loop covers a narrow tile's columns too (a tile 43 px wide left a quarter
-// of its pixels to a scalar tail); sixteen or thirty-two bytes a step where AVX2 is there.
-__attribute__((target_clones("avx2", "default")))
+// A row added into 16-bit column sums, and a run of bytes summed: whole rows, so that a
+// narrow tile's columns are summed sixteen at a time too (a tile 43 px wide left a quarter of
+// its pixels to a scalar tail); a run's sum by sums of absolute differences from zero.
 void AddBytes(const uint8_t* p, uint16_t* sums, int n) {
-  for (int i = 0; i < n; ++i) sums[i] = static_cast<uint16_t>(sums[i] + p[i]);
+  int i = 0;
+#if CV_SIMD128
+  for (; i + 16 <= n; i += 16) {
+    cv::v_uint16x8 lo, hi;
+    cv::v_expand(cv::v_load(p + i), lo, hi);
+    cv::v_store(sums + i, cv::v_load(sums + i) + lo);
+    cv::v_store(sums + i + 8, cv::v_load(sums + i + 8) + hi);
+  }
+#endif
+  for (; i < n; ++i) sums[i] = static_cast<uint16_t>(sums[i] + p[i]);
 }
 
-__attribute__((target_clones("avx2", "default")))
 uint32_t SumBytes(const uint8_t* p, int n) {
   uint32_t s = 0;
-  for (int i = 0; i < n; ++i) s += p[i];
+  int i = 0;
+#if CV_SIMD128
+  const cv::v_uint8x16 zero = cv::v_setzero_u8();
+  for (; i + 16 <= n; i += 16) s += cv::v_reduce_sad(cv::v_load(p + i), zero);
+#endif
+  for (; i < n; ++i) s += p[i];
   return s;
 }
 
