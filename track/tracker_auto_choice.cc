@@ -85,9 +85,10 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   // A lock that holds, moves and has its colour looks at no candidate below: the finder only
   // keeps its history then (the search is most of the tracking time until a lock confirms).
   // One that follows brightness looks every frame (the same ball may show a colour of its
-  // own, and the sooner the better); one that stands still (a ball held before the drop, or
-  // a decoy while the ball is held), every auto_review_s.
-  const bool by_luma = obs.found && chosen_.by_luma;
+  // own, and the sooner the better), unless it had a colour that its brightness outweighed
+  // (the finder sees it so again: its colour is never adopted); one that stands still (a ball
+  // held before the drop, or a decoy while the ball is held), every auto_review_s.
+  const bool by_luma = obs.found && chosen_.by_luma && chosen_.weaker_colour <= 0;
   const bool due = t - last_review_t_ >= config_.auto_review_s;
   if (drop.empty() && !by_luma && (!still || !due)) {
     finder_.Remember(frame, roi_);
