@@ -159,9 +159,8 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
   out.bin = bin;
   // Luma (OpenCV's BT.601 weights), then every row and column of it summed (a subsample
   // aliases: a ruler's ticks, a tiled floor; one row in two on a 1080p clip flipped the
-  // detection of a few shaken copies) in one pass: into each band of tiles' column sums and
-  // each row's sum per column of tiles, in 16 bits for up to 256 rows (columns) and 128 steps
-  // of 16 (rows), then in 32.
+  // detection of a few shaken copies) in one pass: into each band of tiles' column sums (16
+  // bits for up to 256 rows, then 32) and each row's sum per column of tiles.
   thread_local cv::Mat converted;
   if (!luma || luma->size() != frame.image.size() || luma->type() != CV_8U) {
     if (frame.format == PixelFormat::kYuyv)
