@@ -88,9 +88,9 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   // own, and the sooner the better), unless it had a colour that its brightness outweighed
   // (the finder sees it so again: its colour is never adopted); one that stands still (a ball
   // held before the drop, or a decoy while the ball is held), every auto_review_s.
-  const bool by_luma = obs.found && chosen_.by_luma && chosen_.weaker_colour <= 0;
+  const bool looks_for_colour = obs.found && chosen_.by_luma && chosen_.weaker_colour <= 0;
   const bool due = t - last_review_t_ >= config_.auto_review_s;
-  if (drop.empty() && !by_luma && (!still || !due)) {
+  if (drop.empty() && !looks_for_colour && (!still || !due)) {
     finder_.Remember(frame, roi_);
     still_finder_.Remember(frame, roi_);
     return;
@@ -105,7 +105,7 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
     bool worth_a_look = false;
     for (const BallCandidate& c : still_finder_.Find(frame, roi_)) {
       const double d = std::hypot(c.x - here_x, c.y - here_y), near = 3 * std::max(here_r, c.r);
-      worth_a_look = worth_a_look || (by_luma && !c.by_luma && d < 1.5 * near) ||
+      worth_a_look = worth_a_look || (looks_for_colour && !c.by_luma && d < 1.5 * near) ||
                      (still && !Rejected(c, t) && d >= near && c.score >= 0.25 * 0.5 * chosen_.score);
     }
     if (!worth_a_look) {
