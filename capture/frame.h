@@ -3,6 +3,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <memory>
 
 namespace bouncefit {
 
@@ -17,6 +18,14 @@ struct Frame {
   // consumer may keep the image itself, without a copy.
   bool owns_image = false;
   PixelFormat format = PixelFormat::kBgr24;
+  // The source's own luma when it had one before making `image` (a video decoder's Y plane,
+  // CV_8U, the image's size, upright): what a consumer of the picture's brightness may read
+  // instead of converting `image` back. Else empty. Its values as the file stores them: most
+  // often 16-235 (`luma_limited_range`), else 0-255. It may be a view of the decoder's own
+  // picture, which `luma_owner` keeps alive (a copy of the Frame shares it).
+  cv::Mat luma;
+  bool luma_limited_range = false;
+  std::shared_ptr<const void> luma_owner;
   int64_t utime = 0;                   // capture time, microseconds (stream or driver clock)
   int64_t index = 0;                   // frames delivered so far by this source, from 0
   int64_t sequence = 0;                // source's own sequence number; gaps are dropped frames

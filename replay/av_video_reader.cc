@@ -11,6 +11,7 @@ extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <libavutil/display.h>
+#include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 }
 
@@ -94,6 +95,11 @@ void AvVideoReader::Close() {
 }
 
 bool AvVideoReader::Read(cv::Mat* bgr, double* pts_ms) {
+  return Read(bgr, pts_ms, nullptr, nullptr, nullptr);
+}
+
+bool AvVideoReader::Read(cv::Mat* bgr, double* pts_ms, cv::Mat* luma, bool* limited_range,
+                         std::shared_ptr<const void>* owner) {
   int drain_errors = 0;
   for (;;) {
     int r = avcodec_receive_frame(codec_, picture_);
@@ -102,6 +108,7 @@ bool AvVideoReader::Read(cv::Mat* bgr, double* pts_ms) {
       *pts_ms = ts == AV_NOPTS_VALUE ? std::numeric_limits<double>::quiet_NaN()
                                      : (ts - start_) * time_base_s_ * 1000.0;
       const bool ok = ToBgr(bgr);
+      if (ok && luma) LumaOf(luma, limited_range, owner);
       av_frame_unref(picture_);
       if (ok) return true;
       ++damaged_;
@@ -155,6 +162,28 @@ bool AvVideoReader::ToBgr(cv::Mat* bgr) {
   if (sws_scale(sws_, picture_->data, picture_->linesize, 0, h, dst, dst_step) != h) return false;
   cv::Mat(h, w, CV_8UC3, padded_.data, padded_.step[0]).copyTo(*bgr);
   return true;
+}
+
+void AvVideoReader::LumaOf(cv::Mat* luma, bool* limited_range, std::shared_ptr<const void>* owner) const {
+  luma->release();
+  owner->reset();
+  const AVPixFmtDescriptor* d = av_pix_fmt_desc_get(static_cast<AVPixelFormat>(picture_->format));
+  const bool has_y = d && !(d->flags & (AV_PIX_FMT_FLAG_RGB | AV_PIX_FMT_FLAG_PAL | AV_PIX_FMT_FLAG_HWACCEL)) &&
+                     d->nb_components >= 1 && d->comp[0].plane == 0 && d->comp[0].step == 1 &&
+                     d->comp[0].depth == 8 && d->comp[0].shift == 0 && d->comp[0].offset == 0 &&
+                     picture_->linesize[0] > 0;
+  if (!has_y) return;
+  AVFrame* ref = av_frame_clone(picture_);  // a new reference to the same buffers
+  if (!ref) return;
+  *owner = std::shared_ptr<const void>(ref, [](const void* p) {
+    AVFrame* f = const_cast<AVFrame*>(static_cast<const AVFrame*>(p));
+    av_frame_free(&f);
+  });
+  *luma = cv::Mat(ref->height, ref->width, CV_8U, ref->data[0], static_cast<size_t>(ref->linesize[0]));
+  const AVPixelFormat f = static_cast<AVPixelFormat>(picture_->format);
+  const bool full = picture_->color_range == AVCOL_RANGE_JPEG || f == AV_PIX_FMT_YUVJ420P ||
+                    f == AV_PIX_FMT_YUVJ422P || f == AV_PIX_FMT_YUVJ444P || f == AV_PIX_FMT_GRAY8;
+  *limited_range = !full;
 }
 
 }  // namespace bouncefit

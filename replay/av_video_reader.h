@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 struct AVCodecContext;
@@ -29,6 +30,12 @@ class AvVideoReader {
   // the stream's start, ms (NaN when the file gives none). False at the end. Damaged packets
   // are skipped and counted (the pictures after them decode again).
   bool Read(cv::Mat* bgr, double* pts_ms);
+  // As Read, and the decoder's own Y plane when the picture has one of 8 bits (planar YUV,
+  // grey; not packed, RGB or deeper): a view of the decoded picture, kept alive by *owner,
+  // not a copy (copying it cost the reading thread more than the tracker saved). Else
+  // `luma` is emptied.
+  bool Read(cv::Mat* bgr, double* pts_ms, cv::Mat* luma, bool* limited_range,
+            std::shared_ptr<const void>* owner);
 
   double fps() const { return fps_; }                   // the stream's frame rate, 0 if unknown
   int64_t frame_count() const { return frame_count_; }  // as the container announces it, -1 if unknown
@@ -39,6 +46,8 @@ class AvVideoReader {
 
  private:
   bool ToBgr(cv::Mat* bgr);
+  // picture_'s Y plane as a view of a new reference to it (see Read).
+  void LumaOf(cv::Mat* luma, bool* limited_range, std::shared_ptr<const void>* owner) const;
   void Close();  // frees what is open (the constructor's failures too)
 
   std::string path_;

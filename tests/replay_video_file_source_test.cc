@@ -160,6 +160,58 @@ TEST(VideoFileSource, FileStoredTurnedComesOutUprightAsAPlayerShowsIt) {
   }
 }
 
+// The decoder's own luma, as a consumer of brightness reads it instead of converting the
+// picture back: upright with the picture, in the range the file says, and still there after
+// the source (and the decoder with it) is gone.
+double MeanAbsDiffToGrey(const Frame& f) {
+  cv::Mat grey, y;
+  cv::cvtColor(f.image, grey, cv::COLOR_BGR2GRAY);
+  f.luma.convertTo(y, CV_32F, f.luma_limited_range ? 255.0 / 219.0 : 1.0,
+                   f.luma_limited_range ? -16.0 * 255.0 / 219.0 : 0.0);
+  grey.convertTo(grey, CV_32F);
+  return cv::mean(cv::abs(y - grey))[0];
+}
+
+TEST(VideoFileSource, FramesCarryTheDecodersOwnLumaUprightAndKeptAlive) {
+  const auto dir = testing::ScratchDir("video_file_source_luma");
+  const std::string plain = (dir / "plain.mp4").string();
+  std::string out;
+  if (testing::RunCommand("ffmpeg -v error -y -f lavfi -i testsrc=size=160x120:rate=30:duration=0.5 "
+                          "-c:v mpeg4 -q:v 2 -pix_fmt yuv420p '" + plain + "'", &out) != 0)
+    GTEST_SKIP() << "ffmpeg cannot write the test clip: " << out;
+  for (int tag : {0, 90, 180, 270}) {
+    std::string path = plain;
+    if (tag != 0) {
+      path = (dir / ("turned" + std::to_string(tag) + ".mov")).string();
+      ASSERT_EQ(testing::RunCommand("ffmpeg -v error -y -i '" + plain + "' -c copy -metadata:s:v:0 rotate=" +
+                                        std::to_string(tag) + " '" + path + "'", &out), 0) << out;
+    }
+    std::vector<Frame> kept;
+    std::vector<cv::Mat> copies;
+    {
+      VideoFileSource source({path, false});
+      while (auto f = source.Next()) {
+        ASSERT_EQ(f->luma.type(), CV_8U) << tag;
+        ASSERT_EQ(f->luma.size(), f->image.size()) << tag;
+        EXPECT_TRUE(f->luma_limited_range) << "mpeg4 stores 16-235";
+        EXPECT_LT(MeanAbsDiffToGrey(*f), 2.0) << "tag " << tag << ", frame " << f->index;
+        kept.push_back(*f);
+        copies.push_back(f->luma.clone());
+      }
+    }
+    ASSERT_EQ(kept.size(), 15u) << tag;
+    for (size_t i = 0; i < kept.size(); ++i)
+      EXPECT_EQ(cv::norm(kept[i].luma, copies[i], cv::NORM_INF), 0) << "tag " << tag << ", frame " << i;
+  }
+  // An MJPEG file keeps its luma in 0-255.
+  VideoFileSource mjpeg({WriteClip(dir, 5, 30), false});
+  const auto f = mjpeg.Next();
+  ASSERT_TRUE(f);
+  ASSERT_FALSE(f->luma.empty());
+  EXPECT_FALSE(f->luma_limited_range);
+  EXPECT_LT(MeanAbsDiffToGrey(*f), 2.0);
+}
+
 TEST(VideoFileSource, RealPhoneClipsStoredTurnedComeOutUpright) {
   const auto dir = testing::RealClipsDir();
   if (dir.empty()) GTEST_SKIP() << "shared real clips not found (../shared/real-clips)";

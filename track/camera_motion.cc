@@ -150,7 +150,7 @@ uint32_t SumBytes(const uint8_t* p, int n) {
 }  // namespace
 
 CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params, cv::Rect2d ignore,
-                                const cv::Mat* luma) {
+                                const cv::Mat* luma, double luma_gain) {
   CameraProfiles out;
   const int W = frame.image.cols, H = frame.image.rows, t = params.tiles;
   out.size = frame.image.size();
@@ -202,13 +202,13 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
       for (size_t i = 0; i < cols.size(); ++i) {
         int s = 0;
         for (int k = 0; k < bin; ++k) s += c[x0 + static_cast<int>(i) * bin + k];
-        cols[i] = static_cast<float>(s) / static_cast<float>(bin * band_rows);
+        cols[i] = static_cast<float>(luma_gain * s / (bin * band_rows));
       }
       const int32_t* r = &row_sums[static_cast<size_t>(tx) * H];
       for (size_t j = 0; j < rows.size(); ++j) {
         int s = 0;
         for (int k = 0; k < bin; ++k) s += r[y0 + static_cast<int>(j) * bin + k];
-        rows[j] = static_cast<float>(s) / static_cast<float>(bin * (x1 - x0));
+        rows[j] = static_cast<float>(luma_gain * s / (bin * (x1 - x0)));
       }
       // Where the ball may be, the tile's columns and rows are not the scene's: unknown.
       const cv::Rect2d ball = ignore & cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
@@ -297,9 +297,9 @@ PictureMotion MeasurePictureMotion(const CameraProfiles& a, const CameraProfiles
   return out;
 }
 
-void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore, const cv::Mat* luma) {
+void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore, const cv::Mat* luma, double luma_gain) {
   if (!moving_ && frames_++ % std::max(1, params_.still_every) != 0) return;
-  CameraProfiles now = CameraProfilesOf(frame, params_, ignore, luma);
+  CameraProfiles now = CameraProfilesOf(frame, params_, ignore, luma, luma_gain);
   if (reference_.empty() || reference_.size != now.size) {
     // The first frame (or a new picture size): the scene as it is measured against.
     reference_ = now;

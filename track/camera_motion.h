@@ -55,8 +55,11 @@ struct CameraProfiles {
 // rows of a tile that meet `ignore` (the ball) are NaN. `luma`: the frame's luma when it was
 // already converted (CV_8U, frame size: cv::COLOR_BGR2GRAY of a BGR frame, the Y bytes of a
 // YUYV one), else converted here.
+// `luma_gain`: what a step of the given luma is in full-range luma (255 / 219 for a
+// decoder's 16-235 plane).
 CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params = {},
-                                cv::Rect2d ignore = {}, const cv::Mat* luma = nullptr);
+                                cv::Rect2d ignore = {}, const cv::Mat* luma = nullptr,
+                                double luma_gain = 1);
 
 // The shift of b's picture against a's along one axis (b shows at x + d what a showed at x),
 // in bins, with the agreement behind it.
@@ -81,7 +84,8 @@ class CameraMotion {
   // Measures this frame against the reference (the first frame, or a later one).
   // Tiles that meet `ignore` (the ball, where the tracker expects it) are left out. `luma`:
   // as for CameraProfilesOf.
-  void Update(const Frame& frame, cv::Rect2d ignore = {}, const cv::Mat* luma = nullptr);
+  void Update(const Frame& frame, cv::Rect2d ignore = {}, const cv::Mat* luma = nullptr,
+              double luma_gain = 1);
   // What the first frame showed at p this frame shows at p + (dx, dy), frame pixels.
   double dx() const { return moving_ ? dx_ : 0; }
   double dy() const { return moving_ ? dy_ : 0; }

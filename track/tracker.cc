@@ -85,14 +85,19 @@ BallObservation Tracker::Track(const Frame& frame) {
       throw std::invalid_argument("tracker: ROI lies outside the " + frame_size + " frame");
   }
   ++frames_;
-  // A brightness lock converts the frame to luma first: the camera's profiles reuse it (a
-  // BGR frame's; a YUYV frame's is rescaled there and taken raw here).
+  // A brightness lock reads the frame's luma first: the camera's profiles reuse it when the
+  // source gave none of its own (a BGR frame's; a YUYV frame's is rescaled there and taken
+  // raw here).
   const bool had_luma = luma_ != nullptr;
   if (had_luma) SetLumaFrame(frame);
   if (config_.follow_camera) {
+    // The decoder's own luma where the source kept it (the Y the BGR picture was made from:
+    // no conversion back), else a brightness lock's.
+    const bool own = !frame.luma.empty() && frame.luma.size() == frame.image.size();
     const bool shared = luma_ && frame.format != PixelFormat::kYuyv;
     camera_.Update(frame, WhereBallMayBe(static_cast<double>(frame.utime) * 1e-6),
-                   shared ? &luma_->luma() : nullptr);
+                   own ? &frame.luma : shared ? &luma_->luma() : nullptr,
+                   own && frame.luma_limited_range ? 255.0 / 219.0 : 1.0);
     obs.camera_dx = static_cast<float>(camera_.dx());
     obs.camera_dy = static_cast<float>(camera_.dy());
   }
