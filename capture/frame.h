@@ -19,12 +19,15 @@ struct Frame {
   bool owns_image = false;
   PixelFormat format = PixelFormat::kBgr24;
   // The source's own luma when it had one before making `image` (a video decoder's Y plane,
-  // CV_8U, the image's size, upright): what a consumer of the picture's brightness may read
-  // instead of converting `image` back. Else empty. Its values as the file stores them: most
-  // often 16-235 (`luma_limited_range`), else 0-255. It may be a view of the decoder's own
-  // picture, which `luma_owner` keeps alive (a copy of the Frame shares it).
+  // CV_8U): what a consumer of the picture's brightness may read instead of converting
+  // `image` back. Else empty. Its values as the file stores them: most often
+  // 16-235 (`luma_limited_range`), else 0-255; its pixels too: a file stored turned gives it
+  // unturned, `luma_turn_cw_deg` from upright (turning it is left to whoever reads it, not to
+  // the thread that decodes). It may be a view of the decoder's own picture, which
+  // `luma_owner` keeps alive (a copy of the Frame shares it).
   cv::Mat luma;
   bool luma_limited_range = false;
+  int luma_turn_cw_deg = 0;  // 0, 90, 180 or 270
   std::shared_ptr<const void> luma_owner;
   int64_t utime = 0;                   // capture time, microseconds (stream or driver clock)
   int64_t index = 0;                   // frames delivered so far by this source, from 0

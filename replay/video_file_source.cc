@@ -126,17 +126,10 @@ std::optional<Frame> VideoFileSource::Decode() {
   undecodable_ += failed;
   pass_undecodable_ += failed;
   if (!ok) return std::nullopt;
-  for (cv::Mat* m : {&frame.image, &frame.luma}) {
-    if (m->empty()) continue;
-    // Into new memory: the luma is a view of the decoder's picture, which later pictures
-    // may be decoded from.
-    cv::Mat turned;
-    if (rotation_deg_ == 90) cv::rotate(*m, turned, cv::ROTATE_90_CLOCKWISE);
-    if (rotation_deg_ == 180) cv::rotate(*m, turned, cv::ROTATE_180);
-    if (rotation_deg_ == 270) cv::rotate(*m, turned, cv::ROTATE_90_COUNTERCLOCKWISE);
-    if (!turned.empty()) *m = turned;
-  }
-  if (rotation_deg_ != 0) frame.luma_owner.reset();  // turned into a plane of its own
+  if (rotation_deg_ == 90) cv::rotate(frame.image, frame.image, cv::ROTATE_90_CLOCKWISE);
+  if (rotation_deg_ == 180) cv::rotate(frame.image, frame.image, cv::ROTATE_180);
+  if (rotation_deg_ == 270) cv::rotate(frame.image, frame.image, cv::ROTATE_90_COUNTERCLOCKWISE);
+  frame.luma_turn_cw_deg = rotation_deg_;  // turned by its reader, if it reads it
   frame.format = PixelFormat::kBgr24;
   frame.owns_image = true;  // a fresh picture each Read
   const int64_t t = std::isfinite(pos_ms) ? std::llround(pos_ms * 1000.0) : -1;

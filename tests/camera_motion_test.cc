@@ -119,5 +119,47 @@ TEST(CameraMotion, MeasuresAWholeShiftBetweenTwoPictures) {
   EXPECT_NEAR(m.y.bins * CameraProfilesOf(a.frame).bin, -3, 0.1);
 }
 
+// A file stored turned gives its luma as it lies: its profiles, summed that way and read
+// back turned, are the upright luma's to the last bit, for every turn and sizes no tile grid
+// divides; a 16-235 plane's steps are scaled to full range.
+TEST(CameraMotion, ProfilesOfAStoredTurnedLumaAreTheUprightOnes) {
+  cv::Mat upright(203, 331, CV_8U);
+  cv::RNG rng(11);
+  rng.fill(upright, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(upright, upright, cv::Size(), 1.5);
+  Frame frame;
+  cv::cvtColor(upright, frame.image, cv::COLOR_GRAY2BGR);
+  const cv::Rect2d ball(100, 40, 30, 30);
+  const CameraProfiles expect = CameraProfilesOf(frame, {}, ball, &upright);
+  ASSERT_FALSE(expect.empty());
+  for (int turn : {90, 180, 270}) {
+    // Stored so that turning it `turn` clockwise gives the upright picture.
+    cv::Mat stored;
+    cv::rotate(upright, stored, turn == 90 ? cv::ROTATE_90_COUNTERCLOCKWISE
+                                : turn == 180 ? cv::ROTATE_180 : cv::ROTATE_90_CLOCKWISE);
+    const CameraProfiles got = CameraProfilesOf(frame, {}, ball, &stored, 1.0, turn);
+    ASSERT_EQ(got.columns.size(), expect.columns.size()) << turn;
+    for (size_t k = 0; k < expect.columns.size(); ++k) {
+      ASSERT_EQ(got.columns[k].size(), expect.columns[k].size()) << turn;
+      ASSERT_EQ(got.rows[k].size(), expect.rows[k].size()) << turn;
+      for (size_t i = 0; i < expect.columns[k].size(); ++i)
+        if (!std::isnan(expect.columns[k][i])) EXPECT_EQ(got.columns[k][i], expect.columns[k][i]) << turn << " tile " << k << " column " << i;
+        else EXPECT_TRUE(std::isnan(got.columns[k][i]));
+      for (size_t i = 0; i < expect.rows[k].size(); ++i)
+        if (!std::isnan(expect.rows[k][i])) EXPECT_EQ(got.rows[k][i], expect.rows[k][i]) << turn << " tile " << k << " row " << i;
+        else EXPECT_TRUE(std::isnan(got.rows[k][i]));
+    }
+  }
+  // The same picture in 16-235: the same steps, within the 8-bit rounding of the squeeze.
+  cv::Mat limited;
+  upright.convertTo(limited, CV_8U, 219.0 / 255.0, 16);
+  const CameraProfiles scaled = CameraProfilesOf(frame, {}, ball, &limited, 255.0 / 219.0);
+  double worst = 0;
+  for (size_t k = 0; k < expect.columns.size(); ++k)
+    for (size_t i = 0; i < expect.columns[k].size(); ++i)
+      if (!std::isnan(expect.columns[k][i])) worst = std::max(worst, std::abs(double(scaled.columns[k][i]) - expect.columns[k][i]));
+  EXPECT_LT(worst, 0.1) << "luma steps, full range";
+}
+
 }  // namespace
 }  // namespace bouncefit

@@ -149,49 +149,105 @@ uint32_t SumBytes(const uint8_t* p, int n) {
 
 }  // namespace
 
+namespace {
+
+// A plane's sums in one pass: each band of rows' column sums (16 bits for up to 256 rows,
+// then 32) into col_sums[band * cols + x], and each row's sum over each run of columns into
+// row_sums[run * rows + y]; bands and runs between the given edges.
+void PlaneSums(const cv::Mat& plane, const std::vector<int>& x_edges, const std::vector<int>& y_edges,
+               std::vector<int32_t>* col_sums, std::vector<int32_t>* row_sums) {
+  const int W = plane.cols, H = plane.rows;
+  const int runs = static_cast<int>(x_edges.size()) - 1, bands = static_cast<int>(y_edges.size()) - 1;
+  thread_local std::vector<uint16_t> col16;
+  col_sums->assign(static_cast<size_t>(bands) * W, 0);
+  row_sums->assign(static_cast<size_t>(runs) * H, 0);
+  col16.assign(static_cast<size_t>(W), 0);
+  auto flush = [&](int band) {
+    int32_t* c = &(*col_sums)[static_cast<size_t>(band) * W];
+    for (size_t i = 0; i < col16.size(); ++i) c[i] += col16[i];
+    std::fill(col16.begin(), col16.end(), 0);
+  };
+  for (int band = 0; band < bands; ++band) {
+    for (int y = y_edges[band]; y < y_edges[band + 1]; ++y) {
+      const uint8_t* p = plane.ptr<uint8_t>(y);
+      AddBytes(p, col16.data(), W);
+      for (int r = 0; r < runs; ++r)
+        (*row_sums)[static_cast<size_t>(r) * H + y] =
+            static_cast<int32_t>(SumBytes(p + x_edges[r], x_edges[r + 1] - x_edges[r]));
+      if ((y - y_edges[band]) % 256 == 255) flush(band);
+    }
+    flush(band);
+  }
+}
+
+}  // namespace
+
 CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params, cv::Rect2d ignore,
-                                const cv::Mat* luma, double luma_gain) {
+                                const cv::Mat* luma, double luma_gain, int luma_turn_cw_deg) {
   CameraProfiles out;
   const int W = frame.image.cols, H = frame.image.rows, t = params.tiles;
   out.size = frame.image.size();
   if (W < 2 * t || H < 2 * t) return out;
   const int bin = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(W) * H / params.cell_pixels)));
   out.bin = bin;
-  // Luma (OpenCV's BT.601 weights), then every row and column of it summed (a subsample
-  // aliases: a ruler's ticks, a tiled floor; one row in two on a 1080p clip flipped the
-  // detection of a few shaken copies) in one pass: into each band of tiles' column sums (16
-  // bits for up to 256 rows, then 32) and each row's sum per column of tiles.
+  // Every row and column of the luma summed (a subsample aliases: a ruler's ticks, a tiled
+  // floor; one row in two on a 1080p clip flipped the detection of a few shaken copies):
+  // each band of tiles' column sums, each row's sum per column of tiles. Of the luma given
+  // (the decoder's own, or a brightness lock's), else converted here (OpenCV's BT.601
+  // weights).
+  const int turn = luma_turn_cw_deg;
+  const bool across = turn == 90 || turn == 270;  // the plane as stored: W x H transposed
+  const cv::Size stored = across ? cv::Size(H, W) : cv::Size(W, H);
   thread_local cv::Mat converted;
-  if (!luma || luma->size() != frame.image.size() || luma->type() != CV_8U) {
+  if (!luma || luma->size() != stored || luma->type() != CV_8U ||
+      (turn != 0 && turn != 90 && turn != 180 && turn != 270)) {
     if (frame.format == PixelFormat::kYuyv)
       cv::extractChannel(frame.image, converted, 0);
     else
       cv::cvtColor(frame.image, converted, cv::COLOR_BGR2GRAY);
     luma = &converted;
+    luma_gain = 1;
   }
-  const cv::Mat& grey = *luma;
-  thread_local std::vector<int32_t> col_sums, row_sums;
-  thread_local std::vector<uint16_t> col16;
-  col_sums.assign(static_cast<size_t>(t) * W, 0);
-  row_sums.assign(static_cast<size_t>(t) * H, 0);
-  col16.assign(static_cast<size_t>(W), 0);
   std::vector<int> x_edges(t + 1), y_edges(t + 1);
   for (int k = 0; k <= t; ++k) x_edges[k] = k * W / t, y_edges[k] = k * H / t;
-  auto flush = [&](int band) {
-    int32_t* c = &col_sums[static_cast<size_t>(band) * W];
-    for (size_t i = 0; i < col16.size(); ++i) c[i] += col16[i];
-    std::fill(col16.begin(), col16.end(), 0);
+  // The upright picture's sums: col_sums[band * W + x] over its band's rows, row_sums[tx * H
+  // + y] over its tile column. A plane stored turned is summed as it lies, its bands and runs
+  // the upright tiles' edges carried over; upright column sums are then its row sums, and
+  // the reverse, each read from the mirrored end where the turn reverses an axis.
+  thread_local std::vector<int32_t> col_sums, row_sums, col_s, row_s;
+  auto mirrored = [t](const std::vector<int>& e, int n) {
+    std::vector<int> m(t + 1);
+    for (int k = 0; k <= t; ++k) m[k] = n - e[t - k];
+    return m;
   };
-  for (int band = 0; band < t; ++band) {
-    for (int y = y_edges[band]; y < y_edges[band + 1]; ++y) {
-      const uint8_t* p = grey.ptr<uint8_t>(y);
-      AddBytes(p, col16.data(), W);
-      for (int tx = 0; tx < t; ++tx)
-        row_sums[static_cast<size_t>(tx) * H + y] =
-            static_cast<int32_t>(SumBytes(p + x_edges[tx], x_edges[tx + 1] - x_edges[tx]));
-      if ((y - y_edges[band]) % 256 == 255) flush(band);
+  if (turn == 0 || luma == &converted) {
+    PlaneSums(*luma, x_edges, y_edges, &col_sums, &row_sums);
+  } else {
+    col_sums.resize(static_cast<size_t>(t) * W);
+    row_sums.resize(static_cast<size_t>(t) * H);
+    if (turn == 180) {
+      // U(x, y) = S(W-1-x, H-1-y)
+      PlaneSums(*luma, mirrored(x_edges, W), mirrored(y_edges, H), &col_s, &row_s);
+      for (int b = 0; b < t; ++b)
+        for (int x = 0; x < W; ++x) col_sums[static_cast<size_t>(b) * W + x] = col_s[static_cast<size_t>(t - 1 - b) * W + (W - 1 - x)];
+      for (int r = 0; r < t; ++r)
+        for (int y = 0; y < H; ++y) row_sums[static_cast<size_t>(r) * H + y] = row_s[static_cast<size_t>(t - 1 - r) * H + (H - 1 - y)];
+    } else if (turn == 90) {
+      // U(x, y) = S(col y, row H_s-1-x), H_s = W: stored runs are upright bands, stored
+      // bands upright tile columns (mirrored).
+      PlaneSums(*luma, y_edges, mirrored(x_edges, W), &col_s, &row_s);
+      for (int b = 0; b < t; ++b)
+        for (int x = 0; x < W; ++x) col_sums[static_cast<size_t>(b) * W + x] = row_s[static_cast<size_t>(b) * W + (W - 1 - x)];
+      for (int r = 0; r < t; ++r)
+        for (int y = 0; y < H; ++y) row_sums[static_cast<size_t>(r) * H + y] = col_s[static_cast<size_t>(t - 1 - r) * H + y];
+    } else {
+      // 270: U(x, y) = S(col W_s-1-y, row x), W_s = H.
+      PlaneSums(*luma, mirrored(y_edges, H), x_edges, &col_s, &row_s);
+      for (int b = 0; b < t; ++b)
+        for (int x = 0; x < W; ++x) col_sums[static_cast<size_t>(b) * W + x] = row_s[static_cast<size_t>(t - 1 - b) * W + x];
+      for (int r = 0; r < t; ++r)
+        for (int y = 0; y < H; ++y) row_sums[static_cast<size_t>(r) * H + y] = col_s[static_cast<size_t>(r) * H + (H - 1 - y)];
     }
-    flush(band);
   }
   for (int ty = 0; ty < t; ++ty)
     for (int tx = 0; tx < t; ++tx) {
@@ -297,9 +353,10 @@ PictureMotion MeasurePictureMotion(const CameraProfiles& a, const CameraProfiles
   return out;
 }
 
-void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore, const cv::Mat* luma, double luma_gain) {
+void CameraMotion::Update(const Frame& frame, cv::Rect2d ignore, const cv::Mat* luma, double luma_gain,
+                          int luma_turn_cw_deg) {
   if (!moving_ && frames_++ % std::max(1, params_.still_every) != 0) return;
-  CameraProfiles now = CameraProfilesOf(frame, params_, ignore, luma, luma_gain);
+  CameraProfiles now = CameraProfilesOf(frame, params_, ignore, luma, luma_gain, luma_turn_cw_deg);
   if (reference_.empty() || reference_.size != now.size) {
     // The first frame (or a new picture size): the scene as it is measured against.
     reference_ = now;

@@ -56,10 +56,12 @@ struct CameraProfiles {
 // already converted (CV_8U, frame size: cv::COLOR_BGR2GRAY of a BGR frame, the Y bytes of a
 // YUYV one), else converted here.
 // `luma_gain`: what a step of the given luma is in full-range luma (255 / 219 for a
-// decoder's 16-235 plane).
+// decoder's 16-235 plane). `luma_turn_cw_deg`: the luma as a file stores it, to be turned
+// this much to be upright (the frame is): summed as it lies (turning it first cost as much
+// as converting the frame).
 CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& params = {},
                                 cv::Rect2d ignore = {}, const cv::Mat* luma = nullptr,
-                                double luma_gain = 1);
+                                double luma_gain = 1, int luma_turn_cw_deg = 0);
 
 // The shift of b's picture against a's along one axis (b shows at x + d what a showed at x),
 // in bins, with the agreement behind it.
@@ -85,7 +87,7 @@ class CameraMotion {
   // Tiles that meet `ignore` (the ball, where the tracker expects it) are left out. `luma`:
   // as for CameraProfilesOf.
   void Update(const Frame& frame, cv::Rect2d ignore = {}, const cv::Mat* luma = nullptr,
-              double luma_gain = 1);
+              double luma_gain = 1, int luma_turn_cw_deg = 0);
   // What the first frame showed at p this frame shows at p + (dx, dy), frame pixels.
   double dx() const { return moving_ ? dx_ : 0; }
   double dy() const { return moving_ ? dy_ : 0; }

@@ -93,11 +93,11 @@ BallObservation Tracker::Track(const Frame& frame) {
   if (config_.follow_camera) {
     // The decoder's own luma where the source kept it (the Y the BGR picture was made from:
     // no conversion back), else a brightness lock's.
-    const bool own = !frame.luma.empty() && frame.luma.size() == frame.image.size();
+    const bool own = !frame.luma.empty();
     const bool shared = luma_ && frame.format != PixelFormat::kYuyv;
     camera_.Update(frame, WhereBallMayBe(static_cast<double>(frame.utime) * 1e-6),
                    own ? &frame.luma : shared ? &luma_->luma() : nullptr,
-                   own && frame.luma_limited_range ? 255.0 / 219.0 : 1.0);
+                   own && frame.luma_limited_range ? 255.0 / 219.0 : 1.0, own ? frame.luma_turn_cw_deg : 0);
     obs.camera_dx = static_cast<float>(camera_.dx());
     obs.camera_dy = static_cast<float>(camera_.dy());
   }
