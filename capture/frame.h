@@ -24,7 +24,8 @@ struct Frame {
   // 16-235 (`luma_limited_range`), else 0-255; its pixels too: a file stored turned gives it
   // unturned, `luma_turn_cw_deg` from upright (turning it is left to whoever reads it, not to
   // the thread that decodes). It may be a view of the decoder's own picture, which
-  // `luma_owner` keeps alive (a copy of the Frame shares it).
+  // `luma_owner` keeps alive (a copy of the Frame shares it): read it, never write it (nor
+  // into a header of it: later pictures are decoded from it).
   cv::Mat luma;
   bool luma_limited_range = false;
   int luma_turn_cw_deg = 0;  // 0, 90, 180 or 270

@@ -164,8 +164,11 @@ TEST(VideoFileSource, FileStoredTurnedComesOutUprightAsAPlayerShowsIt) {
 // picture back: upright with the picture, in the range the file says, and still there after
 // the source (and the decoder with it) is gone.
 double MeanAbsDiffToGrey(const Frame& f) {
-  cv::Mat grey, y, luma = f.luma;
+  // Turned into memory of its own: turning into a header of f.luma would write the
+  // decoder's picture (180 keeps the size), which the next pictures are decoded from.
+  cv::Mat grey, y, luma;
   cv::cvtColor(f.image, grey, cv::COLOR_BGR2GRAY);
+  if (f.luma_turn_cw_deg == 0) luma = f.luma;
   if (f.luma_turn_cw_deg == 90) cv::rotate(f.luma, luma, cv::ROTATE_90_CLOCKWISE);
   if (f.luma_turn_cw_deg == 180) cv::rotate(f.luma, luma, cv::ROTATE_180);
   if (f.luma_turn_cw_deg == 270) cv::rotate(f.luma, luma, cv::ROTATE_90_COUNTERCLOCKWISE);
