@@ -94,10 +94,6 @@ void AvVideoReader::Close() {
   if (format_) avformat_close_input(&format_);
 }
 
-bool AvVideoReader::Read(cv::Mat* bgr, double* pts_ms) {
-  return Read(bgr, pts_ms, nullptr, nullptr, nullptr);
-}
-
 bool AvVideoReader::Read(cv::Mat* bgr, double* pts_ms, cv::Mat* luma, bool* limited_range,
                          std::shared_ptr<const void>* owner) {
   int drain_errors = 0;

@@ -29,13 +29,12 @@ class AvVideoReader {
   // The next picture in presentation order into `bgr`; `pts_ms` its presentation time since
   // the stream's start, ms (NaN when the file gives none). False at the end. Damaged packets
   // are skipped and counted (the pictures after them decode again).
-  bool Read(cv::Mat* bgr, double* pts_ms);
-  // As Read, and the decoder's own Y plane when the picture has one of 8 bits (planar YUV,
-  // grey; not packed, RGB or deeper): a view of the decoded picture, kept alive by *owner,
-  // not a copy (copying it cost the reading thread more than the tracker saved). Else
-  // `luma` is emptied.
-  bool Read(cv::Mat* bgr, double* pts_ms, cv::Mat* luma, bool* limited_range,
-            std::shared_ptr<const void>* owner);
+  // With `luma`, also the decoder's own Y plane when the picture has one of 8 bits (planar
+  // YUV, grey; not packed, RGB or deeper): a view of the decoded picture, kept alive by
+  // *owner, not a copy (copying it cost the reading thread more than the tracker saved);
+  // else `luma` is emptied. *limited_range: its values are 16-235.
+  bool Read(cv::Mat* bgr, double* pts_ms, cv::Mat* luma = nullptr, bool* limited_range = nullptr,
+            std::shared_ptr<const void>* owner = nullptr);
 
   double fps() const { return fps_; }                   // the stream's frame rate, 0 if unknown
   int64_t frame_count() const { return frame_count_; }  // as the container announces it, -1 if unknown

@@ -147,10 +147,6 @@ uint32_t SumBytes(const uint8_t* p, int n) {
   return s;
 }
 
-}  // namespace
-
-namespace {
-
 // A plane's sums in one pass: each band of rows' column sums (16 bits for up to 256 rows,
 // then 32) into col_sums[band * cols + x], and each row's sum over each run of columns into
 // row_sums[run * rows + y]; bands and runs between the given edges.
@@ -212,8 +208,9 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
   for (int k = 0; k <= t; ++k) x_edges[k] = k * W / t, y_edges[k] = k * H / t;
   // The upright picture's sums: col_sums[band * W + x] over its band's rows, row_sums[tx * H
   // + y] over its tile column. A plane stored turned is summed as it lies, its bands and runs
-  // the upright tiles' edges carried over; upright column sums are then its row sums, and
-  // the reverse, each read from the mirrored end where the turn reverses an axis.
+  // the upright tiles' edges carried over, and its sums read back: across a quarter turn the
+  // upright column sums are its row sums and the reverse; from the mirrored end where the
+  // turn reverses an axis.
   thread_local std::vector<int32_t> col_sums, row_sums, col_s, row_s;
   auto mirrored = [t](const std::vector<int>& e, int n) {
     std::vector<int> m(t + 1);
@@ -223,31 +220,23 @@ CameraProfiles CameraProfilesOf(const Frame& frame, const CameraMotionParams& pa
   if (turn == 0 || luma == &converted) {
     PlaneSums(*luma, x_edges, y_edges, &col_sums, &row_sums);
   } else {
-    col_sums.resize(static_cast<size_t>(t) * W);
-    row_sums.resize(static_cast<size_t>(t) * H);
-    if (turn == 180) {
-      // U(x, y) = S(W-1-x, H-1-y)
-      PlaneSums(*luma, mirrored(x_edges, W), mirrored(y_edges, H), &col_s, &row_s);
+    // A turn swaps the axes (90, 270) and reverses x (90, 180) or y (180, 270): the stored
+    // plane's runs lie along the upright axis it keeps as x, mirrored where that is reversed.
+    const bool rev_x = turn == 90 || turn == 180, rev_y = turn == 180 || turn == 270;
+    const std::vector<int> xm = rev_x ? mirrored(x_edges, W) : x_edges;
+    const std::vector<int> ym = rev_y ? mirrored(y_edges, H) : y_edges;
+    PlaneSums(*luma, across ? ym : xm, across ? xm : ym, &col_s, &row_s);
+    // dst[b * n + i] = src at band b and index i, either reversed.
+    auto read_back = [t](const std::vector<int32_t>& src, int n, bool rev_band, bool rev_i,
+                         std::vector<int32_t>* dst) {
+      dst->resize(static_cast<size_t>(t) * n);
       for (int b = 0; b < t; ++b)
-        for (int x = 0; x < W; ++x) col_sums[static_cast<size_t>(b) * W + x] = col_s[static_cast<size_t>(t - 1 - b) * W + (W - 1 - x)];
-      for (int r = 0; r < t; ++r)
-        for (int y = 0; y < H; ++y) row_sums[static_cast<size_t>(r) * H + y] = row_s[static_cast<size_t>(t - 1 - r) * H + (H - 1 - y)];
-    } else if (turn == 90) {
-      // U(x, y) = S(col y, row H_s-1-x), H_s = W: stored runs are upright bands, stored
-      // bands upright tile columns (mirrored).
-      PlaneSums(*luma, y_edges, mirrored(x_edges, W), &col_s, &row_s);
-      for (int b = 0; b < t; ++b)
-        for (int x = 0; x < W; ++x) col_sums[static_cast<size_t>(b) * W + x] = row_s[static_cast<size_t>(b) * W + (W - 1 - x)];
-      for (int r = 0; r < t; ++r)
-        for (int y = 0; y < H; ++y) row_sums[static_cast<size_t>(r) * H + y] = col_s[static_cast<size_t>(t - 1 - r) * H + y];
-    } else {
-      // 270: U(x, y) = S(col W_s-1-y, row x), W_s = H.
-      PlaneSums(*luma, mirrored(y_edges, H), x_edges, &col_s, &row_s);
-      for (int b = 0; b < t; ++b)
-        for (int x = 0; x < W; ++x) col_sums[static_cast<size_t>(b) * W + x] = row_s[static_cast<size_t>(t - 1 - b) * W + x];
-      for (int r = 0; r < t; ++r)
-        for (int y = 0; y < H; ++y) row_sums[static_cast<size_t>(r) * H + y] = col_s[static_cast<size_t>(r) * H + (H - 1 - y)];
-    }
+        for (int i = 0; i < n; ++i)
+          (*dst)[static_cast<size_t>(b) * n + i] =
+              src[static_cast<size_t>(rev_band ? t - 1 - b : b) * n + (rev_i ? n - 1 - i : i)];
+    };
+    read_back(across ? row_s : col_s, W, rev_y, rev_x, &col_sums);
+    read_back(across ? col_s : row_s, H, rev_x, rev_y, &row_sums);
   }
   for (int ty = 0; ty < t; ++ty)
     for (int tx = 0; tx < t; ++tx) {
