@@ -110,20 +110,13 @@ double Median(std::vector<double> v) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
-Timer TrackPass(const std::vector<cv::Mat>& frames, const std::vector<int64_t>& utimes,
-                PixelFormat format, const TrackerConfig& config, int* found) {
+// Tracks frames already in memory, as the source gave them (a file's frames keep the
+// decoder's own luma, which the tracker reads in `run`).
+Timer TrackPass(const std::vector<Frame>& frames, const TrackerConfig& config, int* found) {
   Tracker tracker(config);
   *found = 0;
   Timer t;
-  for (size_t i = 0; i < frames.size(); ++i) {
-    Frame f;
-    f.image = frames[i];
-    f.owns_image = true;  // never written again, as a file's frames
-    f.format = format;
-    f.index = static_cast<int64_t>(i);
-    f.utime = utimes[i];
-    *found += tracker.Track(f).found;
-  }
+  for (const Frame& f : frames) *found += tracker.Track(f).found;
   t.Stop();
   return t;
 }
@@ -172,24 +165,30 @@ int main(int argc, char** argv) {
       bouncefit::RenderSynthClip(sc);
       clip = sc.out.string();
     }
-    std::vector<cv::Mat> bgr, yuyv;
-    std::vector<int64_t> utimes;
+    std::vector<Frame> bgr, yuyv;
     {
       bouncefit::VideoFileSource source({clip, false});
-      while (std::optional<Frame> f = source.Next()) {
-        bgr.push_back(f->image.clone());
-        yuyv.push_back(bouncefit::testing::BgrToYuyv(f->image));
-        utimes.push_back(f->utime);
+      for (int64_t i = 0; std::optional<Frame> f = source.Next(); ++i) {
+        Frame kept = *f;  // the decoder's luma with it
+        kept.image = f->image.clone();
+        kept.owns_image = true;  // never written again, as a file's frames
+        kept.index = i;
+        Frame packed = kept;
+        packed.image = bouncefit::testing::BgrToYuyv(f->image);
+        packed.format = PixelFormat::kYuyv;
+        packed.luma = cv::Mat(), packed.luma_owner.reset();  // a camera's frames have none
+        bgr.push_back(std::move(kept));
+        yuyv.push_back(std::move(packed));
       }
     }
     if (bgr.empty()) throw std::runtime_error("no frames in " + clip);
-    std::printf("clip %s: %zu frames %dx%d, %s\n", clip.c_str(), bgr.size(), bgr[0].cols,
-                bgr[0].rows, config.has_color ? ("ball colour of " + ball).c_str() : "automatic choice");
+    std::printf("clip %s: %zu frames %dx%d, %s\n", clip.c_str(), bgr.size(), bgr[0].image.cols,
+                bgr[0].image.rows, config.has_color ? ("ball colour of " + ball).c_str() : "automatic choice");
     if (track_once) {
       // For a profiler: the clip tracked once, nothing else timed (valgrind --tool=callgrind
       // --toggle-collect='bouncefit::Tracker::Track*' counts tracking's instructions alone).
       int found = 0;
-      const Timer t = TrackPass(bgr, utimes, PixelFormat::kBgr24, config, &found);
+      const Timer t = TrackPass(bgr, config, &found);
       std::printf("tracked once: found in %d of %zu frames, %.1f us/frame CPU\n", found, bgr.size(),
                   1e6 * t.cpu / static_cast<double>(bgr.size()));
       return 0;
@@ -210,8 +209,8 @@ int main(int argc, char** argv) {
                 laps, one_lap_s, min_pass_s);
     std::vector<double> pair_wall, pair_cpu;
     for (int r = 0; r < repeats; ++r) {
-      t_bgr.Take(TrackPass(bgr, utimes, PixelFormat::kBgr24, config, &found_bgr));
-      t_yuyv.Take(TrackPass(yuyv, utimes, PixelFormat::kYuyv, config, &found_yuyv));
+      t_bgr.Take(TrackPass(bgr, config, &found_bgr));
+      t_yuyv.Take(TrackPass(yuyv, config, &found_yuyv));
       t_plain.Take(DecodePass(plain, nullptr, laps, &n_dec, &f0));
       // Decode alone and decode + track one after the other: each pair's ratio has seen the
       // same load on the machine.
@@ -234,9 +233,7 @@ int main(int argc, char** argv) {
       found_acq = 0;
       for (size_t i = 0; i < acq_frames; ++i) {
         Tracker fresh(config);
-        Frame f;
-        f.image = bgr[i];
-        found_acq += fresh.Track(f).found;
+        found_acq += fresh.Track(bgr[i]).found;
       }
       t.Stop();
       t_acq.Take(t);
