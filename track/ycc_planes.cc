@@ -191,8 +191,10 @@ void ExtractYcc(const Frame& frame, cv::Rect rect, int step, double blur_sigma_p
   const int k = blur_sigma_px > 0 ? 2 * static_cast<int>(std::ceil(2.0 * blur_sigma_px)) + 1 : 0;
   if (frame.format == PixelFormat::kBgr24) {
     if (k > 0 && step == 1) {
-      // BGR -> YCbCr is linear: blur the 8-bit pixels first (OpenCV's fast fixed-point path,
-      // neighbours outside the rect included), then convert.
+      // BGR -> YCbCr is linear: blur the 8-bit pixels first (neighbours outside the rect
+      // included), then convert. A view of the frame goes through OpenCV's float filter, not
+      // its fixed-point one (that needs BORDER_ISOLATED): tried, as many instructions on a
+      // ball's window, and other roundings (docs/PERFORMANCE.md, 27th session).
       thread_local cv::Mat blurred;
       cv::GaussianBlur(frame.image(rect), blurred, cv::Size(k, k), blur_sigma_px, blur_sigma_px,
                        cv::BORDER_REPLICATE);
