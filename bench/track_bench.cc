@@ -82,10 +82,13 @@ struct Best {
 // Decodes the clip `laps` times over (a short clip's single pass lasts tens of ms, less than
 // the noise of a shared machine); with a tracker config, tracks each frame too, a fresh
 // tracker each lap as a fresh run. Frames in *n (per lap); the tracking's own CPU time (this
-// thread's, inside the loop) in *track_cpu.
+// thread's, inside the loop) in *track_cpu; the time this thread waited for frames and the
+// reading thread for room, per lap, in *waits.
 Timer DecodePass(const bouncefit::VideoFileSourceConfig& config, const TrackerConfig* tracking,
-                 int laps, int* n, int* found, double* track_cpu = nullptr) {
+                 int laps, int* n, int* found, double* track_cpu = nullptr,
+                 bouncefit::VideoFileSource::QueueWaits* waits = nullptr) {
   double in_track = 0;
+  bouncefit::VideoFileSource::QueueWaits waited;
   Timer t;
   for (int lap = 0; lap < laps; ++lap) {
     bouncefit::VideoFileSource source(config);
@@ -101,8 +104,11 @@ Timer DecodePass(const bouncefit::VideoFileSourceConfig& config, const TrackerCo
       }
       ++*n;
     }
+    waited.consumer_s += source.queue_waits().consumer_s;
+    waited.reader_s += source.queue_waits().reader_s;
   }
   if (track_cpu) *track_cpu = in_track / laps;
+  if (waits) *waits = {waited.consumer_s / laps, waited.reader_s / laps};
   t.Stop();
   t.wall /= laps, t.cpu /= laps;
   t.faults /= laps;
@@ -249,7 +255,8 @@ int main(int argc, char** argv) {
       // same load on the machine.
       const Timer dec = DecodePass(as_run, nullptr, laps, &n_dec, &f0);
       double track_cpu = 0;
-      const Timer both = DecodePass(as_run, &config, laps, &n_both, &found_both, &track_cpu);
+      bouncefit::VideoFileSource::QueueWaits waits;
+      const Timer both = DecodePass(as_run, &config, laps, &n_both, &found_both, &track_cpu, &waits);
       {
         // Decode alone again beside busy cores, against the same pair's decode alone.
         const BusyCores busy;
@@ -259,8 +266,11 @@ int main(int argc, char** argv) {
       t_both.Take(both);
       pair_wall.push_back(both.wall / dec.wall);
       pair_cpu.push_back(both.cpu / dec.cpu);
-      std::printf("pass %d: decode+track / decode alone %.3f wall, %.3f CPU; tracking within it %.1f us/frame CPU\n",
-                  r, pair_wall.back(), pair_cpu.back(), 1e6 * track_cpu / std::max(n_both, 1));
+      const double per_frame = 1e6 / std::max(n_both, 1);
+      std::printf("pass %d: decode+track / decode alone %.3f wall, %.3f CPU; tracking within it %.1f us/frame CPU;"
+                  " waiting: tracking for frames %.1f, reading for room %.1f us/frame (wall %.1f)\n",
+                  r, pair_wall.back(), pair_cpu.back(), track_cpu * per_frame, waits.consumer_s * per_frame,
+                  waits.reader_s * per_frame, both.wall * per_frame);
     }
     // (Re)acquisition: a fresh tracker on every frame searches the whole frame each time.
     Best t_acq;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -67,7 +68,9 @@ void VideoFileSource::ReadAhead() {
     Produced p = ProduceCounted();
     const bool last = !p.frame || p.error;
     std::unique_lock lock(mutex_);
+    const auto t0 = std::chrono::steady_clock::now();
     changed_.wait(lock, [&] { return stop_ || queue_.size() < static_cast<size_t>(config_.read_ahead); });
+    waits_.reader_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (stop_) return;
     queue_.push_back(std::move(p));
     finished_ = last;
@@ -157,13 +160,20 @@ std::optional<Frame> VideoFileSource::Decode() {
   return frame;
 }
 
+VideoFileSource::QueueWaits VideoFileSource::queue_waits() const {
+  std::lock_guard lock(mutex_);
+  return waits_;
+}
+
 std::optional<Frame> VideoFileSource::Next() {
   Produced p;
   if (!ahead_.joinable()) {
     p = ProduceCounted();
   } else {
     std::unique_lock lock(mutex_);
+    const auto t0 = std::chrono::steady_clock::now();
     changed_.wait(lock, [&] { return !queue_.empty() || finished_; });
+    waits_.consumer_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (queue_.empty()) return std::nullopt;  // the end, already delivered
     p = std::move(queue_.front());
     queue_.pop_front();

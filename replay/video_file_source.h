@@ -74,6 +74,13 @@ class VideoFileSource final : public FrameSource {
   bool uses_times_file() const { return !recorded_.empty(); }
   // Clockwise turn applied to every decoded frame to show it upright: 0, 90, 180 or 270 deg.
   int rotation_deg() const { return rotation_deg_; }
+  // Reading ahead, the time each side waited for the other so far, s: Next() for a frame
+  // (the decoding is behind), the decoding thread for room in the queue (the consumer is
+  // behind). Zero without reading ahead.
+  struct QueueWaits {
+    double consumer_s = 0, reader_s = 0;
+  };
+  QueueWaits queue_waits() const;
 
  private:
   struct Counts {
@@ -120,11 +127,12 @@ class VideoFileSource final : public FrameSource {
   Counts shown_;         // as of the last frame delivered
 
   std::thread ahead_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<Produced> queue_;
   bool stop_ = false;     // the source is going away: the thread ends
   bool finished_ = false; // the thread has queued its last item
+  QueueWaits waits_;      // under mutex_
 };
 
 }  // namespace bouncefit

@@ -447,5 +447,36 @@ TEST(VideoFileSource, ReadingAheadGivesTheSameFramesTimesAndCounts) {
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(2));
 }
 
+// The time each side of the queue waited for the other: a consumer slower than decoding
+// leaves the reading thread waiting for room (about its own time a frame, less the
+// decoding's); one that asks at once waits for the frames; without reading ahead, neither.
+TEST(VideoFileSource, QueueWaitsSayWhichSideIsBehind) {
+  const auto scratch = testing::ScratchDir("video_file_source_waits");
+  const std::string clip = WriteClip(scratch, 40, 120);
+  VideoFileSourceConfig ahead{clip, false};
+  ahead.read_ahead = 2;
+  {
+    VideoFileSource slow_consumer(ahead);
+    int n = 0;
+    while (slow_consumer.Next() && ++n < 12) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const auto w = slow_consumer.queue_waits();
+    EXPECT_GT(w.reader_s, 0.05) << "12 frames at 10 ms, decoding a small frame takes far less";
+    EXPECT_LT(w.consumer_s, w.reader_s);
+  }
+  {
+    VideoFileSource eager(ahead);
+    while (eager.Next()) {
+    }
+    const auto w = eager.queue_waits();
+    EXPECT_GT(w.consumer_s, w.reader_s) << "decoding is the slower side";
+    EXPECT_LT(w.reader_s, 0.05);
+  }
+  VideoFileSource in_next({clip, false});
+  while (in_next.Next()) {
+  }
+  EXPECT_EQ(in_next.queue_waits().consumer_s, 0.0);
+  EXPECT_EQ(in_next.queue_waits().reader_s, 0.0);
+}
+
 }  // namespace
 }  // namespace bouncefit
