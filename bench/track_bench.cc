@@ -104,8 +104,9 @@ Timer DecodePass(const bouncefit::VideoFileSourceConfig& config, const TrackerCo
       }
       ++*n;
     }
-    waited.consumer_s += source.queue_waits().consumer_s;
-    waited.reader_s += source.queue_waits().reader_s;
+    const bouncefit::VideoFileSource::QueueWaits lap_waits = source.queue_waits();
+    waited.consumer_s += lap_waits.consumer_s;
+    waited.reader_s += lap_waits.reader_s;
   }
   if (track_cpu) *track_cpu = in_track / laps;
   if (waits) *waits = {waited.consumer_s / laps, waited.reader_s / laps};

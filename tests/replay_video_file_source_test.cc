@@ -131,6 +131,16 @@ double MeanAbsDiff(const cv::Mat& a, const cv::Mat& b) {
   return cv::mean(cv::abs(cv::Mat_<cv::Vec3f>(a) - cv::Mat_<cv::Vec3f>(b)))[0];
 }
 
+// A copy of `plain` (its packets as they are) whose rotation tag asks a player to turn it `tag`
+// degrees clockwise, as phones write it; empty (ffmpeg's words in *out) if it cannot be made.
+std::string TaggedToTurn(const std::string& plain, int tag, const std::filesystem::path& dir, std::string* out) {
+  const std::string turned = (dir / ("turned" + std::to_string(tag) + ".mov")).string();
+  if (testing::RunCommand("ffmpeg -v error -y -i '" + plain + "' -c copy -metadata:s:v:0 rotate=" +
+                              std::to_string(tag) + " '" + turned + "'", out) != 0)
+    return {};
+  return turned;
+}
+
 TEST(VideoFileSource, FileStoredTurnedComesOutUprightAsAPlayerShowsIt) {
   // An asymmetric picture stored with a rotation tag, as phones write it: every frame must
   // match what ffmpeg shows (turned by the tag), not the stored pixels, and not OpenCV 4.6's
@@ -142,9 +152,8 @@ TEST(VideoFileSource, FileStoredTurnedComesOutUprightAsAPlayerShowsIt) {
                           "-c:v mpeg4 -q:v 2 '" + plain + "'", &out) != 0)
     GTEST_SKIP() << "ffmpeg cannot write the test clip: " << out;
   for (int tag : {90, 180, 270}) {
-    const std::string turned = (dir / ("turned" + std::to_string(tag) + ".mov")).string();
-    ASSERT_EQ(testing::RunCommand("ffmpeg -v error -y -i '" + plain + "' -c copy -metadata:s:v:0 rotate=" +
-                                      std::to_string(tag) + " '" + turned + "'", &out), 0) << out;
+    const std::string turned = TaggedToTurn(plain, tag, dir, &out);
+    ASSERT_FALSE(turned.empty()) << out;
     const cv::Mat expect = FfmpegFirstFrame(turned, dir);
     ASSERT_FALSE(expect.empty());
     VideoFileSource source({turned, false});
@@ -187,12 +196,8 @@ TEST(VideoFileSource, FramesCarryTheDecodersOwnLumaUprightAndKeptAlive) {
                           "-c:v mpeg4 -q:v 2 -pix_fmt yuv420p '" + plain + "'", &out) != 0)
     GTEST_SKIP() << "ffmpeg cannot write the test clip: " << out;
   for (int tag : {0, 90, 180, 270}) {
-    std::string path = plain;
-    if (tag != 0) {
-      path = (dir / ("turned" + std::to_string(tag) + ".mov")).string();
-      ASSERT_EQ(testing::RunCommand("ffmpeg -v error -y -i '" + plain + "' -c copy -metadata:s:v:0 rotate=" +
-                                        std::to_string(tag) + " '" + path + "'", &out), 0) << out;
-    }
+    const std::string path = tag == 0 ? plain : TaggedToTurn(plain, tag, dir, &out);
+    ASSERT_FALSE(path.empty()) << out;
     std::vector<Frame> kept;
     std::vector<cv::Mat> copies;
     {
