@@ -171,6 +171,7 @@ int main(int argc, char** argv) {
     int read_ahead = -1, decoder_threads = -1;
     double min_pass_s = 0.3;
     bool track_once = false;
+    bool ball_only = false;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       if (a == "--clip" && i + 1 < argc) clip = argv[++i];
@@ -181,11 +182,14 @@ int main(int argc, char** argv) {
       else if (a == "--decoder-threads" && i + 1 < argc) decoder_threads = std::max(0, std::atoi(argv[++i]));
       else if (a == "--min-pass-s" && i + 1 < argc) min_pass_s = std::max(0.0, std::atof(argv[++i]));
       else if (a == "--track-once") track_once = true;
+      else if (a == "--ball-only") ball_only = true;
       else {
         std::fprintf(stderr, "usage: track_bench [--ball NAME] [--clip FILE.avi] [--repeats N] [--freeing-allocator]\n"
                              "                   [--read-ahead FRAMES] [--decoder-threads N]  (default: as run reads a file)\n"
                              "                   [--min-pass-s S]  (a decode pass laps a short clip to last S seconds; 0.3)\n"
-                             "                   [--track-once]  (decode, track the frames once, stop: for a profiler)\n");
+                             "                   [--track-once]  (decode, track the frames once, stop: for a profiler)\n"
+                             "                   [--ball-only]  (no camera following, no reviews of a still lock: what\n"
+                             "                                   the ratio is when only the ball itself is tracked)\n");
         return 2;
       }
     }
@@ -195,6 +199,13 @@ int main(int argc, char** argv) {
     const auto preset = bouncefit::ResolveBallPreset(ball);
     TrackerConfig config = bouncefit::testing::ConfigForColor(preset.color_bgr, ball);
     if (!clip.empty()) config = TrackerConfig{};  // automatic choice, as `run CLIP` does
+    if (ball_only) {
+      // A lower bound on what any tracker of ours could cost: the camera's motion and the
+      // search for a better candidate than a still lock left out (the choice, the ball's
+      // window and its rim fit stay).
+      config.follow_camera = false;
+      config.auto_review_s = 1e9;
+    }
     if (clip.empty()) {
       bouncefit::SynthClipConfig sc;
       sc.ball = preset;
