@@ -51,6 +51,10 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
   // An impact more than a ball's diameter below the impacts before it is not a contact: two
   // arcs that are not consecutive (a short hop between them unseen, 4 frames at 30 fps), each
   // extrapolated past its own impact, cross well under the floor. It says nothing of it.
+  // Nor does one made by an arc whose samples lie a diameter off it (RMS): that arc was not the
+  // ball's flight (a "hold" that was something else, then the ball's streak at 20 fps) and meets
+  // the next one anywhere, in mid-air. Taken first, such an impact would have every later, lower
+  // contact judged under the floor.
   const auto& imps = calibration_.impacts;
   const double t_apex = j < arcs_.size() ? arcs_[j].fit.t_apex : 0;
   const double below_max = std::max(10.0, 2 * RadiusPx());
@@ -59,6 +63,9 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
   for (size_t i = 0; i < imps.size() && i < arcs_.size(); ++i) {
     if (!imps[i].ok) continue;
     if (!both && i >= j && !(j == 0 && i == 0)) continue;
+    if (ArcScatter(arcs_[i]) > below_max ||
+        (i + 1 < arcs_.size() && ArcScatter(arcs_[i + 1]) > below_max))
+      continue;
     if (!us.empty()) {
       Line before = FitLine(ts, us, {});
       if (ts.size() < 3) before.slope = 0;
@@ -68,6 +75,8 @@ double BounceDetector::FloorUnderArcPx(size_t j, bool both) const {
     us.push_back(imps[i].u);
     taken.push_back(i);
   }
+  // None before the apex to go by: those after it, before the calibration's mean of them all.
+  if (ts.empty() && !both) return FloorUnderArcPx(j, true);
   if (ts.empty()) return calibration_.calibration.floor_centre_px();
   if (!both && j >= 1)
     for (size_t i = 0; i < ts.size(); ++i) ws.push_back(std::ldexp(1.0, -static_cast<int>(ts.size() - 1 - i)));

@@ -114,6 +114,41 @@ void DropArcsNotInFreeFall(std::vector<FlightArcData>* arcs, std::vector<size_t>
   *accels = std::move(kept_accels);
 }
 
+// An arc whose samples lie more than a ball's diameter off its own fit (RMS) is no free
+// flight: what the tracker took for the ball held was something else and the ball's fall a
+// streak it saw once (20 fps), or a hand carried it. It must not decide the globals with the
+// arcs that are flights (the scale 20% off, and with it every later arc's prediction and
+// gate): the fit again without the worst such arc, when another arc that is a flight remains.
+FlightFit WithoutArcFarOffItsFit(const FlightFit& fit, double radius_px, const FlightFitOptions& opt,
+                                 std::vector<FlightArcData>* arcs, std::vector<size_t>* index,
+                                 std::vector<ArcAccel>* accels) {
+  const double limit = std::max(10.0, 2 * radius_px);
+  std::vector<double> rms(arcs->size(), 0);
+  for (size_t k = 0; k < arcs->size(); ++k) {
+    const FlightArcData& a = (*arcs)[k];
+    double ss = 0;
+    for (const auto& q : a.samples) {
+      double x, y;
+      FlightPosition(fit.globals, fit.arcs[k], a.held_before_apex, q.t, &x, &y);
+      ss += (x - q.x) * (x - q.x) + (y - q.y) * (y - q.y);
+    }
+    rms[k] = a.samples.empty() ? 0 : std::sqrt(ss / (2.0 * a.samples.size()));
+  }
+  const size_t worst = static_cast<size_t>(std::max_element(rms.begin(), rms.end()) - rms.begin());
+  const bool flight_left = std::any_of(rms.begin(), rms.end(), [&](double r) { return r <= limit; });
+  if (arcs->size() < 2 || rms[worst] <= limit || !flight_left) return fit;
+  std::vector<FlightArcParams> init;
+  for (size_t k = 0; k < arcs->size(); ++k)
+    if (k != worst) init.push_back(fit.arcs[k]);
+  arcs->erase(arcs->begin() + static_cast<long>(worst));
+  index->erase(index->begin() + static_cast<long>(worst));
+  accels->erase(accels->begin() + static_cast<long>(worst));
+  FlightFitOptions o = opt;
+  o.fit_drag = opt.fit_drag && (arcs->size() >= 2 || (*arcs)[0].held_before_apex);
+  FlightFit again = FitFlight(*arcs, fit.globals, init, o);
+  return again.ok ? again : fit;
+}
+
 // Where a held arc's fall, bent by gravity g, crosses the hand: its vertex from the moving
 // samples, and the release that many seconds after it (before it: tossed up). False when fewer
 // than 3 samples move or they fall less than min_fall_px below the hand (a hop of a ball at
@@ -293,6 +328,7 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
       opt.fit_drag = false;
       global = FitFlight(chosen, g0, global.arcs, opt);
     }
+    if (global.ok) global = WithoutArcFarOffItsFit(global, in.radius_px, opt, &chosen, &chosen_index, &accels);
     if (global.ok && config_.fit_release_speed && chosen.size() >= 2)
       global = WithReleaseSpeed(chosen, accels, global, 4 * in.radius_px, opt);
     if (!global.ok) {
