@@ -236,6 +236,8 @@ class BounceDetector {
   void OnFlight(const Sample& s, std::vector<DetectorEvent>& ev);
   void OnRest(const Sample& s, std::vector<DetectorEvent>& ev);
   bool Predict(const Arc& arc, double t, double* u, double* w, double* v_down) const;
+  // The arc's speed along the floor, px/s: its fit's, or before a scale from its last samples.
+  double SidewaysSpeed(const Arc& arc) const;
   void RefitArc(Arc& arc);
   bool AdoptOffArcSamples(Arc& cur);
   // The release arc, young and not yet calibrated, turned away `missed` (time order) for

@@ -165,6 +165,15 @@ double BounceDetector::ScaleGatePx(const Arc& arc, double t) const {
   return 0.5 * dg * reach;
 }
 
+double BounceDetector::SidewaysSpeed(const Arc& arc) const {
+  if (calibrated_ && arc.fit_ok) return arc.fit.vw;
+  const auto& q = arc.samples;
+  if (q.size() < 2) return 0;
+  const Sample& a = q[q.size() >= 4 ? q.size() - 4 : 0];
+  const Sample& b = q.back();
+  return b.t > a.t ? (Floor(b) - Floor(a)) / (b.t - a.t) : 0;
+}
+
 void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   Arc& cur = arcs_.back();
   double up, wp, vp;
@@ -193,8 +202,14 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   // lookalike where the ball was held). Not a sample, not a sign that the arc ended: the drop
   // waits as if the ball were unseen. A far detection that moves may be the ball on a path the
   // arc did not foresee (a release the hold hid): it is off the arc as before.
+  // Across, the reach is the arc's own sideways speed and the noise: past the floor the fall's
+  // extrapolated speed, and the gate with it, grow every frame and would soon reach anywhere (a
+  // lookalike at the picture's edge while a thrown ball bounced unseen, six frames at 30 fps,
+  // ended its drop).
   const double reach = 2 * std::abs(vp) * frame_dt_ * gap_frames + 4 * s.r + 10 * gate;
-  const bool far = std::hypot(ru, rw) > reach;
+  const double across_reach =
+      2 * std::abs(SidewaysSpeed(cur)) * frame_dt_ * gap_frames + 4 * s.r + 10 * Gate();
+  const bool far = std::hypot(ru, rw) > reach || std::abs(rw) > across_reach;
   const bool still_far = far && last_far_ && std::hypot(s.x - last_far_->x, s.y - last_far_->y) <= s.r + gate;
   last_far_.reset();
   if (far) last_far_ = s;
