@@ -137,16 +137,19 @@ FlightFit WithoutArcFarOffItsFit(const FlightFit& fit, double radius_px, const F
   const size_t worst = static_cast<size_t>(std::max_element(rms.begin(), rms.end()) - rms.begin());
   const bool flight_left = std::any_of(rms.begin(), rms.end(), [&](double r) { return r <= limit; });
   if (arcs->size() < 2 || rms[worst] <= limit || !flight_left) return fit;
-  std::vector<FlightArcParams> init;
-  for (size_t k = 0; k < arcs->size(); ++k)
-    if (k != worst) init.push_back(fit.arcs[k]);
-  arcs->erase(arcs->begin() + static_cast<long>(worst));
-  index->erase(index->begin() + static_cast<long>(worst));
-  accels->erase(accels->begin() + static_cast<long>(worst));
+  std::vector<FlightArcData> flights = *arcs;
+  std::vector<FlightArcParams> init = fit.arcs;
+  const auto at = static_cast<long>(worst);
+  flights.erase(flights.begin() + at);
+  init.erase(init.begin() + at);
   FlightFitOptions o = opt;
-  o.fit_drag = opt.fit_drag && (arcs->size() >= 2 || (*arcs)[0].held_before_apex);
-  FlightFit again = FitFlight(*arcs, fit.globals, init, o);
-  return again.ok ? again : fit;
+  o.fit_drag = opt.fit_drag && (flights.size() >= 2 || flights[0].held_before_apex);
+  FlightFit again = FitFlight(flights, fit.globals, init, o);
+  if (!again.ok) return fit;
+  *arcs = std::move(flights);
+  index->erase(index->begin() + at);
+  accels->erase(accels->begin() + at);
+  return again;
 }
 
 // Where a held arc's fall, bent by gravity g, crosses the hand: its vertex from the moving
