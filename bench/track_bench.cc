@@ -184,13 +184,14 @@ int main(int argc, char** argv) {
       else if (a == "--track-once") track_once = true;
       else if (a == "--ball-only") ball_only = true;
       else {
-        std::fprintf(stderr, "usage: track_bench [--ball NAME] [--clip FILE.avi] [--repeats N] [--freeing-allocator]\n"
+        const bool help = a == "--help" || a == "-h";
+        std::fprintf(help ? stdout : stderr, "usage: track_bench [--ball NAME] [--clip FILE.avi] [--repeats N] [--freeing-allocator]\n"
                              "                   [--read-ahead FRAMES] [--decoder-threads N]  (default: as run reads a file)\n"
                              "                   [--min-pass-s S]  (a decode pass laps a short clip to last S seconds; 0.3)\n"
                              "                   [--track-once]  (decode, track the frames once, stop: for a profiler)\n"
                              "                   [--ball-only]  (no camera following, no reviews of a still lock: what\n"
                              "                                   the ratio is when only the ball itself is tracked)\n");
-        return 2;
+        return help ? 0 : 2;
       }
     }
     cv::setNumThreads(1);  // one core for OpenCV's own loops (blur, labelling)
