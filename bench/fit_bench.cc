@@ -117,7 +117,15 @@ Args Parse(int argc, char** argv) {
     else if (k == "--from-preset") a.from_preset = true;
     else if (k == "--neighbours") a.neighbours = std::stoi(next());
     else if (k == "--step") a.step = std::stod(next());
-    else {
+    else if (k == "--help" || k == "-h") {
+      std::printf(
+          "usage: fit_bench [--model NAME] [--balls A,B,...] [--drop M] [--bounces N] [--budget N]\n"
+          "                 [--threads N] [--realtime] [--law] [--range-scale X] [--stage2 N]\n"
+          "                 [--inputs H1,H2,... (m)] [--detector-delay S] [--per-bounce N]\n"
+          "                 [--from-preset] [--neighbours N] [--step X]\n"
+          "Fits the ball model to rendered drops and prints its cost and residuals (docs/PERFORMANCE.md).\n");
+      std::exit(0);
+    } else {
       std::fprintf(stderr, "fit_bench: unknown argument %s\n", k.c_str());
       std::exit(2);
     }

@@ -66,7 +66,13 @@ int main(int argc, char** argv) {
   int reps = 5;
   std::string ball = "pingpong";
   double drop = 1.0, duration = 6.0;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  for (int i = 1; i < argc; i += 2) {
+    // Every option takes a value: a lone last word, or --help, is not a run.
+    const bool help = !std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h");
+    if (help || i + 1 >= argc) {
+      std::fprintf(help ? stdout : stderr, "usage: %s [--reps N] [--ball NAME] [--drop M] [--duration S]\n", argv[0]);
+      return help ? 0 : 2;
+    }
     if (!std::strcmp(argv[i], "--reps")) reps = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--ball")) ball = argv[i + 1];
     else if (!std::strcmp(argv[i], "--drop")) drop = std::atof(argv[i + 1]);
