@@ -3,6 +3,7 @@
 # measures (others.tsv names them), taken from bare git snapshots of those repositories under
 # $MIRROR (default /work/.mirror/OWNER+NAME/repo, as the tool library's `fetch` leaves them;
 # this script downloads nothing). The clips carry no licence: measure with them, never commit them.
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'; exit 0; fi
 set -u
 M=${MIRROR:-/work/.mirror}
 OUT=${1:-${REAL_RUNS_DIR:-/tmp/bouncefit-real-runs}/others}

@@ -3,6 +3,7 @@
 # the shared clips (ball preset and the bounces a person counts, from their README), their
 # copies in COPIES_DIR (same preset and count), and the lines of OTHERS_TSV (clips of other
 # repositories, NAME<TAB>FILE<TAB>BALL, no count: see README.md here).
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'; exit 0; fi
 set -u
 HERE=$(cd "$(dirname "$0")" && pwd)
 SHARED=${SHARED:-$HERE/../../../shared/real-clips}

@@ -11,6 +11,7 @@
 #            of one; the copy keeps the frames' times)
 # libx264 veryfast, frame times and sound kept. Needs ffmpeg (scripts/setup installs it).
 # Existing copies are kept; the same ffmpeg on the same machine makes the same bytes.
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0; fi
 set -u
 HERE=$(cd "$(dirname "$0")" && pwd)
 SHARED=${SHARED:-$HERE/../../../shared/real-clips}

@@ -11,6 +11,7 @@
 # (a hand moves the camera between pictures, not between two copies of one); the frames keep
 # their times.
 # Then: scripts/real_runs/camera_truth.py DIR/heldA_NAME.truth.csv OUT/heldA_NAME/track.csv
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0; fi
 set -u
 HERE=$(cd "$(dirname "$0")" && pwd)
 SHARED=${SHARED:-$HERE/../../../shared/real-clips}
