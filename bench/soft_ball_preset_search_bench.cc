@@ -30,6 +30,7 @@
 #include "model/ball_preset.h"
 #include "model/point_mass_drop.h"
 #include "model/soft_ball_model.h"
+#include "bench/paired_options.h"
 
 namespace {
 
@@ -113,20 +114,12 @@ int main(int argc, char** argv) {
   double drop = 1.0;
   int evals = 400, starts = 4, robust = 3, bounces = 3;
   std::string write_dir;
-  auto usage = [&](FILE* to) {
-    std::fprintf(to,
-                 "usage: %s [--ball NAME] [--drop M] [--evals N (0: evaluate --start only)] "
-                 "[--starts N] [--robust N] [--bounces N] [--fix k=v,...] [--range k=lo:hi] "
-                 "[--start k=v,...] [--write DIR]\n",
-                 argv[0]);
-  };
+  const char* usage =
+      "usage: %s [--ball NAME] [--drop M] [--evals N (0: evaluate --start only)] "
+      "[--starts N] [--robust N] [--bounces N] [--fix k=v,...] [--range k=lo:hi] "
+      "[--start k=v,...] [--write DIR]\n";
   for (int i = 1; i < argc; i += 2) {
-    // Every option takes a value: a lone last word, or --help, is not a run.
-    const bool help = !std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h");
-    if (help || i + 1 >= argc) {
-      usage(help ? stdout : stderr);
-      return help ? 0 : 2;
-    }
+    if (const auto end = bouncefit::bench::HelpOrMissingValue(argc, argv, i, usage)) return *end;
     if (!std::strcmp(argv[i], "--ball")) balls = {argv[i + 1]};
     else if (!std::strcmp(argv[i], "--drop")) drop = std::atof(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--evals")) evals = std::atoi(argv[i + 1]);
@@ -149,8 +142,7 @@ int main(int argc, char** argv) {
       kSearched.push_back({k, std::atof(a.substr(eq + 1, colon - eq - 1).c_str()), std::atof(a.substr(colon + 1).c_str())});
     }
     else {
-      usage(stderr);
-      return 2;
+      return bouncefit::bench::PrintUsage(usage, argv[0], false);
     }
   }
   for (const std::string& name : balls) {

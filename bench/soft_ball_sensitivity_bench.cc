@@ -22,6 +22,7 @@
 
 #include "model/ball_preset.h"
 #include "model/soft_ball_model.h"
+#include "bench/paired_options.h"
 
 namespace {
 
@@ -51,20 +52,13 @@ int main(int argc, char** argv) {
   std::string ball = "pingpong";
   int points = 9;
   double drop = 1.0;
+  const char* usage = "usage: %s [--ball NAME] [--points N] [--drop M]\n";
   for (int i = 1; i < argc; i += 2) {
-    // Every option takes a value: a lone last word, or --help, is not a run.
-    const bool help = !std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h");
-    if (help || i + 1 >= argc) {
-      std::fprintf(help ? stdout : stderr, "usage: %s [--ball NAME] [--points N] [--drop M]\n", argv[0]);
-      return help ? 0 : 2;
-    }
+    if (const auto end = bouncefit::bench::HelpOrMissingValue(argc, argv, i, usage)) return *end;
     if (!std::strcmp(argv[i], "--ball")) ball = argv[i + 1];
     else if (!std::strcmp(argv[i], "--points")) points = std::max(2, std::atoi(argv[i + 1]));
     else if (!std::strcmp(argv[i], "--drop")) drop = std::atof(argv[i + 1]);
-    else {
-      std::fprintf(stderr, "usage: %s [--ball NAME] [--points N] [--drop M]\n", argv[0]);
-      return 2;
-    }
+    else return bouncefit::bench::PrintUsage(usage, argv[0], false);
   }
   const auto preset = FindBallPreset(ball);
   if (!preset) return 2;

@@ -10,9 +10,10 @@ import sys
 
 
 def main():
-    if len(sys.argv) != 3 or sys.argv[1] in ('--help', '-h'):
-        print(__doc__)
-        sys.exit(0 if len(sys.argv) > 1 and sys.argv[1] in ('--help', '-h') else 2)
+    asked = len(sys.argv) > 1 and sys.argv[1] in ('--help', '-h')
+    if asked or len(sys.argv) != 3:
+        print(__doc__, file=sys.stdout if asked else sys.stderr)
+        sys.exit(0 if asked else 2)
     truth = list(csv.DictReader(open(sys.argv[1])))
     track = list(csv.DictReader(open(sys.argv[2])))
     by_t = {round(float(r['t_s']), 3): r for r in truth}
