@@ -15,6 +15,10 @@ void AddBusFlags(CLI::App* cmd, std::string* lcm_url, Channels* channels) {
       ->capture_default_str();
   cmd->add_option("--impact-channel", channels->impact, "channel of impacts (heard, seen)")
       ->capture_default_str();
+  cmd->add_option("--stream-channel", channels->stream, "channel of the capture's stream start and end")
+      ->capture_default_str();
+  cmd->add_option("--drop-channel", channels->drop, "channel of drops ended and streams done")
+      ->capture_default_str();
 }
 
 }  // namespace bouncefit::cli

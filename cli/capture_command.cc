@@ -1,7 +1,7 @@
 // bouncefit capture: a V4L2 camera, or a clip replayed as a fake camera, through the tracker;
 // one ball_box_t per frame on BALL_BOX (track/node/capture_node.h). Beside it, the sound: the
 // clip's own track, or a live ALSA microphone beside the camera; each impact heard goes out
-// on IMPACT (source "audio") as the stream reaches it (cli/run_sound.h).
+// on IMPACT (source "audio") as the stream reaches it (pipeline/capture_stage.h).
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -11,20 +11,18 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "capture/frame_recorder.h"
 #include "capture/v4l2_camera.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
 #include "cli/pick_window.h"
-#include "cli/run_sound.h"
 #include "cli/tracker_flags.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
-#include "msgs/lcm_log_recorder.h"
-#include "replay/pacer.h"
+#include "pipeline/capture_stage.h"
+#include "pipeline/exit_status.h"
+#include "pipeline/output_dir.h"
 #include "replay/video_file_source.h"
-#include "track/node/capture_node.h"
 
 namespace bouncefit::cli {
 namespace {
@@ -42,6 +40,8 @@ struct CaptureOptions {
   bool loop = false;
   std::string record;
   std::string log;
+  std::string out;
+  bool overwrite = false;
   std::string lcm_url = kDefaultLcmUrl;
   Channels channels;
   int64_t max_frames = 0;
@@ -94,14 +94,6 @@ void ListFormats(const std::string& device) {
   }
 }
 
-void PrintProgress(const CaptureStats& s, const std::string& what) {
-  std::printf("capture: %s %lld frames (%s s of stream), %lld found, %lld dropped, %s fps\n",
-              what.c_str(), static_cast<long long>(s.frames), Fixed(s.stream_s(), 1).c_str(),
-              static_cast<long long>(s.found), static_cast<long long>(s.dropped),
-              Fixed(s.wall_s > 0 ? s.frames / s.wall_s : 0, 1).c_str());
-  std::fflush(stdout);
-}
-
 void Run(CaptureOptions& o) {
   if (o.list_devices) {
     ListDevices();
@@ -113,90 +105,47 @@ void Run(CaptureOptions& o) {
   }
   if (o.replay.empty() == o.device.empty())
     throw std::invalid_argument("give exactly one of --replay CLIP or --device /dev/videoN");
-  if (!o.replay.empty() && !o.record.empty())
-    throw std::invalid_argument("--record saves a camera; a replayed clip is already a file");
-  if (!o.audio_device.empty() && o.device.empty())
-    throw std::invalid_argument("--audio-device needs --device (a replayed clip's own sound track is used)");
-  Pacer pacer(o.speed);  // validates --speed
   if (o.pick_window) CheckPickWindowDisplay();  // at once, before the camera or any file is opened
 
-  auto open_camera = [&o] {
-    V4l2CameraConfig c;
-    c.device = o.device;
-    ParseSize(o.size, &c.width, &c.height);
-    c.fps = o.fps;
-    c.pixel_format = o.pixel_format;
-    c.buffers = o.buffers;
-    return std::make_unique<V4l2Camera>(c);
-  };
+  CaptureStageConfig c;
+  c.clip = o.replay;
+  c.camera.device = o.device;
+  if (!o.device.empty()) {
+    ParseSize(o.size, &c.camera.width, &c.camera.height);
+    c.camera.fps = o.fps;
+    c.camera.pixel_format = o.pixel_format;
+    c.camera.buffers = o.buffers;
+  }
+  c.loop = o.loop;
+  c.speed = o.speed;
+  c.max_frames = o.max_frames;
+  c.no_audio = o.no_audio;
+  c.audio_device = o.audio_device;
+  c.record = o.record;
+  c.tracker = o.tracker;
+  c.channels = o.channels;
+  c.log_path = o.log;
   if (o.pick_window) {
     const std::string picked = PickOnFirstFrame(
         [&]() -> std::unique_ptr<FrameSource> {
-          if (o.replay.empty()) return open_camera();
+          if (o.replay.empty()) return std::make_unique<V4l2Camera>(c.camera);
           return std::make_unique<VideoFileSource>(VideoFileSourceConfig{o.replay, false});
         },
-        &o.tracker);
+        &c.tracker);
     if (!o.quiet) std::printf("capture: %s\n", picked.c_str());
   }
-  std::unique_ptr<FrameSource> source;
-  bool is_file = false;
-  VideoFileSource* file = nullptr;
-  if (!o.replay.empty()) {
-    auto f = std::make_unique<VideoFileSource>(VideoFileSourceConfig{o.replay, o.loop});
-    file = f.get();
-    source = std::move(f);
-    is_file = true;
-  } else {
-    source = open_camera();
+  if (!o.out.empty()) {
+    ClaimOutputDir(o.out, CaptureOutputFiles(), o.overwrite);
+    c.out_dir = o.out;
   }
-  const SourceInfo info = source->Info();
-  Tracker tracker(o.tracker);
   LcmBus bus(o.lcm_url);
-  std::unique_ptr<LcmLogRecorder> log;
-  if (!o.log.empty()) log = std::make_unique<LcmLogRecorder>(o.log);
-  std::unique_ptr<FrameRecorder> recorder;
-  if (!o.record.empty()) recorder = std::make_unique<FrameRecorder>(o.record, info.nominal_fps);
-
-  CaptureNodeConfig nc;
-  nc.channels = o.channels;
-  nc.max_frames = o.max_frames;
-  CaptureNode node(*source, tracker, &bus, nc);
-  if (is_file && o.speed > 0) node.set_pacer([&pacer](int64_t t) { return pacer.WaitFor(t); });
-  if (log) node.set_log(log.get());
-  if (recorder) node.set_recorder(recorder.get());
-
-  // The sound: heard impacts published on IMPACT as the frames reach their time. The ball
-  // only matters to fusing (which `run` and `detect` do), not to hearing.
-  std::unique_ptr<RunSound> sound;
-  if (!o.audio_device.empty())
-    sound = std::make_unique<RunSound>(AlsaMicrophoneConfig{.device = o.audio_device, .config_text = {}}, BallPreset{});
-  else if (is_file && !o.no_audio)
-    sound = std::make_unique<RunSound>(o.replay, BallPreset{});
-  if (sound && !sound->enabled()) sound.reset();
-  int64_t heard = 0, t0_utime = -1;
-  std::vector<uint8_t> impact_bytes;
-  const auto publish_impact = [&](const impact_t& m) {
-    bus.Publish(o.channels.impact, m);
-    ++heard;
-    if (!log) return;
-    impact_bytes.resize(static_cast<size_t>(m.getEncodedSize()));
-    m.encode(impact_bytes.data(), 0, static_cast<int>(impact_bytes.size()));
-    const auto now = std::chrono::duration_cast<std::chrono::microseconds>(
-        std::chrono::system_clock::now().time_since_epoch());
-    log->Record(o.channels.impact, impact_bytes.data(), impact_bytes.size(), now.count());
-  };
-  if (sound)
-    node.set_observer([&](const Frame& frame, const BallObservation&) {
-      if (t0_utime < 0) t0_utime = frame.utime;
-      for (const auto& m : sound->AdvanceTo((frame.utime - t0_utime) * 1e-6, t0_utime)) publish_impact(m);
-    });
-
+  CaptureStage stage(c, bus, [](const std::string& s) { std::printf("%s\n", s.c_str()); });
+  const stream_t& st = stage.stream();
   if (!o.quiet) {
-    std::printf("capture: %s, %s fps nominal%s; publishing %s on %s%s\n",
-                info.description.c_str(), Fixed(info.nominal_fps, 2).c_str(),
-                is_file ? (o.speed > 0 ? ", paced at speed " + Fixed(o.speed, 2) : std::string(", as fast as possible")).c_str() : "",
-                o.channels.ball_box.c_str(), o.lcm_url.c_str(),
-                o.loop ? " (looping)" : "");
+    std::printf("capture: %s, %s fps nominal%s; publishing %s on %s%s; sound: %s\n", st.description.c_str(),
+                Fixed(st.nominal_fps, 2).c_str(),
+                st.is_file ? (o.speed > 0 ? ", paced at speed " + Fixed(o.speed, 2) : std::string(", as fast as possible")).c_str() : "",
+                o.channels.ball_box.c_str(), o.lcm_url.c_str(), o.loop ? " (looping)" : "", st.sound.c_str());
     std::fflush(stdout);
   }
 
@@ -206,54 +155,26 @@ void Run(CaptureOptions& o) {
   ::sigaction(SIGINT, &sa, nullptr);
   ::sigaction(SIGTERM, &sa, nullptr);
 
-  std::string failure;
-  try {
-    node.Run(&g_stop, o.quiet ? std::function<void(const CaptureStats&)>()
-                              : [](const CaptureStats& s) { PrintProgress(s, "so far"); });
-  } catch (const std::exception& e) {
-    failure = e.what();
-  }
-  // The impacts still pending: the rest of the clip's sound, or what the microphone holds.
-  if (sound && t0_utime >= 0) {
-    try {
-      const double end_s = (node.stats().last_utime - t0_utime) * 1e-6 +
-                           (info.nominal_fps > 0 ? 1 / info.nominal_fps : 0);
-      for (const auto& m : o.audio_device.empty() ? sound->AdvanceTo(end_s, t0_utime)
-                                                   : sound->EndLive(t0_utime))
-        publish_impact(m);
-    } catch (const std::exception& e) {
-      if (failure.empty()) failure = e.what();
+  auto last = std::chrono::steady_clock::now();
+  while (!g_stop && stage.Step()) {
+    if (!o.quiet && std::chrono::steady_clock::now() - last > std::chrono::seconds(1)) {
+      last = std::chrono::steady_clock::now();
+      std::printf("capture: so far %lld frames (%s s of stream), %lld found\n", static_cast<long long>(stage.frames()),
+                  Fixed(stage.stream_s(), 1).c_str(), static_cast<long long>(stage.found()));
+      std::fflush(stdout);
     }
   }
-  // Whatever happened, keep what was captured: finish the recording and the log.
-  if (recorder) recorder->Close();
-  if (log) log->Close();
-  const CaptureStats& s = node.stats();
-  if (file && file->undecodable_frames() > 0)
-    std::printf("capture: warning: %s: %lld frames could not be decoded (damaged data) and "
-                "were skipped\n",
-                o.replay.c_str(), static_cast<long long>(file->undecodable_frames()));
-  if (file && file->ended_short())
-    std::printf("capture: warning: %s ended after %lld of the %lld frames it announces "
-                "(truncated or damaged?)\n",
-                o.replay.c_str(), static_cast<long long>(s.frames),
-                static_cast<long long>(info.frame_count));
-  std::printf(
-      "capture: %s%lld frames, %lld dropped, %lld found, %lld published, wall %s s, stream %s "
-      "s (read %s s, track %s s)%s%s%s%s\n",
-      g_stop ? "stopped: " : (failure.empty() ? "done: " : "failed after "),
-      static_cast<long long>(s.frames), static_cast<long long>(s.dropped),
-      static_cast<long long>(s.found), static_cast<long long>(s.published),
-      Fixed(s.wall_s, 3).c_str(), Fixed(s.stream_s(), 3).c_str(), Fixed(s.read_s, 2).c_str(),
-      Fixed(s.track_s, 2).c_str(),
-      recorder ? ("; recorded " + std::to_string(recorder->written()) + " frames to " + o.record).c_str() : "",
-      log ? ("; logged " + std::to_string(log->written()) + " messages to " + o.log).c_str() : "",
-      s.publish_failures ? ("; " + std::to_string(s.publish_failures) + " publish failures").c_str() : "",
-      sound ? ("; sound: " + sound->Describe() + ", " + std::to_string(heard) + " impacts heard on " +
-               o.channels.impact).c_str()
-            : "");
+  stage.End(g_stop);
+  const stream_t& s = stage.end_message();
+  std::printf("capture: %s%lld frames, %lld dropped, %lld found, wall %s s (read %s s, track %s s)%s%s\n",
+              g_stop ? "stopped: " : (s.failure.empty() ? "done: " : "failed after "),
+              static_cast<long long>(s.frames), static_cast<long long>(s.dropped), static_cast<long long>(s.found),
+              Fixed(s.wall_s, 3).c_str(), Fixed(s.read_s, 2).c_str(), Fixed(s.track_s, 2).c_str(),
+              o.out.empty() ? "" : ("; wrote " + o.out).c_str(),
+              bus.publish_failures() ? ("; " + std::to_string(bus.publish_failures()) + " publish failures").c_str() : "");
   std::fflush(stdout);
-  if (!failure.empty()) throw std::runtime_error(failure);
+  if (!s.failure.empty()) throw std::runtime_error(s.failure);
+  if (g_stop) throw CLI::RuntimeError(kExitInterrupted);
 }
 
 }  // namespace
@@ -285,7 +206,9 @@ void AddCaptureCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--loop", o->loop, "replay: start the clip again at its end");
   cmd->add_option("--record", o->record, "camera: save the frames to this .avi (and its .times.csv)");
-  cmd->add_option("--log", o->log, "record every published message to this LCM log (.lcm)");
+  cmd->add_option("--log", o->log, "record every message it sends to this LCM log (.lcm; --out: OUT/session.lcm)");
+  cmd->add_option("--out", o->out, "write track.csv, session.lcm and waveform.csv into this directory");
+  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's capture files: clear them first");
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(NonNegative());

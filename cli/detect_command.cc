@@ -1,8 +1,10 @@
-// bouncefit detect: the detect node as a process of its own. BALL_BOX in, CALIBRATION and
-// BOUNCE_PEAK out; prints each peak as it comes, and a summary of every drop at the end.
+// bouncefit detect: the detect node as a process of its own (pipeline/detect_stage.h).
+// BALL_BOX and IMPACT in; CALIBRATION, BOUNCE_PEAK, IMPACT (seen) and DROP out; prints each
+// bounce as it comes.
 #include <signal.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -15,7 +17,10 @@
 #include "cli/frame_times_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
-#include "detect/node/detect_node.h"
+#include "cli/run_console.h"
+#include "pipeline/detect_stage.h"
+#include "pipeline/exit_status.h"
+#include "pipeline/output_dir.h"
 #include "model/ball_preset.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
@@ -36,117 +41,78 @@ struct DetectOptions {
   double drop_height_m = 0;
   double exit_after_idle_s = 0;
   bool quiet = false;
+  bool force = false;
+  std::string out;
+  bool overwrite = false;
 };
 
 std::atomic<bool> g_stop{false};
 extern "C" void OnDetectSignal(int) { g_stop = true; }
 
-void PrintEvent(const DetectorEvent& e, bool quiet) {
-  switch (e.kind) {
-    case DetectorEvent::Kind::kPeak: {
-      const BouncePeak& p = e.peak;
-      const double lag_ms = (p.emitted_utime - p.apex_utime) * 1e-3;
-      std::printf("peak  seq %d bounce %2d: %.4f m +- %.4f m (%.1f px), apex at %.4f s, "
-                  "emitted %.1f ms after it\n",
-                  p.sequence, p.bounce, p.height_m, p.height_sigma_m, p.height_px,
-                  p.apex_utime * 1e-6, lag_ms);
-      break;
-    }
-    case DetectorEvent::Kind::kCalibration: {
-      if (quiet) break;
-      const Calibration& c = e.calibration;
-      char diameter[96] = "";
-      if (c.diameter_ratio > 0)
-        std::snprintf(diameter, sizeof diameter, ", ball diameter %.1f%% of the given one",
-                      c.diameter_ratio * 100);
-      const double deg = 180 / std::numbers::pi;
-      std::printf("calib %s: %.2f +- %.2f px/m, roll %.3f +- %.3f deg, floor %.1f +- %.1f px%s\n",
-                  c.method.c_str(), c.px_per_m, c.px_per_m_sigma, c.roll_rad * deg,
-                  c.roll_sigma_rad * deg, c.floor_px, c.floor_sigma_px, diameter);
-      break;
-    }
-    case DetectorEvent::Kind::kImpact:
-      if (quiet) break;
-      std::printf("impact seq %d #%d at %.4f s: %.3f m/s in, %.3f m/s out, e = %.3f\n",
-                  e.impact.sequence, e.impact.index, e.impact.utime * 1e-6,
-                  e.impact.speed_in_mps, e.impact.speed_out_mps, e.impact.restitution);
-      break;
-    case DetectorEvent::Kind::kSequenceEnd:
-      std::printf("end of drop: %s\n", e.reason.c_str());
-      break;
-  }
-  std::fflush(stdout);
-}
-
-void PrintSummary(const SequenceSummary& s) {
-  std::printf("drop %d (%s): %zu peaks\n", s.sequence, s.end_reason.c_str(), s.peaks.size());
-  for (size_t b = 0; b < s.final_height_m.size(); ++b) {
-    std::printf("  bounce %2zu: %.4f m", b, s.final_height_m[b]);
-    if (b < s.flight_height_m.size() && std::isfinite(s.flight_height_m[b]))
-      std::printf(", from flight time %.4f m", s.flight_height_m[b]);
-    std::printf("\n");
-  }
-  for (const auto& i : s.impacts)
-    std::printf("  impact %2d: %.3f m/s, restitution %.3f\n", i.index, i.speed_in_mps,
-                i.restitution);
-  if (std::isfinite(s.restitution_slope_per_mps))
-    std::printf("  restitution trend: e = %.3f %+.4f * v (v in m/s)\n",
-                s.restitution_intercept, s.restitution_slope_per_mps);
-}
-
-void RunDetect(const DetectOptions& o) {
-  DetectNodeConfig cfg;
+ExitStatus RunDetect(const DetectOptions& o) {
+  DetectStageConfig cfg;
   cfg.channels = o.channels;
-  if (!o.ball.empty()) cfg.detector.calibration.ball_diameter_m = ResolveBallPreset(o.ball).diameter_m;
-  if (o.ball_diameter_m > 0) cfg.detector.calibration.ball_diameter_m = o.ball_diameter_m;
-  cfg.detector.calibration.px_per_m = o.px_per_m;
-  cfg.detector.calibration.drop_height_m = o.drop_height_m;
-  cfg.detector.time_scale = o.time_scale;
-  cfg.retiming.mode = FrameTimesMode(o.keep_frame_times);
+  cfg.ball = ResolveBallPreset(o.ball.empty() ? "pingpong" : o.ball, o.ball_diameter_m);
+  cfg.px_per_m = o.px_per_m;
+  cfg.drop_height_m = o.drop_height_m;
+  cfg.time_scale = o.time_scale;
+  cfg.keep_frame_times = o.keep_frame_times;
+  cfg.force = o.force;
   if (o.frame_size.size() == 2) {
-    cfg.detector.image_width_px = o.frame_size[0];
-    cfg.detector.image_height_px = o.frame_size[1];
+    cfg.frame_width_px = o.frame_size[0];
+    cfg.frame_height_px = o.frame_size[1];
   }
-  std::string error;
-  if (!cfg.detector.IsValid(&error)) throw std::invalid_argument(error);
-
+  if (!o.out.empty()) {
+    ClaimOutputDir(o.out, DetectOutputFiles(), o.overwrite);
+    cfg.out_dir = o.out;
+  }
   LcmBus bus(o.lcm_url);
-  DetectNode node(&bus, cfg);
-  node.set_event_handler([&o](const DetectorEvent& e) { PrintEvent(e, o.quiet); });
-  node.Subscribe();
-  if (!o.quiet) {
-    std::printf("detect: listening to %s on %s; publishing %s and %s\n",
-                o.channels.ball_box.c_str(), o.lcm_url.c_str(), o.channels.calibration.c_str(),
-                o.channels.bounce_peak.c_str());
-    std::fflush(stdout);
-  }
+  RunConsole console(o.quiet ? ConsoleMode::kQuiet : ConsoleMode::kHuman, stdout);
+  DetectStage stage(cfg, bus, [&](const std::string& s) { console.Info(s); });
+  console.Follow(bus, o.channels, /*fits=*/false);
+  console.Info("detect: listening to " + o.channels.ball_box + " and " + o.channels.impact + " on " + o.lcm_url +
+               "; publishing " + o.channels.calibration + ", " + o.channels.bounce_peak + " and " + o.channels.drop);
   struct sigaction sa {};
   sa.sa_handler = OnDetectSignal;
   sigemptyset(&sa.sa_mask);
   ::sigaction(SIGINT, &sa, nullptr);
   ::sigaction(SIGTERM, &sa, nullptr);
 
+  const auto start = std::chrono::steady_clock::now();
   std::string failure;
   try {
-    node.Run(&g_stop, o.exit_after_idle_s);
+    while (!g_stop && !stage.done() && stage.fatal().empty()) {
+      bus.HandleOnce(50);
+      if (o.exit_after_idle_s > 0) {
+        const int64_t now = std::chrono::duration_cast<std::chrono::microseconds>(
+                                std::chrono::steady_clock::now().time_since_epoch()).count();
+        const int64_t since = stage.last_box_wall_us() > 0
+                                  ? stage.last_box_wall_us()
+                                  : std::chrono::duration_cast<std::chrono::microseconds>(start.time_since_epoch()).count();
+        if ((now - since) * 1e-6 > o.exit_after_idle_s) break;
+      }
+    }
   } catch (const std::exception& e) {
     failure = e.what();
   }
-  node.Finish();
-  for (const auto& s : node.Summaries()) PrintSummary(s);
-  const DetectStats& st = node.stats();
-  std::printf("detect: %s%lld boxes (%lld found), %lld peaks, %lld calibrations, "
-              "%lld undecodable, %lld rejected, detector %.3f s\n",
-              g_stop ? "stopped: " : (failure.empty() ? "done: " : "failed: "),
-              static_cast<long long>(st.boxes), static_cast<long long>(st.found),
-              static_cast<long long>(st.peaks), static_cast<long long>(st.calibrations),
-              static_cast<long long>(bus.decode_failures()),
-              static_cast<long long>(st.rejected + bus.handler_failures()), st.detect_s);
-  if (bus.decode_failures() > 0 && st.boxes == 0)
+  if (!stage.fatal().empty()) {
+    if (!o.out.empty()) RemoveOutputFiles(o.out, DetectOutputFiles());
+    throw std::invalid_argument(stage.fatal());
+  }
+  if (!stage.done()) stage.FinishWithoutEnd();  // stopped, or the capture node went silent
+  while (bus.HandleOnce(20)) {
+  }  // its own last words, for the console
+  std::printf("detect: %s%d boxes, %d bounces (rows of peaks.csv), %lld undecodable, %lld rejected%s\n",
+              g_stop ? "stopped: " : (failure.empty() ? "done: " : "failed: "), stage.boxes(), stage.rows(),
+              static_cast<long long>(bus.decode_failures()), static_cast<long long>(bus.handler_failures()),
+              o.out.empty() ? "" : ("; wrote " + o.out).c_str());
+  if (bus.decode_failures() > 0 && stage.boxes() == 0)
     std::fprintf(stderr, "detect: warning: no BALL_BOX message could be decoded: sent or recorded by another "
-                         "version of bouncefit? (ball_box_t gained camera_dx, camera_dy on 28 Nov 2026)\n");
+                         "version of bouncefit?\n");
   std::fflush(stdout);
   if (!failure.empty()) throw std::runtime_error(failure);
+  if (g_stop) return kExitInterrupted;
+  return stage.rows() > 0 ? kExitAnswer : kExitNoBounce;
 }
 
 }  // namespace
@@ -180,8 +146,18 @@ void AddDetectCommand(CLI::App& app) {
       ->check(Positive());
   cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
                   "exit when no box came for this many seconds (0: run until Ctrl-C)");
-  cmd->add_flag("--quiet", o->quiet, "print only peaks and the summary");
-  cmd->callback([o] { RunDetect(*o); });
+  cmd->add_flag("--quiet", o->quiet, "print only the summary");
+  cmd->add_flag("--force", o->force,
+                "keep --px-per-m, --drop-height or --time-scale even where the free fall and the "
+                "ball's size both contradict it by more than 2x");
+  cmd->add_option("--out", o->out, "write peaks.csv, impacts.csv, calibration.json and summary.json into this directory");
+  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's detect files: clear them first");
+  cmd->footer("Example:\n  bouncefit detect --ball tennis --out out/drop --exit-after-idle 5\n"
+              "Exit status: 0 bounces written, 1 an error, 2 a bad flag, 3 no bounce found, 130 stopped.");
+  cmd->callback([o] {
+    const ExitStatus status = RunDetect(*o);
+    if (status != kExitAnswer) throw CLI::RuntimeError(static_cast<int>(status));
+  });
 }
 
 }  // namespace bouncefit::cli

@@ -14,10 +14,13 @@
 
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
-#include "cli/fit_offline.h"
+#include "cli/fit_print.h"
 #include "fit/fit_export.h"
 #include "fit/fit_models.h"
 #include "fit/node/fit_node.h"
+#include "pipeline/exit_status.h"
+#include "pipeline/fit_stage.h"
+#include "pipeline/output_dir.h"
 #include "model/model_by_name.h"
 #include "model/point_mass_model.h"
 #include "msgs/msg_json.h"
@@ -32,9 +35,12 @@ struct FitOptions {
   std::string export_dir;
   bool json = false;
   bool final_only = false;
-  double final_after_s = 2.0;
+  double final_after_s = 0;
   double duration_s = 0;
   bool exit_after_final = false;
+  double exit_after_idle_s = 0;
+  std::string out;
+  bool overwrite = false;
   std::string lcm_url = kDefaultLcmUrl;
   FitNodeConfig node;
   int max_evals = 0;
@@ -77,7 +83,7 @@ void ApplyBudgets(FitOptions* o) {
   if (o->max_evals_bounce > 0) o->node.session.max_evaluations_per_bounce = o->max_evals_bounce;
 }
 
-void RunOffline(FitOptions o) {
+ExitStatus RunOffline(FitOptions o) {
   // Drops, each a list of peaks: --heights, or one per --peaks file (read before any fit,
   // so a bad file fails at once).
   std::vector<std::vector<PeakInput>> drops;
@@ -86,76 +92,60 @@ void RunOffline(FitOptions o) {
     drops.emplace_back();
     for (size_t i = 0; i < h.size(); ++i) drops.back().push_back({0, static_cast<int>(i), h[i], 0, 0});
   } else {
-    for (const auto& path : o.peaks_csv) drops.push_back(ReadPeaksCsv(path));
+    for (const auto& path : o.peaks_csv) drops.push_back(ReadDropPeaks(path));
   }
   const BallPreset ball = ResolveBallPreset(o.node.ball, o.node.diameter_m, o.node.mass_kg);
-  const FitUpdate final_fit = FitDropsOffline(drops, o.node, o.final_only,
-                                              [&](const FitUpdate& u) { Emit(o, FitNode::ToMessage(u), u); });
+  const FitUpdate final_fit = FitDropsOffline(
+      drops, o.node, o.final_only, [&](const FitUpdate& u) { Emit(o, FitNode::ToMessage(u), u); },
+      [](int sims, int budget) { std::fprintf(stderr, "final fit  %d / %d simulations\n", sims, budget); });
   if (!o.export_dir.empty()) {
     for (const auto& path : WriteFitExports(o.export_dir, final_fit, ball))
       std::fprintf(stderr, "wrote %s\n", path.string().c_str());
   }
+  return kExitAnswer;
 }
 
-void RunNode(FitOptions o) {
+ExitStatus RunNode(FitOptions o) {
   LcmBus bus(o.lcm_url);
-  std::atomic<bool> final_seen{false};
-  BallPreset ball;
-  std::mutex last_final_mutex;
-  FitUpdate last_final;
-  bool have_final = false;
-  FitNode node(o.node, [&](const fit_update_t& m, const FitUpdate& u) {
-    Emit(o, m, u);
-    if (u.final) {
-      std::lock_guard<std::mutex> lock(last_final_mutex);
-      last_final = u;
-      have_final = true;
-      final_seen = true;
-    }
-  });
-  ball = node.ball();
-  node.Attach(&bus);
-  node.Start();
+  FitStageConfig fc;
+  fc.node = o.node;
+  fc.final_after_s = o.final_after_s;
+  if (!o.out.empty()) {
+    ClaimOutputDir(o.out, FitOutputFiles(), o.overwrite);
+    fc.out_dir = o.out;
+  }
+  FitStage stage(fc, bus, [](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); });
+  stage.set_update_observer([&](const fit_update_t& m, const FitUpdate& u) { Emit(o, m, u); });
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  std::fprintf(stderr, "fit: %s model for %s, method %s; listening on %s (%s -> %s)\n",
-               node.model().name().c_str(), ball.name.c_str(), o.node.session.method.c_str(),
-               o.lcm_url.c_str(), o.node.channels.bounce_peak.c_str(),
-               o.node.channels.fit_update.c_str());
+  std::fprintf(stderr, "fit: %s model for %s, method %s; listening on %s (%s -> %s)\n", o.node.model.c_str(),
+               stage.ball().name.c_str(), o.node.session.method.c_str(), o.lcm_url.c_str(),
+               o.node.channels.bounce_peak.c_str(), o.node.channels.fit_update.c_str());
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  auto last_peak_seen = Clock::now();
-  int64_t last_peak_utime = 0;
-  bool finished = true;  // nothing to finish until a peak arrives
-  while (!g_interrupted) {
+  auto last_activity = Clock::now();
+  int64_t last_message = 0;
+  while (!g_interrupted && !stage.done()) {
     bus.HandleOnce(50);
-    const int64_t u = node.last_peak_utime();
-    if (u != last_peak_utime) {
-      last_peak_utime = u;
-      last_peak_seen = Clock::now();
-      finished = false;
+    stage.Poll();
+    if (o.exit_after_final && stage.final_fit()) break;
+    if (stage.last_message_wall_us() != last_message || stage.busy()) {
+      last_message = stage.last_message_wall_us();
+      last_activity = Clock::now();
     }
-    // A drop is over when no peak has come for a while: its final fit.
-    if (!finished && o.final_after_s > 0 &&
-        std::chrono::duration<double>(Clock::now() - last_peak_seen).count() > o.final_after_s) {
-      node.Finish();
-      finished = true;
-    }
-    if (o.exit_after_final && final_seen) break;
-    if (o.duration_s > 0 &&
-        std::chrono::duration<double>(Clock::now() - t0).count() > o.duration_s)
-      break;
+    const double idle = std::chrono::duration<double>(Clock::now() - last_activity).count();
+    if (o.exit_after_idle_s > 0 && idle > o.exit_after_idle_s) break;
+    if (o.duration_s > 0 && std::chrono::duration<double>(Clock::now() - t0).count() > o.duration_s) break;
   }
-  node.Stop();
-  if (!o.export_dir.empty()) {
-    std::lock_guard<std::mutex> lock(last_final_mutex);
-    if (have_final)
-      for (const auto& path : WriteFitExports(o.export_dir, last_final, ball))
-        std::fprintf(stderr, "wrote %s\n", path.string().c_str());
-  }
-  const auto s = node.stats();
-  std::fprintf(stderr, "fit: %d peaks, %d updates, %d superseded, %d final\n", s.peaks,
-               s.updates_delivered, s.superseded, s.finals);
+  stage.Stop();
+  stage.Poll();
+  if (!o.export_dir.empty() && stage.final_fit())
+    for (const auto& path : WriteFitExports(o.export_dir, *stage.final_fit(), stage.ball()))
+      std::fprintf(stderr, "wrote %s\n", path.string().c_str());
+  std::fprintf(stderr, "fit: %s%s\n", stage.final_fit() ? "final fit written" : "no final fit",
+               o.out.empty() ? "" : (" into " + o.out).c_str());
+  if (g_interrupted) return kExitInterrupted;
+  return stage.final_fit() ? kExitAnswer : kExitNoFit;
 }
 
 }  // namespace
@@ -213,16 +203,25 @@ void AddFitCommand(CLI::App& app) {
   cmd->add_flag("--final-only", o->final_only, "offline: only the quick and the final fit");
   AddBusFlags(cmd, &o->lcm_url, &o->node.channels);
   cmd->add_option("--final-after", o->final_after_s,
-                  "node: final fit of a drop after this many seconds without a peak (0: never)")
+                  "node: final fit of a drop after this many seconds without a peak, for logs without DROP (0: never)")
       ->capture_default_str();
   cmd->add_option("--duration", o->duration_s, "node: stop after this many seconds (0: run until Ctrl-C)");
   cmd->add_flag("--exit-after-final", o->exit_after_final, "node: stop after the first final fit");
+  cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
+                  "node: exit when nothing came and nothing was fitted for this many seconds (0: never)");
+  cmd->add_option("--out", o->out,
+                  "node: write fit.jsonl and, when the stream is done, coefficients.json, fitted_ball/ and "
+                  "simulated.csv into this directory");
+  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's fit files: clear them first");
+  cmd->footer("Examples:\n"
+              "  bouncefit fit --ball tennis --out out/drop --exit-after-idle 5     # the fit node\n"
+              "  bouncefit fit --heights 1.0,0.62,0.40 --ball pingpong                # offline\n"
+              "  bouncefit fit --peaks a/peaks.csv --peaks b/peaks.csv --ball tennis --export out/fit\n"
+              "Exit status: 0 a final fit, 1 an error, 2 a bad flag, 4 no fit, 130 stopped.");
   cmd->callback([o] {
     ApplyBudgets(o.get());
-    if (!o->heights.empty() || !o->peaks_csv.empty())
-      RunOffline(*o);
-    else
-      RunNode(*o);
+    const ExitStatus status = !o->heights.empty() || !o->peaks_csv.empty() ? RunOffline(*o) : RunNode(*o);
+    if (status != kExitAnswer) throw CLI::RuntimeError(static_cast<int>(status));
   });
 }
 

@@ -1,25 +1,27 @@
 #include "cli/run_console.h"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <vector>
 
+#include "bouncefit/impact_t.hpp"
+#include "msgs/channels.h"
+#include "msgs/lcm_bus.h"
 #include "msgs/msg_json.h"
 
 namespace bouncefit::cli {
-namespace {
-
-std::string Format(const char* fmt, auto... args) {
-  char buf[512];
-  std::snprintf(buf, sizeof buf, fmt, args...);
-  return buf;
-}
-
-}  // namespace
 
 RunConsole::RunConsole(ConsoleMode mode, std::FILE* out)
     : mode_(mode), out_(out), tty_(::isatty(::fileno(out)) != 0) {}
+
+void RunConsole::Follow(LcmBus& bus, const Channels& ch, bool fits) {
+  bus.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) { OnStream(m); });
+  bus.Subscribe<calibration_t>(ch.calibration, [this](const calibration_t& m) { OnCalibration(m); });
+  bus.Subscribe<bounce_peak_t>(ch.bounce_peak, [this](const bounce_peak_t& m) { OnPeak(m); });
+  if (fits) bus.Subscribe<fit_update_t>(ch.fit_update, [this](const fit_update_t& m) { OnFit(m); });
+}
 
 void RunConsole::Line(const std::string& text) {
   if (progress_open_) {
@@ -40,45 +42,60 @@ void RunConsole::Info(const std::string& line) {
   if (mode_ == ConsoleMode::kHuman) Line(line);
 }
 
+void RunConsole::OnStream(const stream_t& m) {
+  if (m.state == "start") t0_ = m.utime;
+}
+
 void RunConsole::OnCalibration(const calibration_t& m) {
   if (mode_ == ConsoleMode::kJson) {
     auto j = ToJson(m, t0_);
     j["event"] = "calibration";
     Line(j.dump());
   } else if (mode_ == ConsoleMode::kHuman) {
-    // The detector refines the scale on every arc: show it again only when it moved.
+    // The detector refines the scale on every arc: say it again only when it moved by 1%.
     const bool moved = last_px_per_m_ <= 0 || m.method != last_method_ ||
-                       std::abs(m.px_per_m - last_px_per_m_) > 1e-3 * last_px_per_m_;
+                       std::abs(m.px_per_m - last_px_per_m_) > 1e-2 * last_px_per_m_;
     if (!moved) return;
     last_px_per_m_ = m.px_per_m;
     last_method_ = m.method;
-    Line(Format("calibration  %.2f +- %.2f px/m (%s, %d frames), roll %.2f deg, floor at %.1f px",
-                m.px_per_m, m.px_per_m_sigma, m.method.c_str(), m.samples,
-                m.roll_rad * 180 / M_PI, m.floor_px));
+    Line(fmt::format("calibration  {:.2f} +- {:.2f} px/m ({}, {} frames), roll {:.2f} deg, floor at {:.1f} px",
+                     m.px_per_m, m.px_per_m_sigma, m.method, m.samples, m.roll_rad * 180 / M_PI, m.floor_px));
   }
 }
 
 void RunConsole::OnPeak(const bounce_peak_t& m) {
-  heights_[m.bounce] = m.height_m;
+  const double t = SecondsSince(m.apex_utime, t0_);
+  if (m.revision == 3) rows_.emplace_back(m.bounce, m.fused_height_m);
   if (mode_ == ConsoleMode::kJson) {
     auto j = ToJson(m, t0_);
-    j["event"] = "peak";
+    j["event"] = m.revision == 0 || (m.revision == 3 && m.live_bounce < 0) ? "peak" : "revision";
     Line(j.dump());
     return;
   }
   if (mode_ != ConsoleMode::kHuman) return;
-  std::string line = Format("peak  #%-2d  t=%7.3f s  height %.4f m", m.bounce,
-                            SecondsSince(m.apex_utime, t0_), m.height_m);
-  if (std::isfinite(m.flight_height_m))
-    line += Format("  (flight time: %.4f m)", m.flight_height_m);
-  auto prev = heights_.find(m.bounce - 1);
-  if (m.bounce == 0) {
-    line += "  release";
-  } else if (prev != heights_.end() && prev->second > 0) {
-    line += Format("  e=%.3f", std::sqrt(m.height_m / prev->second));
+  const auto key = std::make_pair(m.sequence, m.live_bounce);
+  if (m.revision == 0 || (m.revision == 3 && m.live_bounce < 0)) {
+    // A bounce, printed once: as it is emitted (or, heard only, once the stream ended).
+    const double h = m.revision == 0 ? m.height_m : m.fused_height_m;
+    std::string line = fmt::format("peak  #{:<2d}  t={:7.3f} s  height {:.4f} m", m.bounce, t, h);
+    const auto prev = heights_.find({m.sequence, m.bounce - 1});
+    if (m.bounce == 0)
+      line += "  release";
+    else if (prev != heights_.end() && prev->second > 0 && m.revision == 0)
+      line += fmt::format("  e={:.3f}", std::sqrt(h / prev->second));
+    line += m.revision == 0 ? fmt::format("  [+{:.0f} ms]", (m.emitted_utime - m.apex_utime) * 1e-3)
+                            : "  heard only (flight time)";
+    if (m.revision == 0) heights_[key] = h;
+    ++peak_lines_;
+    Line(line);
+  } else if (m.revision == 1) {
+    Line(fmt::format("  revised #{}: heard end to end, flight-time height {:.4f} m", m.live_bounce, m.height_m));
+  } else if (m.revision == 3 && m.bounce != m.live_bounce) {
+    Line(fmt::format("  revised #{}: is bounce {} (the impacts heard number it)", m.live_bounce, m.bounce));
+  } else if (m.revision == 4) {
+    Line(fmt::format("  revised #{}: withdrawn (the sound heard one arc where the picture saw two)", m.live_bounce));
   }
-  line += Format("  [+%.0f ms]", (m.emitted_utime - m.apex_utime) * 1e-3);
-  Line(line);
+  // Revision 2 (the drop's refit) is said in one line by the detect node when the drop ends.
 }
 
 void RunConsole::OnFit(const fit_update_t& m, int64_t published_utime) {
@@ -90,19 +107,16 @@ void RunConsole::OnFit(const fit_update_t& m, int64_t published_utime) {
     return;
   }
   if (mode_ != ConsoleMode::kHuman) return;
-  std::string line = Format("fit   after #%d%s  %s/%s", m.after_bounce, m.final ? " (final)" : "",
-                            m.model.c_str(), m.method.c_str());
+  std::string line = fmt::format("fit   after #{}{}  {}/{}", m.after_bounce, m.final ? " (final)" : "", m.model, m.method);
   // The few main ones: those the data determines first; the report has them all.
   std::vector<int> order;
   for (int pass = 0; pass < 2; ++pass)
     for (int i = 0; i < m.num_coeffs; ++i)
       if (static_cast<bool>(m.identifiable[i]) == (pass == 0)) order.push_back(i);
   const int shown = std::min(m.num_coeffs, 4);
-  for (int k = 0; k < shown; ++k)
-    line += Format("  %s=%.4g", m.names[order[k]].c_str(), m.values[order[k]]);
-  if (m.num_coeffs > shown) line += Format("  (+%d more)", m.num_coeffs - shown);
-  line += Format("  residual %.2f mm  %d evals  %.0f ms", m.residual_m * 1e3, m.evaluations,
-                 m.wall_time_s * 1e3);
+  for (int k = 0; k < shown; ++k) line += fmt::format("  {}={:.4g}", m.names[order[k]], m.values[order[k]]);
+  if (m.num_coeffs > shown) line += fmt::format("  (+{} more)", m.num_coeffs - shown);
+  line += fmt::format("  residual {:.2f} mm  {} evals  {:.0f} ms", m.residual_m * 1e3, m.evaluations, m.wall_time_s * 1e3);
   Line(line);
 }
 
@@ -110,14 +124,9 @@ void RunConsole::Progress(double stream_s, double total_s, int64_t frames, int64
   if (mode_ != ConsoleMode::kHuman) return;
   if (last_progress_s_ >= 0 && stream_s - last_progress_s_ < 0.5) return;
   last_progress_s_ = stream_s;
-  std::string text = total_s > 0 ? Format("replay %5.1f / %.1f s (%3.0f%%)  %lld frames, ball in %lld",
-                                          stream_s, total_s, 100 * stream_s / total_s,
-                                          static_cast<long long>(frames),
-                                          static_cast<long long>(found))
-                                 : Format("capture %5.1f s  %lld frames, ball in %lld", stream_s,
-                                          static_cast<long long>(frames),
-                                          static_cast<long long>(found));
-  ShowProgress(text);
+  ShowProgress(total_s > 0 ? fmt::format("replay {:5.1f} / {:.1f} s ({:3.0f}%)  {} frames, ball in {}", stream_s,
+                                         total_s, 100 * stream_s / total_s, frames, found)
+                           : fmt::format("capture {:5.1f} s  {} frames, ball in {}", stream_s, frames, found));
 }
 
 void RunConsole::ShowProgress(const std::string& text) {
@@ -136,8 +145,8 @@ void RunConsole::FitProgress(int simulations, int budget) {
   const auto now = std::chrono::steady_clock::now();
   if (now - last_fit_progress_ < std::chrono::seconds(1)) return;
   last_fit_progress_ = now;
-  ShowProgress(Format("final fit  %d / %d simulations (%3.0f%%)", simulations, budget,
-                      budget > 0 ? 100.0 * simulations / budget : 0.0));
+  ShowProgress(fmt::format("final fit  {} / {} simulations ({:3.0f}%)", simulations, budget,
+                           budget > 0 ? 100.0 * simulations / budget : 0.0));
 }
 
 void RunConsole::Summary(const std::string& human_text, const std::string& json_text) {

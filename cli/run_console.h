@@ -1,15 +1,25 @@
 #pragma once
-// What `run` prints while it works: one readable line per event for a terminal or a log,
-// or one JSON object per line with --json. A progress line while replaying a file.
+// What `run` prints while it works, from the messages on the bus: the clock and scale when
+// they change, each bounce once when it is emitted and later revisions of it as revisions,
+// each fit, the nodes' notices; one JSON object per line with --json. A progress line while
+// replaying a file, and a short summary at the end.
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/calibration_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
+#include "bouncefit/stream_t.hpp"
+
+namespace bouncefit {
+class LcmBus;
+struct Channels;
+}
 
 namespace bouncefit::cli {
 
@@ -19,8 +29,12 @@ class RunConsole {
  public:
   RunConsole(ConsoleMode mode, std::FILE* out);
 
-  void SetStreamStart(int64_t t0_utime) { t0_ = t0_utime; }
+  // Prints what goes by on `bus` (the session's own): the stream, calibrations, bounces and,
+  // with fits, the fit updates.
+  void Follow(LcmBus& bus, const Channels& channels, bool fits = true);
+
   void Info(const std::string& line);  // human mode only
+  void OnStream(const stream_t& m);
   void OnCalibration(const calibration_t& m);
   void OnPeak(const bounce_peak_t& m);
   // published_utime: stream time the update went out (0: unknown, e.g. seen on the bus).
@@ -31,6 +45,10 @@ class RunConsole {
   // The final fit's progress, at most once a second (wall clock).
   void FitProgress(int simulations, int budget);
   void Summary(const std::string& human_text, const std::string& json_text);
+
+  int peak_lines() const { return peak_lines_; }
+  // The rows of peaks.csv as they went out once the stream ended (bounce, height to quote, m).
+  const std::vector<std::pair<int, double>>& rows() const { return rows_; }
 
  private:
   void Line(const std::string& text);  // ends an in-place progress line first
@@ -45,7 +63,9 @@ class RunConsole {
   int64_t t0_ = 0;
   double last_px_per_m_ = 0;  // last calibration shown
   std::string last_method_;
-  std::map<int, double> heights_;  // bounce -> height, for restitution so far
+  std::map<std::pair<int, int>, double> heights_;  // (sequence, bounce) -> height shown
+  int peak_lines_ = 0;
+  std::vector<std::pair<int, double>> rows_;
 };
 
 }  // namespace bouncefit::cli

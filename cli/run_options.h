@@ -7,6 +7,7 @@
 
 #include "fit/node/fit_node.h"
 #include "msgs/channels.h"
+#include "pipeline/exit_status.h"
 #include "track/tracker.h"
 
 namespace bouncefit::cli {
@@ -15,6 +16,7 @@ struct RunOptions {
   std::vector<std::string> clips;  // none: the built-in sample (or --device); several: RunSeveral
   std::string device;
   std::string out = "bouncefit-out";
+  bool overwrite = false;  // clear an earlier run's files in --out first
   std::string ball;  // empty: the sample's ball, else pingpong
   double diameter_m = 0;
   double mass_kg = 0;
@@ -32,6 +34,7 @@ struct RunOptions {
   int max_evals = 0;  // 0: the session's default
   double px_per_m = 0;
   double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
+  bool force = false;     // keep a scale or clock flag the measurement contradicts
   bool retime_frames = false;  // --retime-frames: the default (re-time dropped pictures), said
   bool keep_frame_times = false;  // never re-time them (only say so)
   double drop_height_m = 0;
@@ -44,10 +47,11 @@ struct RunOptions {
 FitNodeConfig FitConfig(const RunOptions& o);
 
 // One clip, the built-in sample or a camera: track, detect, hear, fit; writes o.out.
-void RunOneClip(RunOptions o);
+// Returns what the exit status says (pipeline/exit_status.h); throws for errors.
+ExitStatus RunOneClip(RunOptions o);
 
 // Several clips of one ball: each run as `run CLIP --no-fit` into OUT/<k>-<name>/, then their
 // drops fitted jointly into OUT (cli/run_several.cc).
-void RunSeveral(RunOptions o);
+ExitStatus RunSeveral(RunOptions o);
 
 }  // namespace bouncefit::cli

@@ -6,9 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/fit_offline.h"
+#include "cli/fit_print.h"
 #include "cli/run_options.h"
-#include "cli/run_output.h"
+#include "pipeline/fit_stage.h"
+#include "pipeline/output_dir.h"
 #include "fit/fit_export.h"
 #include "model/model_by_name.h"
 #include "msgs/msg_json.h"
@@ -55,16 +56,18 @@ void WriteDropsBesideTheirSimulation(const RunOptions& o, const BallPreset& ball
 
 }  // namespace
 
-// Several clips of one ball (issue 14 item 4): each run as `run CLIP --no-fit` into
+// Several clips of one ball: each run as `run CLIP --no-fit` into
 // OUT/<k>-<name>/ (track, detect, sound, its own peaks), then the drops fitted jointly, the last
 // clip's drop with the earlier ones, into OUT/coefficients.json and OUT/fitted_ball/.
-void RunSeveral(RunOptions o) {
+ExitStatus RunSeveral(RunOptions o) {
   if (o.pick_window)
     throw std::invalid_argument("--pick-window picks on one clip: give --pick or --color, or run the clips one at a time");
   if (o.ball.empty()) o.ball = "pingpong";
   const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);  // validates it
   const bool talk = !o.quiet && !o.json;
   const std::filesystem::path root(o.out);
+  ClaimOutputDir(root, {"coefficients.json", "fitted_ball", "fitted_ball.glb", "drops.csv", "summary.json"}, o.overwrite);
+  bool any_bounce = false;
   std::vector<std::vector<PeakInput>> drops;
   std::vector<std::filesystem::path> fitted_dirs;  // the clip directory of each drop
   nlohmann::json clips = nlohmann::json::array();
@@ -77,8 +80,11 @@ void RunSeveral(RunOptions o) {
     std::fflush(stdout);
     nlohmann::json entry = {{"input", o.clips[k]}, {"out", one.out}};
     try {
-      RunOneClip(one);
-      drops.push_back(ReadPeaksCsv((std::filesystem::path(one.out) / "peaks.csv").string()));
+      const ExitStatus status = RunOneClip(one);
+      if (status == kExitInterrupted) return status;
+      if (status == kExitNoBounce) throw std::runtime_error("no bounce found");
+      any_bounce = true;
+      drops.push_back(ReadDropPeaks(std::filesystem::path(one.out) / "peaks.csv"));
       fitted_dirs.push_back(one.out);
       entry["release_m"] = drops.back().front().height_m;
       entry["bounces"] = drops.back().size() - 1;
@@ -89,9 +95,12 @@ void RunSeveral(RunOptions o) {
     clips.push_back(entry);
   }
   nlohmann::json summary = {{"clips", clips}, {"ball", {{"name", ball.name}, {"diameter_m", ball.diameter_m}, {"mass_kg", ball.mass_kg}}}};
-  std::filesystem::create_directories(root);
   if (!o.no_fit) {
-    if (drops.empty()) throw std::runtime_error("no clip gave a drop with its release seen to fit (see the warnings above)");
+    if (drops.empty()) {
+      std::fprintf(stderr, "bouncefit run: no fit: no clip gave a drop with its release seen (see the warnings above)\n");
+      std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
+      return any_bounce ? kExitNoFit : kExitNoBounce;
+    }
     if (talk) std::printf("run: fitting the %zu drops jointly\n", drops.size());
     const FitUpdate final_fit = FitDropsOffline(drops, FitConfig(o), /*final_only=*/true, [&](const FitUpdate& u) {
       if (o.json)
@@ -99,13 +108,16 @@ void RunSeveral(RunOptions o) {
       else if (talk && u.final)
         PrintFitUpdate(u);
       std::fflush(stdout);
-    }, talk);
+    }, [&](int sims, int budget) {
+      if (talk) std::fprintf(stderr, "final fit  %d / %d simulations\n", sims, budget);
+    });
     WriteFitExports(root, final_fit, ball);
     summary["final_fit"] = FitUpdateToJson(final_fit, ball);
     WriteDropsBesideTheirSimulation(o, ball, final_fit, drops, fitted_dirs, root);
   }
   std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
   if (talk) std::printf("run: done: %zu clips, %zu drops fitted; wrote %s\n", o.clips.size(), drops.size(), root.string().c_str());
+  return drops.empty() ? (any_bounce ? kExitAnswer : kExitNoBounce) : kExitAnswer;
 }
 
 }  // namespace bouncefit::cli

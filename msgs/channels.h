@@ -13,6 +13,8 @@ struct Channels {
   std::string bounce_peak = "BOUNCE_PEAK";
   std::string fit_update = "FIT_UPDATE";
   std::string impact = "IMPACT";
+  std::string stream = "STREAM";  // the capture node's stream: start and end (stream_t)
+  std::string drop = "DROP";      // the detect node's drop ended / stream done (drop_t)
 };
 
 }  // namespace bouncefit

@@ -27,7 +27,11 @@ class LcmBus {
   template <class Msg>
   void Publish(const std::string& channel, const Msg& msg) {
     if (lcm_.publish(channel, &msg) != 0) ++publish_failures_;
+    if (mirror_) mirror_->Publish(channel, msg);
   }
+  // Every message published here is also published on `mirror` (a process hosting every
+  // node on memq:// shows its traffic on the network bus too); null: none.
+  void set_mirror(LcmBus* mirror) { mirror_ = mirror; }
 
   // Decoded messages; a packet that fails to decode is counted, never delivered.
   template <class Msg>
@@ -85,6 +89,7 @@ class LcmBus {
   void RecordHandlerFailure(const std::string& channel, const std::string& what);
 
   lcm::LCM lcm_;
+  LcmBus* mirror_ = nullptr;
   std::vector<std::unique_ptr<HandlerBase>> handlers_;
   std::atomic<int64_t> decode_failures_{0};
   std::atomic<int64_t> handler_failures_{0};

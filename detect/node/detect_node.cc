@@ -44,6 +44,9 @@ bounce_peak_t ToBouncePeakMsg(const BouncePeak& p) {
   m.impact_before_utime = p.impact_before_utime;
   m.impact_after_utime = p.impact_after_utime;
   m.emitted_utime = p.emitted_utime;
+  m.revision = 0;
+  m.live_bounce = p.bounce;
+  m.refit_height_m = m.fused_height_m = NAN;
   return m;
 }
 
@@ -66,7 +69,9 @@ std::vector<bounce_peak_t> RefittedPeakMsgs(const SequenceSummary& d, int64_t no
     bounce_peak_t m = ToBouncePeakMsg(p);
     m.height_px = m.height_m > 0 ? m.height_px * refit / m.height_m : NAN;
     m.height_m = refit;
-    m.utime = m.emitted_utime = now_utime;
+    m.utime = now_utime;
+    m.revision = 2;
+    m.refit_height_m = refit;
     out.push_back(m);
   }
   return out;

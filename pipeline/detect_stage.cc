@@ -1,0 +1,266 @@
+#include "pipeline/detect_stage.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "detect/node/detect_node.h"
+#include "msgs/lcm_bus.h"
+#include "msgs/msg_json.h"
+#include "msgs/peaks_csv.h"
+#include "pipeline/clock_report.h"
+#include "pipeline/output_dir.h"
+#include "pipeline/sound_fusion.h"
+#include "replay/container_clock.h"
+
+namespace bouncefit {
+namespace {
+
+int64_t SteadyMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+// "; refitted with the whole drop, m: 1 0.733, 2 0.515, ..." for the apexes a drop emitted.
+std::string RefitHeights(const SequenceSummary& d) {
+  std::string line;
+  for (const BouncePeak& p : d.peaks) {
+    const double h = d.FinalHeightOf(p.bounce);
+    if (std::isfinite(h)) line += fmt::format("{}{} {:.3f}", line.empty() ? " " : ", ", p.bounce, h);
+  }
+  return line.empty() ? line : "; refitted with the whole drop, m:" + line;
+}
+
+}  // namespace
+
+DetectStage::DetectStage(DetectStageConfig config, LcmBus& bus, NoticeFn notice)
+    : config_(std::move(config)), bus_(bus), notice_(std::move(notice)) {
+  if (!notice_) notice_ = [](const std::string&) {};
+  if (config_.px_per_m > 0 && config_.drop_height_m > 0)
+    throw std::invalid_argument("give --px-per-m or --drop-height, not both");
+  sound_ = std::make_unique<SoundFusion>(config_.ball);
+  const Channels& ch = config_.channels;
+  bus_.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) { OnStream(m); });
+  bus_.Subscribe<ball_box_t>(ch.ball_box, [this](const ball_box_t& m) { OnBox(m); });
+  bus_.Subscribe<impact_t>(ch.impact, [this](const impact_t& m) { OnImpact(m); });
+  if (!config_.out_dir.empty()) {
+    WritePeaksCsv(config_.out_dir / "peaks.csv", {});  // the header, at once
+    peaks_csv_ = std::make_unique<std::ofstream>(config_.out_dir / "peaks.csv", std::ios::app);
+  }
+}
+
+DetectStage::~DetectStage() = default;
+
+void DetectStage::StartStream(int64_t t0_utime) {
+  started_ = true;
+  t0_ = now_ = t0_utime;
+  DetectNodeConfig dc;
+  dc.channels = config_.channels;
+  dc.publish_refits = false;  // sent here, but for the bounces heard end to end
+  dc.detector.calibration.ball_diameter_m = config_.ball.diameter_m;
+  dc.detector.calibration.px_per_m = config_.px_per_m;
+  dc.detector.calibration.drop_height_m = config_.drop_height_m;
+  dc.detector.time_scale = config_.time_scale;
+  dc.retiming.mode = config_.keep_frame_times ? FrameTimes::kStamped : FrameTimes::kRetimed;
+  ContainerClock container;
+  container.capture_fps = start_.container_capture_fps;
+  container.stored_fps = start_.container_stored_fps;
+  dc.detector.capture_slowdown_hint = container.SlowDown();
+  dc.detector.image_width_px = start_.width > 0 ? start_.width : config_.frame_width_px;
+  dc.detector.image_height_px = start_.height > 0 ? start_.height : config_.frame_height_px;
+  std::string error;
+  if (!dc.detector.IsValid(&error)) throw std::invalid_argument(error);
+  node_ = std::make_unique<DetectNode>(nullptr, dc);
+  clock_ = std::make_unique<ClockReport>(
+      ContainerClockWords{start_.container_capture_fps, start_.container_stored_fps, start_.container_tag},
+      config_.time_scale > 0);
+  if (start_.nominal_fps > 0) sound_->set_frame_period_s(1.0 / start_.nominal_fps);
+}
+
+void DetectStage::OnStream(const stream_t& m) {
+  if (done_ || !fatal_.empty()) return;
+  if (m.state == "start") {
+    if (started_) return;  // one stream per node; a second start waits for another node
+    start_ = m;
+    StartStream(m.utime);
+    notice_(fmt::format("detect: {}, {:.2f} fps; ball {} ({:.1f} mm, {:.1f} g); sound: {}", m.description,
+                        m.nominal_fps, config_.ball.name, config_.ball.diameter_m * 1e3,
+                        config_.ball.mass_kg * 1e3, m.sound));
+  } else if (m.state == "end") {
+    end_ = m;
+    have_end_ = true;
+    if (!started_) StartStream(m.utime);
+    Finish();
+  }
+}
+
+void DetectStage::FinishWithoutEnd() {
+  if (done_) return;
+  if (!started_) StartStream(0);
+  Finish();
+}
+
+void DetectStage::OnBox(const ball_box_t& m) {
+  if (done_ || !fatal_.empty()) return;
+  if (!started_) StartStream(m.utime);  // a log without STREAM: the first box starts it
+  ++boxes_;
+  last_box_wall_us_ = SteadyMicros();
+  now_ = m.utime;
+  const bool retiming_known = node_->retiming().decided;
+  const auto events = node_->OnBox(m);
+  if (!retiming_known && node_->retiming().retimed && !retiming_said_) {
+    retiming_said_ = true;
+    notice_("clock: " + node_->retiming().verdict);
+  }
+  Handle(events);
+}
+
+void DetectStage::OnImpact(const impact_t& m) {
+  if (done_ || !fatal_.empty() || m.source != "audio" || m.fused) return;  // its own seen ones come back too
+  if (!started_) StartStream(m.utime);
+  sound_->OnHeard(m, t0_);
+  PublishHeardPeaks();
+}
+
+void DetectStage::EmitPeak(bounce_peak_t m) {
+  bus_.Publish(config_.channels.bounce_peak, m);
+  if (m.revision != 0) return;
+  emitted_.push_back(m);
+  if (m.bounce == 0 && release_utime_ == 0) release_utime_ = m.apex_utime;
+  if (peaks_csv_) {
+    std::vector<PeaksCsvRow> one = {PeaksCsvRowOf(m, t0_)};
+    // The live row as it is emitted: whatever happens later, it is on disk.
+    const PeaksCsvRow& r = one.front();
+    *peaks_csv_ << fmt::format("{},{:.6f},{},{},{},{:.6f},,,\n", r.bounce, r.t_s,
+                               std::isfinite(r.height_m) ? fmt::format("{:.5f}", r.height_m) : "",
+                               std::isfinite(r.height_px) ? fmt::format("{:.3f}", r.height_px) : "",
+                               std::isfinite(r.flight_height_m) ? fmt::format("{:.5f}", r.flight_height_m) : "",
+                               r.emitted_t_s)
+                << std::flush;
+  }
+}
+
+void DetectStage::PublishHeardPeaks() {
+  for (const bounce_peak_t& m : sound_->HeardPeaks(emitted_, t0_, now_)) EmitPeak(m);
+}
+
+void DetectStage::CheckFlags(const Calibration& c) {
+  if (config_.force || !fatal_.empty()) return;
+  const double size_px_per_m = c.radius_px > 0 && config_.ball.diameter_m > 0 ? 2 * c.radius_px / config_.ball.diameter_m : 0;
+  if (!(size_px_per_m > 0) || !c.FreeFallMeasured(0.25)) return;
+  const auto off = [](double a, double b) { return std::abs(std::log(a / b)) > std::log(2.0); };
+  std::string flag;
+  if (config_.px_per_m > 0 && off(config_.px_per_m, c.free_fall_px_per_m) && off(config_.px_per_m, size_px_per_m))
+    flag = fmt::format("--px-per-m {:g}", config_.px_per_m);
+  else if (config_.drop_height_m > 0 && c.method == "drop-height" && off(c.px_per_m, c.free_fall_px_per_m) &&
+           off(c.px_per_m, size_px_per_m))
+    flag = fmt::format("--drop-height {:g} (a scale of {:.0f} px/m)", config_.drop_height_m, c.px_per_m);
+  else if (config_.time_scale > 0 && c.gravity_over_size > 0 &&
+           std::abs(std::log(c.gravity_over_size)) > 2 * std::log(2.0))
+    flag = fmt::format("--time-scale {:g} (gravity's scale {:.2f}x the ball size's on that clock)",
+                       config_.time_scale, c.gravity_over_size);
+  if (flag.empty()) return;
+  fatal_ = fmt::format("{} contradicts the measurement by more than 2x: the free fall says {:.0f} px/m, the "
+                       "ball's size {:.0f} px/m (--force to use it anyway)",
+                       flag, c.free_fall_px_per_m, size_px_per_m);
+}
+
+void DetectStage::OnCalibration(const Calibration& c) {
+  CheckFlags(c);
+  if (!fatal_.empty()) return;
+  const std::string said = clock_->Update(c);
+  if (!said.empty()) notice_(said);
+  const calibration_t m = ToCalibrationMsg(c);
+  bus_.Publish(config_.channels.calibration, m);
+  calibration_ = m;
+  if (!config_.out_dir.empty()) WriteJsonAtomically(config_.out_dir / "calibration.json", ToJson(m, t0_));
+}
+
+void DetectStage::Handle(const std::vector<DetectorEvent>& events) {
+  for (const DetectorEvent& e : events) {
+    if (!fatal_.empty()) return;
+    switch (e.kind) {
+      case DetectorEvent::Kind::kCalibration:
+        OnCalibration(e.calibration);
+        break;
+      case DetectorEvent::Kind::kPeak:
+        EmitPeak(ToBouncePeakMsg(e.peak));
+        break;
+      case DetectorEvent::Kind::kImpact:
+        bus_.Publish(config_.channels.impact,
+                     sound_->Seen(SecondsSince(e.impact.utime, t0_), t0_, {e.impact.sequence, e.impact.index}));
+        PublishHeardPeaks();
+        break;
+      case DetectorEvent::Kind::kSequenceEnd: {
+        const auto ended = node_->Summaries();
+        notice_("drop ended (" + e.reason + ")" + (ended.empty() ? "" : RefitHeights(ended.back())));
+        // The refitted heights go out as revisions (the fit node's final fit takes them; a
+        // bounce heard end to end keeps its flight-time height).
+        if (!ended.empty())
+          for (const bounce_peak_t& m : RefittedPeakMsgs(ended.back(), now_))
+            if (!sound_->WasHeard(m.sequence, m.bounce)) EmitPeak(m);
+        drop_t d{};
+        d.utime = now_;
+        d.sequence = ended.empty() ? 0 : ended.back().sequence;
+        d.state = "ended";
+        d.reason = e.reason;
+        d.stream_start_utime = t0_;
+        bus_.Publish(config_.channels.drop, d);
+        break;
+      }
+    }
+  }
+}
+
+void DetectStage::Finish() {
+  if (done_ || !fatal_.empty()) return;
+  Handle(node_->Finish());
+  if (!fatal_.empty()) return;
+  PublishHeardPeaks();
+  const std::vector<SequenceSummary> summaries = node_->Summaries();  // every drop has ended
+  std::vector<double> seen;
+  for (const auto& d : summaries)
+    for (const auto& i : d.impacts) seen.push_back(SecondsSince(i.utime, t0_));
+  const std::string no_sound = start_.sound.empty() || start_.sound.rfind("no ", 0) == 0 || start_.sound.rfind("off", 0) == 0
+                                   ? (start_.sound.empty() ? std::string("no sound") : start_.sound)
+                                   : std::string();
+  const double end_s = SecondsSince(have_end_ ? end_.utime : now_, t0_);
+  notice_("sound: " + sound_->Finish(seen, end_s, no_sound).verdict);
+  // What each emitted bounce became when its drop ended.
+  std::vector<SoundFusion::AfterRefit> after(emitted_.size());
+  for (size_t i = 0; i < emitted_.size(); ++i)
+    for (const auto& d : summaries)
+      if (d.sequence == emitted_[i].sequence) {
+        after[i].refit_m = d.FinalHeightOf(emitted_[i].bounce);
+        after[i].flight_m = d.FlightHeightOf(emitted_[i].bounce);
+      }
+  std::vector<bounce_peak_t> withdrawn;
+  const std::vector<bounce_peak_t> rows = sound_->FinalRows(emitted_, after, t0_, now_, &withdrawn);
+  for (const bounce_peak_t& m : withdrawn) EmitPeak(m);
+  for (const bounce_peak_t& m : rows) EmitPeak(m);
+  for (const impact_t& m : sound_->FusedImpacts(t0_)) bus_.Publish(config_.channels.impact, m);
+  rows_ = static_cast<int>(rows.size());
+  if (!config_.out_dir.empty()) {
+    peaks_csv_.reset();
+    std::vector<PeaksCsvRow> csv;
+    for (const auto& m : rows) csv.push_back(PeaksCsvRowOf(m, t0_));
+    WritePeaksCsv(config_.out_dir / "peaks.csv", csv);
+    sound_->WriteImpactsCsv(config_.out_dir);
+    WriteSummary(rows);
+  }
+  drop_t d{};
+  d.utime = now_;
+  d.sequence = summaries.empty() ? 0 : summaries.back().sequence;
+  d.state = "done";
+  d.reason = have_end_ ? (end_.stopped ? "stopped" : "end of stream") : "the capture node went silent";
+  d.peaks = rows_;
+  d.stream_start_utime = t0_;
+  d.release_utime = release_utime_;
+  bus_.Publish(config_.channels.drop, d);
+  done_ = true;
+}
+
+}  // namespace bouncefit

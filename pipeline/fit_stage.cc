@@ -1,0 +1,137 @@
+#include "pipeline/fit_stage.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <thread>
+
+#include "fit/fit_export.h"
+#include "msgs/lcm_bus.h"
+#include "msgs/msg_json.h"
+
+namespace bouncefit {
+namespace {
+
+int64_t SteadyMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+void WriteSimulatedCsv(const std::filesystem::path& dir, double t_release_s,
+                       const std::vector<TrajectorySample>& trajectory) {
+  std::ofstream f(dir / "simulated.csv", std::ios::trunc);
+  if (!f) throw std::runtime_error("cannot write '" + (dir / "simulated.csv").string() + "'");
+  f << "t_s,height_m\n";
+  for (const auto& s : trajectory)
+    if (std::isfinite(s.bottom_height_m)) f << fmt::format("{:.6f},{:.5f}\n", t_release_s + s.t_s, s.bottom_height_m);
+}
+
+FitStage::FitStage(FitStageConfig config, LcmBus& bus, NoticeFn notice)
+    : config_(std::move(config)), bus_(bus), notice_(std::move(notice)) {
+  if (!notice_) notice_ = [](const std::string&) {};
+  node_ = std::make_unique<FitNode>(config_.node, [this](const fit_update_t& m, const FitUpdate& u) {
+    std::lock_guard<std::mutex> lock(inbox_mutex_);
+    inbox_.emplace_back(m, u);
+  });
+  const Channels& ch = config_.node.channels;
+  bus_.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) {
+    if (m.state == "start") t0_ = m.utime;
+  });
+  bus_.Subscribe<ball_box_t>(ch.ball_box, [this](const ball_box_t& m) { now_ = std::max(now_, m.utime); });
+  bus_.Subscribe<bounce_peak_t>(ch.bounce_peak, [this](const bounce_peak_t& m) { OnPeak(m); });
+  bus_.Subscribe<drop_t>(ch.drop, [this](const drop_t& m) { OnDrop(m); });
+  if (!config_.out_dir.empty()) {
+    fit_jsonl_ = std::make_unique<std::ofstream>(config_.out_dir / "fit.jsonl", std::ios::trunc);
+    if (!*fit_jsonl_) throw std::runtime_error("cannot write '" + (config_.out_dir / "fit.jsonl").string() + "'");
+  }
+  node_->Start();
+}
+
+FitStage::~FitStage() { Stop(); }
+
+void FitStage::Stop() { node_->Stop(); }
+
+bool FitStage::busy() { return !node_->WaitIdleFor(std::chrono::milliseconds(0)); }
+
+void FitStage::OnPeak(const bounce_peak_t& m) {
+  last_wall_us_ = last_peak_wall_us_ = SteadyMicros();
+  now_ = std::max(now_, m.utime);
+  if (t0_ == 0) t0_ = m.utime;  // no STREAM heard: the first peak's time
+  // The rows of peaks.csv and withdrawals come after the drops' final fits: not fitted again.
+  if (m.revision >= 3 || stream_done_) return;
+  if (m.bounce == 0 && m.revision == 0 && release_utime_ == 0) release_utime_ = m.apex_utime;
+  finished_since_peak_ = false;
+  node_->OnPeak(m);
+}
+
+void FitStage::OnDrop(const drop_t& m) {
+  last_wall_us_ = SteadyMicros();
+  now_ = std::max(now_, m.utime);
+  if (m.stream_start_utime) t0_ = m.stream_start_utime;
+  if (stream_done_) return;
+  if (!finished_since_peak_ || m.state == "done") {
+    node_->Finish();
+    finished_since_peak_ = true;
+    final_sims_start_ = node_->simulations();
+  }
+  if (m.state == "done") {
+    stream_done_ = true;
+    if (m.release_utime) release_utime_ = m.release_utime;
+  }
+}
+
+void FitStage::Poll() {
+  std::deque<std::pair<fit_update_t, FitUpdate>> ready;
+  {
+    std::lock_guard<std::mutex> lock(inbox_mutex_);
+    ready.swap(inbox_);
+  }
+  for (auto& [m, u] : ready) {
+    bus_.Publish(config_.node.channels.fit_update, m);
+    if (fit_jsonl_) {
+      auto j = ToJson(m, t0_);
+      j["published_t_s"] = SecondsSince(now_, t0_);
+      *fit_jsonl_ << j.dump() << '\n' << std::flush;
+    }
+    if (u.final && u.model == node_->model().name()) final_ = u;
+    if (on_update_) on_update_(m, u);
+  }
+  // A drop with no DROP word (an older log): its final fit after a quiet spell.
+  if (!stream_done_ && !finished_since_peak_ && config_.final_after_s > 0 &&
+      (SteadyMicros() - last_peak_wall_us_) * 1e-6 > config_.final_after_s) {
+    node_->Finish();
+    finished_since_peak_ = true;
+  }
+  if (stream_done_ && !done_ && ready.empty() && !busy()) {
+    std::lock_guard<std::mutex> lock(inbox_mutex_);
+    if (!inbox_.empty()) return;  // a last update came in meanwhile: the next Poll
+    WriteExports();
+    done_ = true;
+  }
+}
+
+void FitStage::WaitDone(const std::function<void(int, int)>& progress) {
+  while (!done_) {
+    Poll();
+    if (done_) break;
+    if (progress) progress(node_->simulations() - final_sims_start_, node_->final_budget());
+    node_->WaitIdleFor(std::chrono::milliseconds(200));
+  }
+}
+
+void FitStage::WriteExports() {
+  if (config_.out_dir.empty() || !final_) return;
+  WriteFitExports(config_.out_dir, *final_, node_->ball());
+  // The model's trajectory with the final coefficients, on the stream clock.
+  SimulationOptions so;
+  so.drop_height_m = final_->drop_height_m;
+  so.record_trajectory = true;
+  so.duration_s = 8.0;
+  const SimulationResult r = node_->model().Simulate(final_->values, so);
+  if (r.ok) WriteSimulatedCsv(config_.out_dir, SecondsSince(release_utime_, t0_), r.trajectory);
+}
+
+}  // namespace bouncefit

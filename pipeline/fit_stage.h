@@ -1,0 +1,88 @@
+#pragma once
+// The fit node: BOUNCE_PEAK (each bounce and its revisions) and DROP in; FIT_UPDATE out
+// after every bounce and at the end of every drop. The fits run on a worker thread; what
+// they give is published from the bus's thread by Poll(). It owns fit.jsonl and, once the
+// stream is done, coefficients.json, fitted_ball/ and simulated.csv.
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bouncefit/ball_box_t.hpp"
+#include "bouncefit/bounce_peak_t.hpp"
+#include "bouncefit/drop_t.hpp"
+#include "bouncefit/fit_update_t.hpp"
+#include "bouncefit/stream_t.hpp"
+#include "fit/node/fit_node.h"
+#include "model/ball_model.h"
+
+namespace bouncefit {
+
+class LcmBus;
+
+struct FitStageConfig {
+  FitNodeConfig node;
+  std::filesystem::path out_dir;  // empty: nothing written
+  // A drop is over when no peak came for this long, s, and no DROP said so (an older log; 0: never).
+  double final_after_s = 0;
+};
+
+// simulated.csv in `dir` (docs/FORMATS.md): a simulated drop's trajectory, its release at
+// t_release_s on the stream clock, beside the recorded one for the report.
+void WriteSimulatedCsv(const std::filesystem::path& dir, double t_release_s,
+                       const std::vector<TrajectorySample>& trajectory);
+
+class FitStage {
+ public:
+  using NoticeFn = std::function<void(const std::string&)>;
+
+  // Builds the models and subscribes; throws std::invalid_argument for an unknown ball or model.
+  FitStage(FitStageConfig config, LcmBus& bus, NoticeFn notice = {});
+  ~FitStage();
+
+  // Publishes the updates the worker finished, writes fit.jsonl; once the stream is done
+  // and the last fit is out, writes the exports. Call from the bus's thread.
+  void Poll();
+  // The stream is done and everything is written.
+  bool done() const { return done_; }
+  // Waits (polling) until done; progress gets simulations run and the final fit's budget.
+  void WaitDone(const std::function<void(int, int)>& progress);
+  // Stops the worker (an interrupted session): what was published stays.
+  void Stop();
+
+  // Called from Poll() with every update as it is published.
+  void set_update_observer(std::function<void(const fit_update_t&, const FitUpdate&)> fn) { on_update_ = std::move(fn); }
+  const std::optional<FitUpdate>& final_fit() const { return final_; }
+  const BallPreset& ball() const { return node_->ball(); }
+  int final_budget() const { return node_->final_budget(); }
+  int64_t last_message_wall_us() const { return last_wall_us_; }
+  bool busy();
+
+ private:
+  void OnPeak(const bounce_peak_t& m);
+  void OnDrop(const drop_t& m);
+  void WriteExports();
+
+  FitStageConfig config_;
+  LcmBus& bus_;
+  NoticeFn notice_;
+  std::function<void(const fit_update_t&, const FitUpdate&)> on_update_;
+  std::unique_ptr<FitNode> node_;
+  std::mutex inbox_mutex_;
+  std::deque<std::pair<fit_update_t, FitUpdate>> inbox_;
+  std::optional<FitUpdate> final_;
+  std::unique_ptr<std::ofstream> fit_jsonl_;
+  int64_t t0_ = 0, now_ = 0, release_utime_ = 0;
+  bool stream_done_ = false, done_ = false, finished_since_peak_ = true;
+  int final_sims_start_ = 0;
+  int64_t last_wall_us_ = 0, last_peak_wall_us_ = 0;
+};
+
+}  // namespace bouncefit

@@ -1,0 +1,72 @@
+#include "pipeline/offline_fit.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <stdexcept>
+
+#include "fit/fit_models.h"
+#include "model/model_by_name.h"
+#include "model/point_mass_model.h"
+#include "msgs/peaks_csv.h"
+
+namespace bouncefit {
+
+std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& path) {
+  std::vector<PeakInput> peaks;
+  int drops = 0;
+  for (const PeaksCsvRow& r : ReadPeaksCsv(path)) {
+    if (r.bounce == 0 && ++drops > 1) break;
+    PeakInput p;
+    p.bounce = r.bounce;
+    p.height_m = r.HeightToUse();
+    if (!std::isfinite(p.height_m)) throw std::runtime_error(path.string() + ": bounce " + std::to_string(r.bounce) + " has no height");
+    p.utime = static_cast<int64_t>(std::llround(r.t_s * 1e6));
+    peaks.push_back(p);
+  }
+  if (peaks.empty()) throw std::runtime_error(path.string() + ": no rows (no bounce was found in that run)");
+  if (peaks.front().bounce != 0)
+    throw std::runtime_error(path.string() + ": the first peak must be bounce 0 (the release height; the "
+                             "release was not seen)");
+  return peaks;
+}
+
+FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConfig node, bool final_only,
+                          const std::function<void(const FitUpdate&)>& emit,
+                          const std::function<void(int, int)>& progress) {
+  for (size_t d = 0; d < drops.size(); ++d)
+    for (auto& p : drops[d]) p.sequence = static_cast<int>(d);
+  const BallPreset ball = ResolveBallPreset(node.ball, node.diameter_m, node.mass_kg);
+  auto model = MakeBallModel(node.model, ball);
+  PointMassModel quick(ball);
+  ConfigureSessionForModel(*model, ball, &node.session);
+  FitSession session(*model, &quick, node.session);
+  // As the node would: the point-mass estimate and a refinement after every bounce (no
+  // newer peak ever supersedes them offline), then the final fit; earlier drops are kept
+  // and fitted with the last one.
+  for (size_t d = 0; d < drops.size(); ++d) {
+    if (d > 0) session.KeepDropAndReset(static_cast<int>(d));
+    for (const auto& p : drops[d]) {
+      session.AddPeak(p);
+      if (final_only || p.bounce < 1 || !session.CanFit()) continue;
+      if (static_cast<int>(session.FittedHeights().size()) < p.bounce) continue;  // below 1 cm
+      emit(session.QuickUpdate());
+      emit(session.Update());
+    }
+  }
+  if (!session.CanFit())
+    throw std::runtime_error(fmt::format("no bounce above {:g} cm to fit", node.session.min_bounce_height_m * 100));
+  if (final_only) emit(session.QuickUpdate());
+  auto running = std::async(std::launch::async, [&session] { return session.FinalUpdate(); });
+  const int budget = session.FinalBudget();
+  const int before = session.simulations();
+  while (running.wait_for(std::chrono::seconds(1)) != std::future_status::ready)
+    if (progress) progress(session.simulations() - before, budget);
+  const FitUpdate final_fit = running.get();
+  emit(final_fit);
+  return final_fit;
+}
+
+}  // namespace bouncefit

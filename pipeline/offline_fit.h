@@ -1,0 +1,27 @@
+#pragma once
+// The fit of recorded drops without a stream, as the fit node would make it: `fit --heights
+// / --peaks` and the joint fit of several clips' drops (`run a.mp4 b.mp4`): the point-mass
+// estimate and a refinement after every bounce, then the final fit of the last drop jointly
+// with the earlier ones.
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+#include "fit/fit_session.h"
+#include "fit/node/fit_node.h"
+
+namespace bouncefit {
+
+// The first drop of a peaks.csv (msgs/peaks_csv.h) as the fit's peaks: the height to quote
+// of every row, its bounce and time. Throws std::runtime_error with a one-line reason (no
+// file, no rows, no release, not a number).
+std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& peaks_csv);
+
+// Fits the drops (each a list of peaks, bounce 0 first); emit gets every update, the final
+// one last; progress (simulations run, budget) about once a second during the final fit.
+// Returns the final update. Throws std::runtime_error when no bounce is high enough to fit.
+FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConfig node, bool final_only,
+                          const std::function<void(const FitUpdate&)>& emit,
+                          const std::function<void(int, int)>& progress = {});
+
+}  // namespace bouncefit
