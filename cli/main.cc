@@ -21,6 +21,12 @@ int main(int argc, char** argv) {
       "bouncefit: watch a ball bounce, measure its bounces, and fit the coefficients of a "
       "Bullet soft-body ball to them.",
       "bouncefit"};
+  app.set_version_flag("--version", std::string("bouncefit ") + BOUNCEFIT_VERSION);
+  app.footer(
+      "Exit status: 0 an answer was written (a final fit, or the peaks with --no-fit), 1 an error, 2 a\n"
+      "bad flag (or one the measurement contradicts), 3 no bounce found, 4 bounces found but no fit,\n"
+      "130 stopped by Ctrl-C or SIGTERM after writing what was recorded.\n"
+      "Example: bouncefit run drop.mp4 --ball tennis --out out/drop");
   app.require_subcommand(1);
   app.fallthrough(false);
   AddRunCommand(app);
@@ -55,10 +61,16 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::RuntimeError& e) {
     return e.get_exit_code();
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "bouncefit: error: %s (try --help)\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {  // a flag the command could not use
+    for (const auto* sub : app.get_subcommands()) command = "bouncefit " + sub->get_name();
+    std::fprintf(stderr, "%s: error: %s\n", command.c_str(), e.what());
     return 2;
   } catch (const std::exception& e) {
     for (const auto* sub : app.get_subcommands()) command = "bouncefit " + sub->get_name();

@@ -68,6 +68,7 @@ void RunWatch(const WatchFlags& f) {
       if (plain) say("watch: the producer restarted: a new stream");
     }
   });
+  bus.Subscribe<stream_t>(f.channels.stream, [&](const stream_t& m) { state.OnStream(m, NowUtime()); });
   bus.Subscribe<calibration_t>(f.channels.calibration, [&](const calibration_t& m) {
     state.OnCalibration(m, NowUtime());
     if (plain) say(WatchCalibrationLine(m));

@@ -48,6 +48,7 @@ void WatchState::NewStream() {
   sequence_ = -1;
   lowest_bottom_px_ = -1e300;
   stream_start_utime_ = 0;
+  final_rows_ = fused_impacts_ = false;
 }
 
 void WatchState::OnBox(const ball_box_t& m, int64_t now_utime) {
@@ -75,14 +76,39 @@ void WatchState::OnCalibration(const calibration_t& m, int64_t now_utime) {
   calibration_ = m;
 }
 
+void WatchState::OnStream(const stream_t& m, int64_t now_utime) {
+  Count("stream", now_utime);
+  if (m.state != "start") return;
+  if (last_box_utime_ != 0) {
+    ++restarts_;
+    NewStream();
+    last_box_utime_ = 0;
+  }
+  stream_start_utime_ = m.utime;  // the zero of every time shown, as in the run's files
+}
+
 void WatchState::OnPeak(const bounce_peak_t& m, int64_t now_utime) {
   Count("peak", now_utime);
+  if (m.revision == 3 && !final_rows_) {
+    peaks_.clear();  // the stream ended: its rows of peaks.csv replace the live table
+    final_rows_ = true;
+  }
+  if (final_rows_ && m.revision != 3) return;
+  if (m.revision == 3) {
+    peaks_.push_back(m);
+    return;
+  }
   if (m.sequence != sequence_) {
     peaks_.clear();  // a new drop: its own table
     sequence_ = m.sequence;
   }
+  if (m.revision == 4) {  // withdrawn
+    peaks_.erase(std::remove_if(peaks_.begin(), peaks_.end(), [&](const bounce_peak_t& p) { return p.bounce == m.live_bounce; }),
+                 peaks_.end());
+    return;
+  }
   auto it = std::find_if(peaks_.begin(), peaks_.end(),
-                         [&](const bounce_peak_t& p) { return p.bounce == m.bounce; });
+                         [&](const bounce_peak_t& p) { return p.bounce == m.live_bounce; });
   if (it != peaks_.end()) {
     *it = m;
   } else {
@@ -94,6 +120,11 @@ void WatchState::OnPeak(const bounce_peak_t& m, int64_t now_utime) {
 
 void WatchState::OnImpact(const impact_t& m, int64_t now_utime) {
   Count("impact", now_utime);
+  if (m.fused && !fused_impacts_) {
+    impacts_.clear();  // the stream ended: the impacts heard and seen, fused, replace the live list
+    fused_impacts_ = true;
+  }
+  if (fused_impacts_ && !m.fused) return;
   impacts_.push_back(m);
   const size_t kMaxImpacts = 1000;  // a long session's list stays bounded
   if (impacts_.size() > kMaxImpacts) impacts_.erase(impacts_.begin());

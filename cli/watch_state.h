@@ -13,6 +13,7 @@
 #include "bouncefit/calibration_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
 #include "bouncefit/impact_t.hpp"
+#include "bouncefit/stream_t.hpp"
 
 namespace bouncefit::cli {
 
@@ -34,6 +35,7 @@ class WatchState {
   explicit WatchState(WatchConfig config = {}) : config_(config) {}
 
   // now_utime: when the message was received (wall clock of the watcher).
+  void OnStream(const stream_t& m, int64_t now_utime);
   void OnBox(const ball_box_t& m, int64_t now_utime);
   void OnCalibration(const calibration_t& m, int64_t now_utime);
   void OnPeak(const bounce_peak_t& m, int64_t now_utime);
@@ -98,6 +100,8 @@ class WatchState {
   int64_t restarts_ = 0;
   int sequence_ = -1;
   double lowest_bottom_px_ = -1e300;
+  bool final_rows_ = false;      // peaks_ holds the rows of peaks.csv (the stream ended)
+  bool fused_impacts_ = false;   // impacts_ holds the fused impacts (the stream ended)
 };
 
 }  // namespace bouncefit::cli

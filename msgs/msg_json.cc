@@ -57,7 +57,12 @@ nlohmann::json ToJson(const bounce_peak_t& m, int64_t t0) {
           {"flight_height_m", FiniteOrNull(m.flight_height_m)},
           {"impact_before_t_s", time_or_null(m.impact_before_utime)},
           {"impact_after_t_s", time_or_null(m.impact_after_utime)},
-          {"emitted_t_s", SecondsSince(m.emitted_utime, t0)}};
+          {"emitted_t_s", m.emitted_utime ? nlohmann::json(SecondsSince(m.emitted_utime, t0)) : nlohmann::json()},
+          {"revision", m.revision},
+          {"live_bounce", m.live_bounce},
+          {"refit_height_m", FiniteOrNull(m.refit_height_m)},
+          {"fused_height_m", FiniteOrNull(m.fused_height_m)},
+          {"heard", m.heard}};
 }
 
 nlohmann::json ToJson(const fit_update_t& m, int64_t t0) {

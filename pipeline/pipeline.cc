@@ -9,7 +9,20 @@ namespace bouncefit {
 
 Pipeline::Pipeline(PipelineConfig config, NoticeFn notice) : config_(std::move(config)), notice_(std::move(notice)) {
   if (!notice_) notice_ = [](const std::string&) {};
+  const bool existed = std::filesystem::exists(config_.out_dir);
   ClaimOutputDir(config_.out_dir, RunOutputFiles(), config_.overwrite);
+  try {
+    Open();
+  } catch (...) {
+    // A source or a flag refused before the stream began: leave no trace of this run.
+    RemoveOutputFiles(config_.out_dir, RunOutputFiles());
+    std::error_code ec;
+    if (!existed) std::filesystem::remove(config_.out_dir, ec);  // only if empty
+    throw;
+  }
+}
+
+void Pipeline::Open() {
   config_.capture.out_dir = config_.detect.out_dir = config_.out_dir;
   if (config_.fit) config_.fit->out_dir = config_.out_dir;
   bus_ = std::make_unique<LcmBus>("memq://");

@@ -58,6 +58,8 @@ class Pipeline {
                       const std::function<void(int, int)>& fit_progress);
 
  private:
+  void Open();  // the buses and the nodes
+
   PipelineConfig config_;
   NoticeFn notice_;
   std::unique_ptr<LcmBus> outside_;

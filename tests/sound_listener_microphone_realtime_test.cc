@@ -1,4 +1,4 @@
-// The live sound side of `bouncefit run --device ... --audio-device ...` (cli/run_sound) against
+// The live sound side of `bouncefit run --device ... --audio-device ...` (pipeline/sound_listener) against
 // a scripted microphone: ALSA's file plugin plays clicks at known times as the capture
 // device, the frame loop's clock is CLOCK_MONOTONIC (as V4L2 stamps frames), and each click
 // comes out as an IMPACT message in the video's clock while the stream runs (a wall-clock
@@ -13,7 +13,8 @@
 #include <fstream>
 #include <thread>
 
-#include "cli/run_sound.h"
+#include "pipeline/sound_fusion.h"
+#include "pipeline/sound_listener.h"
 #include "model/ball_preset.h"
 #include "synth/synth_audio.h"
 #include "tests/test_support.h"
@@ -27,7 +28,7 @@ int64_t MonotonicUtime() {
   return int64_t(ts.tv_sec) * 1000000 + ts.tv_nsec / 1000;
 }
 
-TEST(RunSoundMicrophone, ScriptedClicksArePublishedInTheVideoClockWithinAMillisecond) {
+TEST(SoundListenerMicrophone, ScriptedClicksArePublishedInTheVideoClockWithinAMillisecond) {
   const auto dir = testing::ScratchDir("run_mic");
   const std::vector<double> clicks = {0.3, 0.66, 0.95, 1.18, 1.36, 1.5};
   const std::vector<double> speeds = {3, 2.5, 2, 1.6, 1.2, 0.9};
@@ -51,7 +52,7 @@ TEST(RunSoundMicrophone, ScriptedClicksArePublishedInTheVideoClockWithinAMillise
                    "infile \"" + raw.string() + "\" format \"raw\" }";
   // The first frame arrives as the microphone opens.
   const int64_t t0_utime = MonotonicUtime();
-  cli::RunSound sound(mc, ResolveBallPreset("pingpong"));
+  SoundListener sound(mc);
   ASSERT_TRUE(sound.enabled());
   EXPECT_NE(sound.Describe().find("44100 Hz"), std::string::npos) << sound.Describe();
 
@@ -67,13 +68,12 @@ TEST(RunSoundMicrophone, ScriptedClicksArePublishedInTheVideoClockWithinAMillise
       published_at_s.push_back((now - t0_utime) * 1e-6);
     }
   }
-  for (const auto& m : sound.EndLive(t0_utime)) {
+  for (const auto& m : sound.Finish(t0_utime)) {
     published.push_back(m);
     published_at_s.push_back((MonotonicUtime() - t0_utime) * 1e-6);
   }
-  const nlohmann::json summary = sound.Summary();
-  ASSERT_TRUE(summary["first_sample_t_s"].is_number()) << summary.dump();
-  const double first = summary["first_sample_t_s"];  // the recording's start, video clock
+  ASSERT_TRUE(std::isfinite(sound.first_sample_t_s()));
+  const double first = sound.first_sample_t_s();  // the recording's start, video clock
   EXPECT_NEAR(first, 0, 1.0);                         // the same clock as the frames
   ASSERT_EQ(published.size(), clicks.size());
   double worst = 0;
@@ -86,15 +86,15 @@ TEST(RunSoundMicrophone, ScriptedClicksArePublishedInTheVideoClockWithinAMillise
     // Out while the stream runs, a few frames after the click (not at the end).
     EXPECT_LT(published_at_s[k], first + clicks[k] + 0.25) << "click " << k;
   }
-  EXPECT_EQ(summary["overruns"], 0);
+  EXPECT_EQ(sound.overruns(), 0);
   std::printf("clicks heard live: worst time error %.3f ms (video clock)\n", worst * 1e3);
 }
 
-TEST(RunSoundMicrophone, MissingDeviceIsAOneLineError) {
+TEST(SoundListenerMicrophone, MissingDeviceIsAOneLineError) {
   AlsaMicrophoneConfig mc;
   mc.device = "hw:97,0";
   try {
-    cli::RunSound sound(mc, ResolveBallPreset("pingpong"));
+    SoundListener sound(mc);
     FAIL() << "opened a microphone that does not exist";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("hw:97,0"), std::string::npos) << e.what();
@@ -103,8 +103,8 @@ TEST(RunSoundMicrophone, MissingDeviceIsAOneLineError) {
 
 // The picture may revise an impact it sent (two frames at the floor first taken for two
 // impacts, then merged): the revision goes out with the index of the impact it replaces.
-TEST(RunSoundSeen, AnImpactTheDetectorRevisesKeepsItsMessageIndex) {
-  cli::RunSound sound("", ResolveBallPreset("pingpong"));
+TEST(SoundFusionSeen, AnImpactTheDetectorRevisesKeepsItsMessageIndex) {
+  SoundFusion sound(ResolveBallPreset("pingpong"));
   const impact_t first = sound.Seen(1.0, 0, {0, 1});
   const impact_t second = sound.Seen(1.4, 0, {0, 2});
   const impact_t revised = sound.Seen(1.03, 0, {0, 1});
