@@ -283,7 +283,8 @@ FittedBallGltf WriteFittedBallGltf(const std::filesystem::path& path, const Ball
                       {"max_vertex_error_m", out.max_error_m},
                       {"max_deformation_m", out.max_deformation_m},
                       {"simulated_bounce_heights_m", sim.bounce_heights_m},
-                      {"simulated_apex_times_s", sim.apex_times_s}};
+                      {"simulated_apex_times_s", sim.apex_times_s},
+                      {"simulated_impact_times_s", sim.impact_times_s}};
   if (recorded) all["animation"]["recorded_ball_offset_x_m"] = RecordedBallOffsetM(ball);
   b.model.asset.extras = ToValue(all);
 
