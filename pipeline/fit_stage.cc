@@ -7,19 +7,10 @@
 
 #include "fit/fit_export.h"
 #include "msgs/lcm_bus.h"
+#include "msgs/node_clock.h"
 #include "msgs/msg_json.h"
 
 namespace bouncefit {
-namespace {
-
-int64_t SteadyMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
-
 void WriteSimulatedCsv(const std::filesystem::path& dir, double t_release_s,
                        const std::vector<TrajectorySample>& trajectory) {
   std::ofstream f(dir / "simulated.csv", std::ios::trunc);
@@ -145,6 +136,7 @@ RecordedTrack FitStage::Recorded() const {
   const calibration_t& c = *calibration_;
   const double down_x = std::sin(c.roll_rad), down_y = std::cos(c.roll_rad);
   for (const ball_box_t& b : boxes_) {
+    if (b.utime < release_utime_) continue;  // the animation starts at the release
     const double x = b.cx - b.camera_dx, y = b.cy - b.camera_dy;  // in the scene
     const double bottom_px = x * down_x + y * down_y + b.radius_px;
     r.t_s.push_back(SecondsSince(b.utime, release_utime_));

@@ -38,7 +38,7 @@ fs::path SampleRun() {
   const std::string d = "'" + dir.string() + "'";
   std::string out;
   const std::string script = "[ " + d + "/report.html -nt " + BouncefitExe() + " ] || { " +
-                             BouncefitExe() + " run --speed 0 --out " + d + " && " +
+                             BouncefitExe() + " run --speed 0 --lcm-url memq:// --overwrite --out " + d + " && " +
                              BouncefitExe() + " report " + d + "; }";
   EXPECT_EQ(RunCommand("flock " + d + ".lock sh -c \"" + script + "\"", &out), 0) << out;
   return dir;
