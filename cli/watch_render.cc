@@ -34,7 +34,7 @@ std::string Rule(int cols, const std::string& title, bool unicode) {
 }
 
 double StreamSeconds(const WatchState& s, int64_t utime) {
-  if (s.stream_start_utime() == 0 || utime == 0) return std::numeric_limits<double>::quiet_NaN();
+  if (!s.has_stream_start()) return std::numeric_limits<double>::quiet_NaN();
   return static_cast<double>(utime - s.stream_start_utime()) * 1e-6;
 }
 

@@ -48,6 +48,7 @@ void WatchState::NewStream() {
   sequence_ = -1;
   lowest_bottom_px_ = -1e300;
   stream_start_utime_ = 0;
+  has_stream_start_ = false;
   final_rows_ = fused_impacts_ = false;
 }
 
@@ -59,7 +60,7 @@ void WatchState::OnBox(const ball_box_t& m, int64_t now_utime) {
     ++restarts_;
     NewStream();
   }
-  if (stream_start_utime_ == 0) stream_start_utime_ = m.utime;
+  if (!has_stream_start_) stream_start_utime_ = m.utime, has_stream_start_ = true;
   if (last_frame_ >= 0 && m.frame > last_frame_ + 1) frame_gaps_ += m.frame - last_frame_ - 1;
   last_frame_ = m.frame;
   last_box_utime_ = m.utime;
@@ -85,6 +86,7 @@ void WatchState::OnStream(const stream_t& m, int64_t now_utime) {
     last_box_utime_ = 0;
   }
   stream_start_utime_ = m.utime;  // the zero of every time shown, as in the run's files
+  has_stream_start_ = true;
 }
 
 void WatchState::OnPeak(const bounce_peak_t& m, int64_t now_utime) {

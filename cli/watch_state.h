@@ -67,7 +67,9 @@ class WatchState {
   double SilenceS(int64_t now_utime) const;
   bool Waiting(int64_t now_utime) const;
 
-  int64_t stream_start_utime() const { return stream_start_utime_; }  // first box seen
+  // The stream's first frame (STREAM, else the first box seen); a file's is 0.
+  int64_t stream_start_utime() const { return stream_start_utime_; }
+  bool has_stream_start() const { return has_stream_start_; }
   int64_t last_box_utime() const { return last_box_utime_; }
   int64_t frame_gaps() const { return frame_gaps_; }    // frames missing from the box stream
   int64_t lost_frames() const { return lost_frames_; }  // boxes with found == false
@@ -93,6 +95,7 @@ class WatchState {
   int64_t fits_received_ = 0;
   int64_t last_recv_utime_ = 0;
   int64_t stream_start_utime_ = 0;
+  bool has_stream_start_ = false;
   int64_t last_box_utime_ = 0;
   int64_t last_frame_ = -1;
   int64_t frame_gaps_ = 0;

@@ -31,6 +31,7 @@ FitStage::FitStage(FitStageConfig config, LcmBus& bus, NoticeFn notice)
   bus_.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) {
     if (m.state != "start") return;
     t0_ = m.utime;
+    have_t0_ = true;
     input_ = m.input;
   });
   bus_.Subscribe<ball_box_t>(ch.ball_box, [this](const ball_box_t& m) {
@@ -56,7 +57,7 @@ bool FitStage::busy() { return !node_->WaitIdleFor(std::chrono::milliseconds(0))
 void FitStage::OnPeak(const bounce_peak_t& m) {
   last_wall_us_ = last_peak_wall_us_ = SteadyMicros();
   now_ = std::max(now_, m.utime);
-  if (t0_ == 0) t0_ = m.utime;  // no STREAM heard: the first peak's time
+  if (!have_t0_) t0_ = m.utime, have_t0_ = true;  // no STREAM heard: the first peak's time
   // The rows of peaks.csv and withdrawals come after the drops' final fits: not fitted again.
   if (m.revision >= 3 || stream_done_) return;
   if (m.bounce == 0 && m.revision == 0 && release_utime_ == 0) release_utime_ = m.apex_utime;
@@ -67,7 +68,8 @@ void FitStage::OnPeak(const bounce_peak_t& m) {
 void FitStage::OnDrop(const drop_t& m) {
   last_wall_us_ = SteadyMicros();
   now_ = std::max(now_, m.utime);
-  if (m.stream_start_utime) t0_ = m.stream_start_utime;
+  t0_ = m.stream_start_utime;  // the detect node's zero, whatever was heard before
+  have_t0_ = true;
   if (stream_done_) return;
   if (!finished_since_peak_) final_sims_start_ = node_->simulations();  // a final fit begins
   if (!finished_since_peak_ || m.state == "done") {

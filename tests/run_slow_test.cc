@@ -77,6 +77,10 @@ TEST(Run, WritesTheOutputDirectoryWithPeaksThatMatchTruth) {
   EXPECT_EQ(summary["frames"].get<int>(), truth.frame_count);
   EXPECT_EQ(summary["dropped_frames"].get<int>(), 0);
   EXPECT_TRUE(fs::exists(dir / "coefficients.json"));
+  // simulated.csv: the fitted ball released at the recorded release, on the run's clock.
+  const auto simulated = ReadCsv(dir / "simulated.csv");
+  ASSERT_FALSE(simulated.empty());
+  EXPECT_NEAR(std::stod(simulated.front().at("t_s")), std::stod(peaks.front().at("t_s")), 1e-3);
   EXPECT_NEAR(summary["calibration"]["px_per_m"].get<double>(), truth.px_per_m,
               0.01 * truth.px_per_m);
 
