@@ -27,6 +27,8 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"final", u.final},
           {"sequence", u.sequence},
           {"after_bounce", u.after_bounce},
+          // The apex the simulation starts from: 0 the release, else the first apex in view.
+          {"start_bounce", u.start_bounce},
           {"ball", {{"name", ball.name}, {"mass_kg", ball.mass_kg}, {"diameter_m", ball.diameter_m}}},
           {"time_step_s", u.time_step_s},
           {"iterations", u.iterations},
@@ -47,6 +49,7 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"other_drop_heights_m", u.other_drop_heights_m},
           {"other_drop_bounces", u.other_drop_bounces},
           {"warning", u.warning},
+          {"held_at_preset", u.held_at_preset},
           {"evaluations", u.evaluations},
           {"wall_time_s", u.wall_time_s}};
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <future>
@@ -31,6 +32,18 @@ void AddWarning(FitUpdate* u, const std::string& warning) {
 bool Contains(const std::vector<std::string>& v, const std::string& s) {
   return std::find(v.begin(), v.end(), s) != v.end();
 }
+
+std::string FormatNumber(double v, int precision = 3) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+  return buf;
+}
+std::string FormatMm(double m) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f mm", m * 1000);
+  return buf;
+}
+std::string FormatPercent(double f) { return FormatNumber(100 * f) + "%"; }
 
 }  // namespace
 
@@ -89,6 +102,8 @@ FitSession::FitSession(const BallModel& model, const BallModel* quick_model,
 
 void FitSession::Reset(int sequence) {
   sequence_ = sequence;
+  apexes_.clear();
+  start_bounce_ = 0;
   drop_height_m_ = 0;
   heights_.clear();
   sigmas_.clear();
@@ -104,20 +119,52 @@ bool FitSession::AddPeak(const PeakInput& p) {
   if (p.sequence != sequence_) return false;
   if (!std::isfinite(p.height_m) || p.bounce < 0) return true;  // nothing usable
   last_utime_ = p.utime;
-  if (p.bounce == 0) {
-    drop_height_m_ = p.height_m;
-    return true;
-  }
-  const size_t i = static_cast<size_t>(p.bounce - 1);
-  if (heights_.size() <= i) {
-    heights_.resize(i + 1, std::numeric_limits<double>::quiet_NaN());
-    sigmas_.resize(i + 1, 0.0);
-    impacts_before_.resize(i + 1, std::numeric_limits<double>::quiet_NaN());
-  }
-  heights_[i] = p.height_m;
-  sigmas_[i] = p.sigma_m;
-  impacts_before_[i] = p.impact_before_s;
+  apexes_[p.bounce] = {p.height_m, p.sigma_m, p.impact_before_s};
+  ChooseStart();
   return true;
+}
+
+void FitSession::ChooseStart() {
+  // Runs of consecutive bounces, each apex high enough to fit; bounce 0 (the release) starts
+  // a run at any height. The start is the release when it begins a run with a rebound after
+  // it, else the first apex of the longest run (the earliest of equal ones).
+  const double min_h = config_.min_bounce_height_m;
+  auto usable = [&](int b) {
+    auto it = apexes_.find(b);
+    return it != apexes_.end() && (b == 0 || it->second.height_m >= min_h);
+  };
+  int best_start = -1, best_len = 0;
+  for (const auto& [b, a] : apexes_) {
+    if (!usable(b) || (b > 0 && usable(b - 1))) continue;  // not a run's first apex
+    int len = 0;
+    while (usable(b + len + 1)) ++len;
+    const bool release = b == 0 && len > 0;
+    if (release) {
+      best_start = 0, best_len = len;
+      break;
+    }
+    if (best_start < 0 || len > best_len) best_start = b, best_len = len;
+  }
+  heights_.clear();
+  sigmas_.clear();
+  impacts_before_.clear();
+  if (best_start < 0) {
+    start_bounce_ = 0;
+    drop_height_m_ = 0;
+    return;
+  }
+  start_bounce_ = best_start;
+  drop_height_m_ = apexes_.at(best_start).height_m;
+  for (int b = best_start + 1; usable(b); ++b) {
+    const Apex& a = apexes_.at(b);
+    heights_.push_back(a.height_m);
+    sigmas_.push_back(a.sigma_m);
+    impacts_before_.push_back(a.impact_before_s);
+  }
+  // The impact after the last apex is unknown here; the flight of the last arc needs the
+  // next bounce's impact_before, when that bounce was seen (below the minimum or not).
+  auto next = apexes_.find(best_start + best_len + 1);
+  if (next != apexes_.end()) impacts_before_.push_back(next->second.impact_before_s);
 }
 
 std::vector<double> FitSession::FittedHeights() const {
@@ -203,7 +250,8 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
   FitUpdate u;
   u.utime = last_utime_;
   u.sequence = sequence_;
-  u.after_bounce = static_cast<int>(problem.recorded_m.size());
+  u.start_bounce = start_bounce_;
+  u.after_bounce = start_bounce_ + static_cast<int>(problem.recorded_m.size());
   u.final = final;
   u.cancelled = r.cancelled;
   u.model = model.name();
@@ -385,7 +433,9 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   FitProblem restitution_problem;
   const bool restitution = UsesRestitutionLaw();
   SearchResult restitution_result;
-  if (restitution) restitution_result = FinalRestitutionSearch(budget * starts, o, &restitution_problem);
+  std::vector<std::string> held, held_why;
+  if (restitution)
+    restitution_result = FinalRestitutionSearch(budget * starts, o, &restitution_problem, &held, &held_why);
   // The starts' leads: 2, 3, 4... coefficients, never more than the bounces.
   std::vector<int> leads;
   for (int start_index = 0; start_index < starts && !restitution; ++start_index) {
@@ -461,11 +511,38 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
     for (const auto& [e, name] : effect) live_order_.push_back(name);
   }
   FitUpdate u = Finish(p, r, true, jac, extra, Seconds(t0), model_);
+  // The law's coefficients the bounces could not fit: the preset's value, said so.
+  for (size_t i = 0; i < held.size(); ++i) {
+    for (auto& c : u.coefficients)
+      if (c.name == held[i]) {
+        c.note = held_why[i] + "; the ball preset's value is used";
+        c.identifiable = false;
+        c.sigma = std::numeric_limits<double>::quiet_NaN();
+        if (!Contains(u.unidentified, c.name)) u.unidentified.push_back(c.name);
+      }
+    u.held_at_preset.push_back(held[i] + " " + held_why[i] + "; the ball preset's value is used");
+  }
   u.safety_checks = r.safety_checks;
   u.rejected_unsafe = r.rejected_unsafe;
   if (!r.failure.empty() && !r.cancelled)  // every point the search tried failed or was unsafe
     u.warning = "no usable coefficient set found: " + r.failure;
   if (!(cancel && cancel->cancelled())) CheckFreeRun(p, &u);
+  // An answer only when the fitted ball's heights are as close as the measurement explains.
+  if (!u.recorded_m.empty()) {
+    const double highest = *std::max_element(u.recorded_m.begin(), u.recorded_m.end());
+    const double sigma = MeasurementSigma();
+    const double limit = std::max({config_.answer_floor_m, config_.answer_fraction * highest,
+                                   config_.answer_sigmas * sigma});
+    if (!r.failure.empty() && !r.cancelled)
+      u.no_answer = u.warning;
+    else if (!(u.residual_m <= limit))
+      u.no_answer = "the fitted ball's heights are " + FormatMm(u.residual_m) +
+                    " RMS from the recorded ones, more than their measurement explains (" +
+                    FormatMm(limit) + ": the largest of " + FormatMm(config_.answer_floor_m) + ", " +
+                    FormatPercent(config_.answer_fraction) + " of the highest apex and " +
+                    FormatNumber(config_.answer_sigmas) + " x the heights' uncertainty " +
+                    FormatMm(sigma) + ")";
+  }
   u.wall_time_s = Seconds(t0);
   return u;
 }
@@ -492,14 +569,20 @@ int FitSession::FinalBudget() const {
 }
 
 SearchResult FitSession::FinalRestitutionSearch(int budget, const SearchOptions& options,
-                                               FitProblem* p) const {
+                                               FitProblem* p, std::vector<std::string>* held,
+                                               std::vector<std::string>* held_why) const {
   RestitutionFitOptions ro;
   ro.segments = config_.objective == "segments";
   ro.max_evaluations = std::min(budget, ro.max_evaluations);
+  ro.measurement_sigma_m = MeasurementSigma();
   const RestitutionFit rf =
       FitRestitutionCurve(WithSafety(MakeProblem(FreeSpecs(), final_start_)), *quick_model_, options, ro);
-  *p = MakeProblem(FirstSpecs({"rebound_restitution", "rebound_restitution_per_mps", "drag"}, 3),
-                   rf.soft.values);
+  std::vector<std::string> fitted;
+  for (const std::string name : {"rebound_restitution", "rebound_restitution_per_mps", "drag"})
+    if (!Contains(rf.held, name)) fitted.push_back(name);
+  *p = MakeProblem(FirstSpecs(fitted, static_cast<int>(fitted.size())), rf.soft.values);
+  *held = rf.held;
+  *held_why = rf.held_why;
   return rf.soft;
 }
 
