@@ -2,8 +2,11 @@
 // a given height, as the mean (and spread) of an ensemble of tiny perturbations of the release
 // (fit/drop_ensemble.h), for either model; also the single unperturbed run, which is what
 // `simulate` prints and what the fit reported at its own drop.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -29,6 +32,55 @@ struct PredictOptions {
   double duration_s = 0;  // 0: long enough for bounces down to min_height_m
   DropEnsembleOptions ensemble;
 };
+
+// The fitted coefficients' standard uncertainties in a fit's coefficients.json
+// ("coefficients": {name: {"value", "sigma"}}); none for a plain coefficient table.
+std::map<std::string, double> FittedSigmas(const std::string& path) {
+  std::map<std::string, double> out;
+  try {
+    std::ifstream f(path);
+    const auto j = nlohmann::json::parse(f);
+    if (!j.contains("coefficients") || !j["coefficients"].is_object()) return out;
+    for (const auto& [name, c] : j["coefficients"].items())
+      if (c.is_object() && c.contains("sigma") && c["sigma"].is_number()) {
+        const double s = c["sigma"].get<double>();
+        if (std::isfinite(s) && s > 0) out[name] = s;
+      }
+  } catch (const std::exception&) {
+  }
+  return out;
+}
+
+// Per bounce, the spread the coefficients' uncertainty gives (linearised, uncorrelated: each
+// coefficient moved by +- its sigma, within its bounds, in the unperturbed run).
+std::vector<double> ParameterSpread(const BallModel& model, const CoefficientValues& values,
+                                    const std::map<std::string, double>& sigmas,
+                                    const SimulationOptions& drop, size_t bounces, int* runs) {
+  std::vector<double> var(bounces, 0.0);
+  for (const auto& spec : model.Coefficients()) {
+    auto it = sigmas.find(spec.name);
+    auto v = values.find(spec.name);
+    if (it == sigmas.end() || v == values.end()) continue;
+    CoefficientValues up = values, down = values;
+    up[spec.name] = std::min(spec.upper, v->second + it->second);
+    down[spec.name] = std::max(spec.lower, v->second - it->second);
+    const double span = up[spec.name] - down[spec.name];
+    if (!(span > 0)) continue;
+    const SimulationResult a = model.Simulate(up, drop), b = model.Simulate(down, drop);
+    *runs += 2;
+    if (!a.ok || !b.ok) continue;
+    // Per sigma: the difference over the span actually taken, times 2 sigma / span.
+    const double scale = 2 * it->second / span;
+    for (size_t i = 0; i < bounces; ++i) {
+      const double ha = i < a.bounce_heights_m.size() ? a.bounce_heights_m[i] : 0.0;
+      const double hb = i < b.bounce_heights_m.size() ? b.bounce_heights_m[i] : 0.0;
+      const double d = 0.5 * (ha - hb) * scale;
+      var[i] += d * d;
+    }
+  }
+  for (double& x : var) x = std::sqrt(x);
+  return var;
+}
 
 void Run(const PredictOptions& o) {
   if (!(o.drop_m > 0 && o.drop_m < 100)) throw std::invalid_argument("--drop must be in (0, 100) m");
@@ -63,6 +115,12 @@ void Run(const PredictOptions& o) {
   if (!e.ok)
     throw std::runtime_error("the ball diverges dropped from " + std::to_string(o.drop_m) +
                              " m (" + e.failure + ")");
+  // The spread: the ensemble's (the model's own chaos) and the fitted coefficients' uncertainty.
+  int param_runs = 0;
+  const std::vector<double> param_sd =
+      ParameterSpread(*model, table.values, FittedSigmas(o.coeffs), drop, e.mean_m.size(), &param_runs);
+  std::vector<double> sd(e.mean_m.size());
+  for (size_t i = 0; i < sd.size(); ++i) sd[i] = std::hypot(e.sd_m[i], param_sd[i]);
   if (o.json) {
     nlohmann::ordered_json j;
     j["model"] = model->name();
@@ -72,7 +130,9 @@ void Run(const PredictOptions& o) {
     j["height_jitter_m"] = o.ensemble.height_jitter_m;
     j["turn_jitter_rad"] = o.ensemble.turn_jitter_rad;
     j["bounce_heights_m"] = e.mean_m;
-    j["bounce_heights_sd_m"] = e.sd_m;
+    j["bounce_heights_sd_m"] = sd;  // both below, in quadrature
+    j["bounce_heights_chaos_sd_m"] = e.sd_m;
+    j["bounce_heights_parameter_sd_m"] = param_sd;
     j["single_run_heights_m"] = e.single_m;
     std::printf("%s\n", j.dump(2).c_str());
     return;
@@ -80,10 +140,13 @@ void Run(const PredictOptions& o) {
   std::printf("%s, %s dropped from %.6g m: %d runs (release +- %.3g mm, turned +- %.3g deg)\n",
               model->name().c_str(), ball.name.c_str(), o.drop_m, o.ensemble.members,
               o.ensemble.height_jitter_m * 1000, o.ensemble.turn_jitter_rad * 180 / M_PI);
-  std::printf("%6s %12s %10s %14s\n", "bounce", "mean_m", "sd_mm", "single_run_m");
+  if (param_runs > 0)
+    std::printf("spread: the runs' and the fitted coefficients' uncertainty (+- 1 sigma each, %d runs), in quadrature\n",
+                param_runs);
+  std::printf("%6s %12s %10s %10s %10s %14s\n", "bounce", "mean_m", "sd_mm", "chaos_mm", "coeffs_mm", "single_run_m");
   for (size_t i = 0; i < e.mean_m.size(); ++i)
-    std::printf("%6zu %12.4f %10.2f %14s\n", i + 1, e.mean_m[i], e.sd_m[i] * 1000,
-                i < e.single_m.size() ? std::to_string(e.single_m[i]).c_str() : "-");
+    std::printf("%6zu %12.4f %10.2f %10.2f %10.2f %14s\n", i + 1, e.mean_m[i], sd[i] * 1000, e.sd_m[i] * 1000,
+                param_sd[i] * 1000, i < e.single_m.size() ? std::to_string(e.single_m[i]).c_str() : "-");
 }
 
 }  // namespace
@@ -103,8 +166,9 @@ void AddPredictCommand(CLI::App& app) {
       ->required();
   cmd->add_option("--ball", o->ball, "ball preset, when the file names none: " + BallPresetNames());
   cmd->add_flag("--json", o->json,
-                "one JSON object: bounce_heights_m (means), bounce_heights_sd_m, "
-                "single_run_heights_m");
+                "one JSON object: bounce_heights_m (means), bounce_heights_sd_m (the runs' spread and "
+                "the fitted coefficients' uncertainty in quadrature; each also on its own: "
+                "bounce_heights_chaos_sd_m, bounce_heights_parameter_sd_m), single_run_heights_m");
   cmd->add_option("--members", o->ensemble.members, "runs in the ensemble")->capture_default_str();
   cmd->add_option("--height-jitter", o->ensemble.height_jitter_m,
                   "release heights uniform in +- this, metres")
