@@ -38,6 +38,7 @@ std::vector<std::string> FinalFitNotices(const FitUpdate& u, const BallPreset& b
     out.push_back("fit: started from apex #" + std::to_string(u.start_bounce) +
                   " (the release was not seen: the ball at that height, at rest vertically)");
   for (const auto& h : u.held_at_preset) out.push_back("fit: " + h);
+  if (!u.warning.empty()) out.push_back("fit: warning: " + u.warning);
   const double e1 = FittedRestitutionAt(u.values, 1.0), e4 = FittedRestitutionAt(u.values, 4.0);
   if (std::isfinite(e1)) {
     std::string line = Format("fit: restitution e %.2f at 1 m/s, %.2f at 4 m/s", e1, e4);

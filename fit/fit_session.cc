@@ -125,19 +125,25 @@ bool FitSession::AddPeak(const PeakInput& p) {
 }
 
 void FitSession::ChooseStart() {
-  // Runs of consecutive bounces, each apex high enough to fit; bounce 0 (the release) starts
-  // a run at any height. The start is the release when it begins a run with a rebound after
-  // it, else the first apex of the longest run (the earliest of equal ones).
+  // Runs of consecutive bounces, each apex high enough to fit and none higher than the one
+  // before it (a ball picked up and dropped again, or a lock on something else, is not a
+  // rebound); bounce 0 (the release) starts a run at any height. The start is the release
+  // when it begins a run with a rebound after it, else the first apex of the longest run
+  // (the earliest of equal ones).
   const double min_h = config_.min_bounce_height_m;
   auto usable = [&](int b) {
     auto it = apexes_.find(b);
     return it != apexes_.end() && (b == 0 || it->second.height_m >= min_h);
   };
+  auto follows = [&](int b) {  // apex b is a rebound of apex b - 1
+    return b > 0 && usable(b) && usable(b - 1) &&
+           apexes_.at(b).height_m <= 1.05 * apexes_.at(b - 1).height_m + 0.002;
+  };
   int best_start = -1, best_len = 0;
   for (const auto& [b, a] : apexes_) {
-    if (!usable(b) || (b > 0 && usable(b - 1))) continue;  // not a run's first apex
+    if (!usable(b) || follows(b)) continue;  // not a run's first apex
     int len = 0;
-    while (usable(b + len + 1)) ++len;
+    while (follows(b + len + 1)) ++len;
     const bool release = b == 0 && len > 0;
     if (release) {
       best_start = 0, best_len = len;
@@ -155,16 +161,17 @@ void FitSession::ChooseStart() {
   }
   start_bounce_ = best_start;
   drop_height_m_ = apexes_.at(best_start).height_m;
-  for (int b = best_start + 1; usable(b); ++b) {
+  for (int b = best_start + 1; b <= best_start + best_len; ++b) {
     const Apex& a = apexes_.at(b);
     heights_.push_back(a.height_m);
     sigmas_.push_back(a.sigma_m);
     impacts_before_.push_back(a.impact_before_s);
   }
-  // The impact after the last apex is unknown here; the flight of the last arc needs the
-  // next bounce's impact_before, when that bounce was seen (below the minimum or not).
+  // The flight of the last arc needs the next bounce's impact_before, when that bounce was
+  // seen (below the minimum or not) and is a rebound of it.
   auto next = apexes_.find(best_start + best_len + 1);
-  if (next != apexes_.end()) impacts_before_.push_back(next->second.impact_before_s);
+  if (next != apexes_.end() && next->second.height_m <= 1.05 * apexes_.at(best_start + best_len).height_m + 0.002)
+    impacts_before_.push_back(next->second.impact_before_s);
 }
 
 std::vector<double> FitSession::FittedHeights() const {
@@ -177,10 +184,26 @@ std::vector<double> FitSession::FittedHeights() const {
 }
 
 std::vector<double> FitSession::FittedFlights() const {
-  const size_t k = FittedHeights().size();
+  const std::vector<double> h = FittedHeights();
+  const size_t k = h.size();
   std::vector<double> f(k, std::numeric_limits<double>::quiet_NaN());
   for (size_t i = 0; i < k && i + 1 < impacts_before_.size(); ++i)
     f[i] = impacts_before_[i + 1] - impacts_before_[i];  // NaN when either is
+  // Flights on another clock than the heights' (a slow-motion file's impacts on its slowed
+  // timeline, heights from the real one): the flight a height gives, 2 sqrt(2 h / g) drag
+  // aside, against the recorded one. Far off by their median: the heights alone are fitted.
+  std::vector<double> ratios;
+  for (size_t i = 0; i < k; ++i)
+    if (std::isfinite(f[i]) && h[i] > 0) ratios.push_back(f[i] / (2 * std::sqrt(2 * h[i] / 9.81)));
+  flight_clock_ratio_ = std::nan("");
+  if (!ratios.empty()) {
+    std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+    const double median = ratios[ratios.size() / 2];
+    if (median < 0.8 || median > 1.2) {
+      flight_clock_ratio_ = median;
+      std::fill(f.begin(), f.end(), std::numeric_limits<double>::quiet_NaN());
+    }
+  }
   return f;
 }
 
@@ -278,6 +301,9 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
     if (u.iterations == 0) u.iterations = config_.iterations;
   }
   u.no_effect = r.inactive;
+  if (std::isfinite(flight_clock_ratio_))
+    AddWarning(&u, "the flight times between impacts are " + FormatNumber(flight_clock_ratio_, 2) +
+                       "x what the heights give (the impacts on another clock?): the heights alone are fitted");
 
   std::vector<CoefficientEstimate> est;
   if (!jacobian.empty())
@@ -329,6 +355,7 @@ FitUpdate FitSession::QuickUpdate() {
   const SearchResult r = LeastSquaresSearch(p, quick_current_, o);
   // The next quick fit starts from here; missing heights make no sense to carry over.
   for (const auto& s : p.free) quick_current_[s.name] = r.values.at(s.name);
+  quick_fitted_ = r.evaluations > 0 && r.failure.empty();
   return Finish(p, r, false, r.jacobian, 0, Seconds(t0), *quick_model_);
 }
 
@@ -339,6 +366,13 @@ FitUpdate FitSession::Update(const CancelToken* cancel) {
   const std::vector<CoefficientSpec> live =
       FirstSpecs(live_order_, std::max(1, std::min(config_.live_coefficients, k)));
   const bool fast = config_.live_method == "gauss-newton";
+  // Under the restitution law the soft ball starts each live update on the point mass's
+  // latest curve (QuickUpdate, milliseconds), not on the preset's: a carpet's e 0.5 is
+  // far from a ping-pong preset's 0.92 for one Gauss-Newton step.
+  if (UsesRestitutionLaw() && quick_current_.count("restitution") && quick_fitted_)
+    current_ = WithRestitutionLaw(current_, quick_current_.at("restitution"),
+                                  quick_current_.at("restitution_per_mps"),
+                                  quick_current_.at("drag_coefficient"));
   FitProblem p = MakeProblem(live, current_, fast);
   SearchOptions o;
   o.max_evaluations = config_.max_evaluations_per_bounce;

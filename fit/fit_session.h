@@ -180,7 +180,8 @@ class FitSession {
   int bounces() const { return start_bounce_ + static_cast<int>(heights_.size()); }  // last bounce index seen
   std::vector<double> FittedHeights() const;  // r_1.. above the minimum height
   // Flight times of the fitted arcs (impact before arc i+1 minus impact before arc i; NaN
-  // where either is unknown).
+  // where either is unknown; all NaN when their median is more than 20% off the flights the
+  // heights give: impacts timed on another clock than the heights were measured with).
   std::vector<double> FittedFlights() const;
   bool CanFit() const { return has_drop_height() && !FittedHeights().empty(); }
 
@@ -234,6 +235,9 @@ class FitSession {
     double height_m = 0, sigma_m = 0, impact_before_s = 0;
   };
   std::map<int, Apex> apexes_;
+  // FittedFlights(): the recorded flights over those the heights give, when they disagree
+  // so much that they are not used (NaN: used, or none).
+  mutable double flight_clock_ratio_ = std::nan("");
   void ChooseStart();
   int sequence_ = 0;
   int start_bounce_ = 0;
@@ -245,6 +249,7 @@ class FitSession {
   CoefficientValues current_;     // warm start of the model
   CoefficientValues final_start_; // start of the next final fit: the table or the last final
   CoefficientValues quick_current_;
+  bool quick_fitted_ = false;     // quick_current_ holds a QuickUpdate's answer
   std::vector<std::string> live_order_;  // free coefficients, most sensitive first
   std::vector<std::string> initial_live_order_;  // as configured: the final fit's lead
   std::atomic<int> simulations_{0};
