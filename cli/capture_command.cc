@@ -166,10 +166,12 @@ void Run(CaptureOptions& o) {
   }
   stage.End(g_stop);
   const stream_t& s = stage.end_message();
-  std::printf("capture: %s%lld frames, %lld dropped, %lld found, wall %s s (read %s s, track %s s)%s%s\n",
+  std::printf("capture: %s%lld frames, %lld dropped, %lld found, %lld published, wall %s s, stream %s s (read %s s, track %s s)%s%s\n",
               g_stop ? "stopped: " : (s.failure.empty() ? "done: " : "failed after "),
               static_cast<long long>(s.frames), static_cast<long long>(s.dropped), static_cast<long long>(s.found),
-              Fixed(s.wall_s, 3).c_str(), Fixed(s.read_s, 2).c_str(), Fixed(s.track_s, 2).c_str(),
+              static_cast<long long>(s.frames - bus.publish_failures()), Fixed(s.wall_s, 3).c_str(),
+              Fixed(s.frames > 0 ? (s.utime - stage.stream().utime) * 1e-6 : 0.0, 3).c_str(), Fixed(s.read_s, 2).c_str(),
+              Fixed(s.track_s, 2).c_str(),
               o.out.empty() ? "" : ("; wrote " + o.out).c_str(),
               bus.publish_failures() ? ("; " + std::to_string(bus.publish_failures()) + " publish failures").c_str() : "");
   std::fflush(stdout);

@@ -112,7 +112,7 @@ ExitStatus RunDetect(const DetectOptions& o) {
   std::fflush(stdout);
   if (!failure.empty()) throw std::runtime_error(failure);
   if (g_stop) return kExitInterrupted;
-  return stage.rows() > 0 ? kExitAnswer : kExitNoBounce;
+  return stage.rebounds() > 0 ? kExitAnswer : kExitNoBounce;
 }
 
 }  // namespace
@@ -124,7 +124,8 @@ void AddDetectCommand(CLI::App& app) {
   auto o = std::make_shared<DetectOptions>();
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   cmd->add_option("--ball", o->ball,
-                  "ball preset, for the diameter cross-check (" + BallPresetNames() + ")");
+                  "ball preset (" + BallPresetNames() + "; default pingpong): its size checks the scale, its "
+                  "drag times the flights heard");
   cmd->add_option("--ball-diameter", o->ball_diameter_m,
                   "ball diameter in metres, for the cross-check (overrides --ball's)");
   auto* ppm = cmd->add_option("--px-per-m", o->px_per_m,

@@ -98,11 +98,10 @@ void RunConsole::OnPeak(const bounce_peak_t& m) {
   // Revision 2 (the drop's refit) is said in one line by the detect node when the drop ends.
 }
 
-void RunConsole::OnFit(const fit_update_t& m, int64_t published_utime) {
+void RunConsole::OnFit(const fit_update_t& m) {
   if (mode_ == ConsoleMode::kJson) {
     auto j = ToJson(m, t0_);
     j["event"] = "fit";
-    if (published_utime) j["published_t_s"] = SecondsSince(published_utime, t0_);
     Line(j.dump());
     return;
   }

@@ -37,8 +37,7 @@ class RunConsole {
   void OnStream(const stream_t& m);
   void OnCalibration(const calibration_t& m);
   void OnPeak(const bounce_peak_t& m);
-  // published_utime: stream time the update went out (0: unknown, e.g. seen on the bus).
-  void OnFit(const fit_update_t& m, int64_t published_utime = 0);
+  void OnFit(const fit_update_t& m);
   // Stream position and total (total <= 0 when unknown). Rate-limited to ~2 lines/s of
   // stream time; redrawn in place on a terminal.
   void Progress(double stream_s, double total_s, int64_t frames, int64_t found);

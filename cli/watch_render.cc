@@ -134,16 +134,19 @@ std::string WatchCalibrationLine(const calibration_t& c) {
 }
 
 std::string WatchPeakLine(const WatchState& s, const bounce_peak_t& m) {
+  // A row of peaks.csv (the stream ended) shows the height to quote.
+  const double h = m.revision == 3 ? m.fused_height_m : m.height_m;
   std::string line = Format("peak  #%-2d  t=%s s  height %s m  +- %s m", m.bounce,
                             Num(StreamSeconds(s, m.apex_utime), "%7.3f").c_str(),
-                            Num(m.height_m, "%.4f").c_str(), Num(m.height_sigma_m, "%.4f").c_str());
+                            Num(h, "%.4f").c_str(), Num(m.height_sigma_m, "%.4f").c_str());
   if (std::isfinite(m.flight_height_m)) line += Format("  (flight time: %.4f m)", m.flight_height_m);
   if (m.bounce == 0) {
     line += "  release";
   } else {
     for (const auto& p : s.peaks()) {
-      if (p.bounce == m.bounce - 1 && p.height_m > 0 && m.height_m >= 0) {
-        line += Format("  e=%.3f", std::sqrt(m.height_m / p.height_m));
+      const double hp = p.revision == 3 ? p.fused_height_m : p.height_m;
+      if (p.bounce == m.bounce - 1 && hp > 0 && h >= 0) {
+        line += Format("  e=%.3f", std::sqrt(h / hp));
       }
     }
   }

@@ -95,7 +95,9 @@ void WatchState::OnPeak(const bounce_peak_t& m, int64_t now_utime) {
   }
   if (final_rows_ && m.revision != 3) return;
   if (m.revision == 3) {
-    peaks_.push_back(m);
+    bounce_peak_t row = m;
+    row.height_m = m.fused_height_m;  // the height to quote
+    peaks_.push_back(row);
     return;
   }
   if (m.sequence != sequence_) {
@@ -107,8 +109,8 @@ void WatchState::OnPeak(const bounce_peak_t& m, int64_t now_utime) {
                  peaks_.end());
     return;
   }
-  auto it = std::find_if(peaks_.begin(), peaks_.end(),
-                         [&](const bounce_peak_t& p) { return p.bounce == m.live_bounce; });
+  const int key = m.revision == 0 ? m.bounce : m.live_bounce;  // a revision names the bounce it revises
+  auto it = std::find_if(peaks_.begin(), peaks_.end(), [&](const bounce_peak_t& p) { return p.bounce == key; });
   if (it != peaks_.end()) {
     *it = m;
   } else {

@@ -58,6 +58,7 @@ nlohmann::json ToJson(const bounce_peak_t& m, int64_t t0) {
           {"impact_before_t_s", time_or_null(m.impact_before_utime)},
           {"impact_after_t_s", time_or_null(m.impact_after_utime)},
           {"emitted_t_s", m.emitted_utime ? nlohmann::json(SecondsSince(m.emitted_utime, t0)) : nlohmann::json()},
+          {"sent_t_s", SecondsSince(m.utime, t0)},
           {"revision", m.revision},
           {"live_bounce", m.live_bounce},
           {"refit_height_m", FiniteOrNull(m.refit_height_m)},
@@ -74,6 +75,7 @@ nlohmann::json ToJson(const fit_update_t& m, int64_t t0) {
                       {"identifiable", static_cast<bool>(m.identifiable[i])}});
   }
   return {{"t_s", SecondsSince(m.utime, t0)},
+          {"published_t_s", m.published_utime ? nlohmann::json(SecondsSince(m.published_utime, t0)) : nlohmann::json()},
           {"sequence", m.sequence},
           {"after_bounce", m.after_bounce},
           {"final", static_cast<bool>(m.final)},

@@ -68,14 +68,14 @@ std::vector<PeaksCsvRow> ReadPeaksCsv(const std::filesystem::path& path) {
   std::map<std::string, size_t> column;
   const auto header = Split(line);
   for (size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
-  for (const char* need : {"bounce", "t_s", "height_m"})
+  for (const char* need : {"bounce", "height_m"})
     if (!column.count(need))
       throw std::runtime_error(path.string() + ": no column '" + need + "' (not a peaks.csv?)");
   std::vector<PeaksCsvRow> rows;
   for (int n = 2; std::getline(in, line); ++n) {
     if (line.empty()) continue;
     const auto cells = Split(line);
-    const auto where = path.string() + ":" + std::to_string(n) + ": ";
+    const auto where = path.string() + " line " + std::to_string(n) + ": ";
     auto text = [&](const char* name) -> std::string {
       const auto it = column.find(name);
       return it != column.end() && it->second < cells.size() ? cells[it->second] : std::string();
@@ -99,7 +99,7 @@ std::vector<PeaksCsvRow> ReadPeaksCsv(const std::filesystem::path& path) {
       throw std::runtime_error(where + "bounce must be a whole number >= 0");
     r.bounce = static_cast<int>(bounce);
     r.t_s = number("t_s");
-    if (!std::isfinite(r.t_s)) throw std::runtime_error(where + "no t_s");
+    if (!std::isfinite(r.t_s)) r.t_s = 0;  // a hand-made file of heights only
     r.height_m = number("height_m");
     r.height_px = number("height_px");
     r.flight_height_m = number("flight_height_m");

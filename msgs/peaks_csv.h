@@ -33,8 +33,8 @@ PeaksCsvRow PeaksCsvRowOf(const bounce_peak_t& m, int64_t t0_utime);
 // Throws std::runtime_error naming the file when it cannot be written.
 void WritePeaksCsv(const std::filesystem::path& path, const std::vector<PeaksCsvRow>& rows);
 
-// Reads a peaks.csv (its columns by header name; bounce, t_s and height_m required, any
-// other may be absent). Throws std::runtime_error with "<file>:<line>: <why>".
+// Reads a peaks.csv (its columns by header name; bounce and height_m required, any other
+// may be absent: t_s 0). Throws std::runtime_error with "<file> line <n>: <why>".
 std::vector<PeaksCsvRow> ReadPeaksCsv(const std::filesystem::path& path);
 
 }  // namespace bouncefit

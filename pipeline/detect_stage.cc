@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -243,6 +244,7 @@ void DetectStage::Finish() {
   for (const bounce_peak_t& m : rows) EmitPeak(m);
   for (const impact_t& m : sound_->FusedImpacts(t0_)) bus_.Publish(config_.channels.impact, m);
   rows_ = static_cast<int>(rows.size());
+  rebounds_ = static_cast<int>(std::count_if(rows.begin(), rows.end(), [](const bounce_peak_t& m) { return m.bounce > 0; }));
   if (!config_.out_dir.empty()) {
     peaks_csv_.reset();
     std::vector<PeaksCsvRow> csv;

@@ -60,6 +60,7 @@ class DetectStage {
   bool done() const { return done_; }            // the stream ended and every file is written
   const std::string& fatal() const { return fatal_; }  // a flag the measurement contradicts
   int rows() const { return rows_; }             // rows of peaks.csv (once done)
+  int rebounds() const { return rebounds_; }     // of them, rebounds (bounce 1 and later)
   int boxes() const { return boxes_; }
   bool stream_failed() const { return !end_.failure.empty(); }
   const stream_t& stream_end() const { return end_; }
@@ -88,7 +89,7 @@ class DetectStage {
   std::optional<calibration_t> calibration_;
   std::unique_ptr<std::ofstream> peaks_csv_;  // the live rows until the final ones replace them
   std::string fatal_;
-  int rows_ = 0, boxes_ = 0;
+  int rows_ = 0, rebounds_ = 0, boxes_ = 0;
   int64_t last_box_wall_us_ = 0;
 };
 

@@ -73,10 +73,10 @@ void FitStage::OnDrop(const drop_t& m) {
   now_ = std::max(now_, m.utime);
   if (m.stream_start_utime) t0_ = m.stream_start_utime;
   if (stream_done_) return;
+  if (!finished_since_peak_) final_sims_start_ = node_->simulations();  // a final fit begins
   if (!finished_since_peak_ || m.state == "done") {
     node_->Finish();
     finished_since_peak_ = true;
-    final_sims_start_ = node_->simulations();
   }
   if (m.state == "done") {
     stream_done_ = true;
@@ -91,12 +91,9 @@ void FitStage::Poll() {
     ready.swap(inbox_);
   }
   for (auto& [m, u] : ready) {
+    m.published_utime = now_;
     bus_.Publish(config_.node.channels.fit_update, m);
-    if (fit_jsonl_) {
-      auto j = ToJson(m, t0_);
-      j["published_t_s"] = SecondsSince(now_, t0_);
-      *fit_jsonl_ << j.dump() << '\n' << std::flush;
-    }
+    if (fit_jsonl_) *fit_jsonl_ << ToJson(m, t0_).dump() << '\n' << std::flush;
     if (u.final && u.model == node_->model().name()) {
       if (u.no_answer.empty()) {
         final_ = u;

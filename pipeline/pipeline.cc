@@ -63,6 +63,7 @@ PipelineOutcome Pipeline::Run(const std::atomic<bool>* stop, const std::function
   PipelineOutcome out;
   out.stream = capture_->end_message();
   out.rows = detect_->rows();
+  out.rebounds = detect_->rebounds();
   if (fit_) {
     if (stopped) {
       fit_->Stop();
@@ -94,7 +95,7 @@ PipelineOutcome Pipeline::Run(const std::atomic<bool>* stop, const std::function
                           s.tracker_named ? " (nothing of the colour or brightness given)"
                                           : " (nothing moved like a ball and stood out of its surroundings; if it "
                                             "is there, --color or --pick names it)");
-  } else if (out.rows == 0) {
+  } else if (out.rebounds == 0) {
     out.status = kExitNoBounce;
     out.why = fmt::format("{}: no bounce found (the ball, or what was taken for it, was seen in {} of {} frames, never "
                           "on an arc between two impacts above the floor; --color or --pick names the ball)",

@@ -32,6 +32,7 @@ struct PipelineOutcome {
   ExitStatus status = kExitAnswer;
   std::string why;            // one line: why not an answer (empty for an answer)
   int rows = 0;               // rows of peaks.csv
+  int rebounds = 0;           // of them, rebounds
   stream_t stream;            // STREAM end: frames, found, ...
   std::optional<FitUpdate> final_fit;
 };

@@ -1,5 +1,7 @@
 #include "report/report_run_data.h"
 
+#include "msgs/peaks_csv.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
@@ -148,19 +150,17 @@ std::vector<ReportTrackRow> LoadTrack(const fs::path& file) {
 }
 
 std::vector<ReportPeak> LoadPeaks(const fs::path& file) {
-  CsvTable csv(file, {"bounce", "t_s", "height_m"});
   std::vector<ReportPeak> peaks;
-  for (size_t i = 0; i < csv.size(); ++i) {
+  for (const PeaksCsvRow& r : ReadPeaksCsv(file)) {
     ReportPeak p;
-    p.bounce = static_cast<int>(csv.Required(i, "bounce"));
-    p.t_s = csv.Required(i, "t_s");
-    p.height_m = csv.Number(i, "height_m");
-    p.height_px = csv.Number(i, "height_px");
-    p.flight_height_m = csv.Number(i, "flight_height_m");
-    p.emitted_t_s = csv.Number(i, "emitted_t_s");
-    p.height_sigma_m = csv.Number(i, "height_sigma_m");
-    p.fused_height_m = csv.Number(i, "fused_height_m");
-    p.refit_height_m = csv.Number(i, "refit_height_m");
+    p.bounce = r.bounce;
+    p.t_s = r.t_s;
+    p.height_m = r.height_m;
+    p.height_px = r.height_px;
+    p.flight_height_m = r.flight_height_m;
+    p.emitted_t_s = r.emitted_t_s;
+    p.fused_height_m = r.fused_height_m;
+    p.refit_height_m = r.refit_height_m;
     peaks.push_back(p);
   }
   return peaks;
@@ -327,6 +327,12 @@ ReportRunData LoadRunDirectory(const fs::path& dir) {
   if (fs::exists(dir / "waveform.csv")) run.waveform = LoadWaveform(dir / "waveform.csv");
   if (auto p = optional("summary.json")) run.summary = ParseJson(*p, ReadWholeFile(*p));
   if (run.summary) RetimeTrack(*run.summary, &run.track);
+  // waveform.csv is on the sound's own clock; the detect node found its offset from the picture.
+  if (run.summary && run.summary->contains("sound")) {
+    const auto& sound = (*run.summary)["sound"];
+    if (sound.value("used", false) && sound.contains("offset_s") && sound["offset_s"].is_number())
+      for (auto& w : run.waveform) w.t_s -= sound["offset_s"].get<double>();
+  }
   if (auto p = optional("coefficients.json")) {
     run.coefficients_export = ParseJson(*p, ReadWholeFile(*p));
   }

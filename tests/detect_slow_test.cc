@@ -291,8 +291,16 @@ TEST(DetectClock, SlowMotionFromTheContainerConfirmedByTheBallSize) {
   EXPECT_EQ(log.find("the file does not say so"), std::string::npos) << "the user said so\n" << log;
   expect_truth_heights(forced, log);
 
-  // Read as recorded when told: it then says what a 4x slower timeline would explain.
-  const auto as_recorded = run(plain, "--ball tennis --time-scale 1", "as_recorded", &log);
+  // Read as recorded: the free fall and the ball's size both contradict that clock (16x), a
+  // bad flag unless insisted on; then it says what a 4x slower timeline would explain.
+  EXPECT_EQ(testing::RunCommand(testing::BouncefitExe() + " run '" + plain.string() +
+                                    "' --ball tennis --time-scale 1 --speed 0 --no-fit --lcm-url memq:// --out '" +
+                                    (dir / "contradicted").string() + "'",
+                                &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("--time-scale 1 (gravity's scale"), std::string::npos) << log;
+  const auto as_recorded = run(plain, "--ball tennis --time-scale 1 --force", "as_recorded", &log);
   EXPECT_DOUBLE_EQ(as_recorded["clock"]["time_scale"].get<double>(), 1.0) << log;
   const auto at = log.find("slowed ");
   ASSERT_NE(at, std::string::npos) << log;
@@ -391,10 +399,13 @@ TEST(DetectCommand, SeparateProcessPrintsThePeaks) {
   }
   child.join();
   EXPECT_EQ(rc, 0) << out;
-  for (const auto& p : expected) {
-    char line[64];
-    std::snprintf(line, sizeof line, "bounce %2d: %.4f m", p.bounce, p.height_m);
-    EXPECT_NE(out.find(line), std::string::npos) << line << "\n" << out;
+  for (const auto& p : expected) {  // each bounce once, as `run` prints it
+    char line[64], height[32];
+    std::snprintf(line, sizeof line, "peak  #%-2d", p.bounce);
+    std::snprintf(height, sizeof height, "height %.4f m", p.height_m);
+    const size_t at = out.find(line);
+    ASSERT_NE(at, std::string::npos) << line << "\n" << out;
+    EXPECT_LT(out.find(height, at), out.find("\n", at)) << height << "\n" << out;
   }
   EXPECT_NE(out.find("0 undecodable"), std::string::npos) << out;
 }

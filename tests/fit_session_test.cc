@@ -472,7 +472,7 @@ TEST(FitCli, OfflineHeightsPrintUpdatesAndWriteExports) {
   EXPECT_TRUE(std::filesystem::exists(dir / "fitted_ball" / "README.md"));  // nothing to build
   // Bad input is a one-line error.
   const int bad = testing::RunCommand(testing::BouncefitExe() + " fit --heights 1.0,abc", &out);
-  EXPECT_EQ(bad, 1);
+  EXPECT_EQ(bad, 2);  // a bad flag
   EXPECT_NE(out.find("bouncefit fit: error:"), std::string::npos) << out;
 }
 

@@ -45,6 +45,7 @@ TEST_P(FinalFitOnSynthClip, RmsWithinOnePercentOfTheDrop) {
       << log;
   ASSERT_TRUE(fs::exists(out / "coefficients.json")) << "no final fit";
   const auto fit = nlohmann::json::parse(std::ifstream(out / "coefficients.json"));
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   ASSERT_TRUE(fit.is_object()) << "no final fit in coefficients.json";
   // A final fit of more than a couple of seconds shows its progress meanwhile, never past
   // its budget ("final fit  N / B simulations").

@@ -154,10 +154,10 @@ TEST(RunSound, LivePeaksCarryTheHeardHeightsAtThirtyFps) {
   for (std::string line; std::getline(lines, line);) {
     if (line.empty() || line[0] != '{') continue;
     const auto j = nlohmann::json::parse(line);
-    if (j.value("event", "") != "peak" || !j["flight_height_m"].is_number() || !j["height_m"].is_number())
-      continue;
+    // A bounce's revision once its arc was heard end to end (revision 1), while the stream runs.
+    if (j.value("event", "") != "revision" || j.value("revision", -1) != 1) continue;
     if (j["height_m"].get<double>() == j["flight_height_m"].get<double>() && j["height_px"].is_null())
-      heard[j["bounce"].get<int>()] = j;
+      heard[j["live_bounce"].get<int>()] = j;
   }
   ASSERT_GE(heard.size(), 4u) << out;
   for (const auto& [b, j] : heard) {
@@ -166,7 +166,7 @@ TEST(RunSound, LivePeaksCarryTheHeardHeightsAtThirtyFps) {
     EXPECT_NEAR(j["height_m"].get<double>(), truth, std::max(0.002, 0.01 * truth)) << "bounce " << b;
     // Sent once the arc's end was heard, while the stream ran: at once from the third
     // bounce on, the first two once three seen impacts have checked the sound.
-    const double emitted = j["emitted_t_s"].get<double>(), end = j["impact_after_t_s"].get<double>();
+    const double emitted = j["sent_t_s"].get<double>(), end = j["impact_after_t_s"].get<double>();
     EXPECT_GE(emitted, end - 0.001) << "bounce " << b;
     EXPECT_LT(emitted, 4.4) << "bounce " << b;
     if (b >= 3) { EXPECT_LT(emitted, end + 0.2) << "bounce " << b; }

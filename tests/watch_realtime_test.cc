@@ -104,7 +104,7 @@ class Producer {
       while (next_peak < apex_t.size() && apex_t[next_peak] + 0.05 <= ts) {
         bounce_peak_t p{};
         p.utime = utime;
-        p.bounce = static_cast<int32_t>(next_peak);
+        p.bounce = p.live_bounce = static_cast<int32_t>(next_peak);
         p.apex_utime = t0 + static_cast<int64_t>(apex_t[next_peak] * 1e6);
         p.height_m = apex_h[next_peak];
         p.height_px = apex_h[next_peak] * 400;

@@ -69,7 +69,7 @@ std::vector<bounce_peak_t> RefittedPeakMsgs(const SequenceSummary& d, int64_t no
     bounce_peak_t m = ToBouncePeakMsg(p);
     m.height_px = m.height_m > 0 ? m.height_px * refit / m.height_m : NAN;
     m.height_m = refit;
-    m.utime = now_utime;
+    m.utime = m.emitted_utime = now_utime;
     m.revision = 2;
     m.refit_height_m = refit;
     out.push_back(m);

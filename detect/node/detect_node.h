@@ -48,7 +48,7 @@ calibration_t ToCalibrationMsg(const Calibration& c);
 bounce_peak_t ToBouncePeakMsg(const BouncePeak& p);
 // Drop `d`'s apexes again, each with its height refitted with every arc of the drop when it
 // ended (the live one saw only the floor before it; height_px at the live apex's scale),
-// `utime` = now_utime, revision 2. Apexes the refit has no height for are left out.
+// `utime` and `emitted_utime` = now_utime, revision 2. Apexes the refit has no height for are left out.
 std::vector<bounce_peak_t> RefittedPeakMsgs(const SequenceSummary& d, int64_t now_utime);
 
 class DetectNode {
