@@ -419,8 +419,9 @@ FitProblem FitSession::WithSafety(FitProblem p) const {
   // runs stop at the last recorded bounce). One thread: the starts keep the cores busy.
   std::vector<double> heights = config_.safe_drops_m;
   heights.push_back(p.simulation.drop_height_m);
-  p.safety = [model, heights](const CoefficientValues& v) {
-    return UnsafeDrop(*model, v, heights, 1);
+  const double min_bounce = config_.safe_min_bounce_m;
+  p.safety = [model, heights, min_bounce](const CoefficientValues& v) {
+    return UnsafeDrop(*model, v, heights, 1, 0, min_bounce);
   };
   p.safety_simulations = static_cast<int>(heights.size());
   return p;
@@ -659,7 +660,8 @@ void FitSession::CheckFreeRun(const FitProblem& p, FitUpdate* u) {
     return;
   }
   if (!config_.safe_drops_m.empty()) {
-    const std::string unsafe = UnsafeDrop(model_, u->values, config_.safe_drops_m, config_.threads);
+    const std::string unsafe =
+        UnsafeDrop(model_, u->values, config_.safe_drops_m, config_.threads, 0, config_.safe_min_bounce_m);
     const int n = static_cast<int>(config_.safe_drops_m.size());
     simulations_ += n;
     u->evaluations += n;

@@ -114,6 +114,9 @@ struct FitSessionConfig {
   // The check inside the search: for models that can diverge (ConfigureSessionForModel turns
   // it on for the soft ball); a smooth model would only spend budget on it.
   bool safe_search = false;
+  // The safe drops end at hops lower than this (ConfigureSessionForModel: a tenth of the
+  // ball's diameter, at least 1 cm; a basketball's 1 cm hops are contact chatter).
+  double safe_min_bounce_m = 0.01;
   int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
   // Final fit budget, everything included: 900 for the searches (chaotic heights:
   // docs/MODEL.md), the Jacobian (2 x 16 + 2) and the free-running checks (8 + 1 + 2).
