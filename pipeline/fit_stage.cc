@@ -39,7 +39,7 @@ FitStage::FitStage(FitStageConfig config, LcmBus& bus, NoticeFn notice)
   });
   const Channels& ch = config_.node.channels;
   bus_.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) {
-    if (m.state == "start") t0_ = m.utime;
+    if (m.state == "start") t0_ = m.utime, have_t0_ = true;
   });
   bus_.Subscribe<ball_box_t>(ch.ball_box, [this](const ball_box_t& m) { now_ = std::max(now_, m.utime); });
   bus_.Subscribe<bounce_peak_t>(ch.bounce_peak, [this](const bounce_peak_t& m) { OnPeak(m); });
@@ -60,7 +60,9 @@ bool FitStage::busy() { return !node_->WaitIdleFor(std::chrono::milliseconds(0))
 void FitStage::OnPeak(const bounce_peak_t& m) {
   last_wall_us_ = last_peak_wall_us_ = SteadyMicros();
   now_ = std::max(now_, m.utime);
-  if (t0_ == 0) t0_ = m.utime;  // no STREAM heard: the first peak's time
+  // No STREAM heard: the first peak's time (a file's first frame is at utime 0, so 0 is no
+  // sign of a missing start).
+  if (!have_t0_) t0_ = m.utime, have_t0_ = true;
   // The rows of peaks.csv and withdrawals come after the drops' final fits: not fitted again.
   if (m.revision >= 3 || stream_done_) return;
   if (m.bounce == 0 && m.revision == 0 && release_utime_ == 0) release_utime_ = m.apex_utime;
@@ -71,7 +73,7 @@ void FitStage::OnPeak(const bounce_peak_t& m) {
 void FitStage::OnDrop(const drop_t& m) {
   last_wall_us_ = SteadyMicros();
   now_ = std::max(now_, m.utime);
-  if (m.stream_start_utime) t0_ = m.stream_start_utime;
+  if (m.stream_start_utime) t0_ = m.stream_start_utime, have_t0_ = true;
   if (stream_done_) return;
   if (!finished_since_peak_) final_sims_start_ = node_->simulations();  // a final fit begins
   if (!finished_since_peak_ || m.state == "done") {

@@ -84,6 +84,7 @@ class FitStage {
   std::string no_fit_why_;
   std::unique_ptr<std::ofstream> fit_jsonl_;
   int64_t t0_ = 0, now_ = 0, release_utime_ = 0;
+  bool have_t0_ = false;
   bool stream_done_ = false, done_ = false, finished_since_peak_ = true;
   int final_sims_start_ = 0;
   int64_t last_wall_us_ = 0, last_peak_wall_us_ = 0;
