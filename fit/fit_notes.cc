@@ -47,9 +47,10 @@ std::vector<std::string> FinalFitNotices(const FitUpdate& u, const BallPreset& b
       const double e = FittedRestitutionAt(u.values, sr.impact_mps);
       line += Format("; %.2f at %.1f m/s, where the ball's standard", e, sr.impact_mps) + " (" + s->body +
               ": " + s->measured + ") gives " + Format("%.2f-%.2f", sr.e_lo, sr.e_hi) + " on " + s->surface +
-              (e < sr.e_lo ? " (a softer floor gives less; far less: check the scale, the clock and the ball)"
-               : e > sr.e_hi ? " (more than the standard allows: check the scale, the clock and the ball)"
-                             : "");
+              (e < sr.e_lo - 0.15  ? " (far less than a softer floor explains: check the scale, the clock and the ball)"
+               : e < sr.e_lo       ? " (a softer floor gives less)"
+               : e > sr.e_hi + 0.03 ? " (more than the standard allows: check the scale, the clock and the ball)"
+                                    : "");
     }
     out.push_back(line);
   }
