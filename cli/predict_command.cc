@@ -33,53 +33,78 @@ struct PredictOptions {
   DropEnsembleOptions ensemble;
 };
 
-// The fitted coefficients' standard uncertainties in a fit's coefficients.json
-// ("coefficients": {name: {"value", "sigma"}}); none for a plain coefficient table.
-std::map<std::string, double> FittedSigmas(const std::string& path) {
-  std::map<std::string, double> out;
+// The fitted coefficients' uncertainty in a fit's coefficients.json: the covariance of the
+// identifiable ones ("covariance": {"names", "matrix"}), else their sigmas alone
+// ("coefficients": {name: {"value", "sigma"}}) as uncorrelated; none for a plain table.
+struct FittedUncertainty {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> cov;
+};
+
+FittedUncertainty ReadUncertainty(const std::string& path) {
+  FittedUncertainty out;
   try {
     std::ifstream f(path);
     const auto j = nlohmann::json::parse(f);
+    if (j.contains("covariance") && j["covariance"].is_object() && !j["covariance"]["names"].empty()) {
+      out.names = j["covariance"]["names"].get<std::vector<std::string>>();
+      out.cov = j["covariance"]["matrix"].get<std::vector<std::vector<double>>>();
+      if (out.cov.size() == out.names.size()) return out;
+      out = {};
+    }
     if (!j.contains("coefficients") || !j["coefficients"].is_object()) return out;
     for (const auto& [name, c] : j["coefficients"].items())
       if (c.is_object() && c.contains("sigma") && c["sigma"].is_number()) {
         const double s = c["sigma"].get<double>();
-        if (std::isfinite(s) && s > 0) out[name] = s;
+        if (std::isfinite(s) && s > 0) out.names.push_back(name);
       }
+    out.cov.assign(out.names.size(), std::vector<double>(out.names.size(), 0.0));
+    for (size_t i = 0; i < out.names.size(); ++i) {
+      const double s = j["coefficients"][out.names[i]]["sigma"].get<double>();
+      out.cov[i][i] = s * s;
+    }
   } catch (const std::exception&) {
+    out = {};
   }
   return out;
 }
 
-// Per bounce, the spread the coefficients' uncertainty gives (linearised, uncorrelated: each
-// coefficient moved by +- its sigma, within its bounds, in the unperturbed run).
+// Per bounce, the spread the coefficients' uncertainty gives, linearised: each coefficient
+// moved by +- its sigma (within its bounds) in the unperturbed run gives the heights'
+// gradient g, and the variance is g^T C g.
 std::vector<double> ParameterSpread(const BallModel& model, const CoefficientValues& values,
-                                    const std::map<std::string, double>& sigmas,
-                                    const SimulationOptions& drop, size_t bounces, int* runs) {
-  std::vector<double> var(bounces, 0.0);
-  for (const auto& spec : model.Coefficients()) {
-    auto it = sigmas.find(spec.name);
-    auto v = values.find(spec.name);
-    if (it == sigmas.end() || v == values.end()) continue;
+                                    const FittedUncertainty& u, const SimulationOptions& drop, size_t bounces,
+                                    int* runs) {
+  const size_t n = u.names.size();
+  std::vector<std::vector<double>> grad(n, std::vector<double>(bounces, 0.0));
+  const auto specs = model.Coefficients();
+  for (size_t j = 0; j < n; ++j) {
+    auto spec = std::find_if(specs.begin(), specs.end(), [&](const auto& s) { return s.name == u.names[j]; });
+    auto v = values.find(u.names[j]);
+    const double sigma = std::sqrt(std::max(0.0, u.cov[j][j]));
+    if (spec == specs.end() || v == values.end() || !(sigma > 0)) continue;
     CoefficientValues up = values, down = values;
-    up[spec.name] = std::min(spec.upper, v->second + it->second);
-    down[spec.name] = std::max(spec.lower, v->second - it->second);
-    const double span = up[spec.name] - down[spec.name];
+    up[spec->name] = std::min(spec->upper, v->second + sigma);
+    down[spec->name] = std::max(spec->lower, v->second - sigma);
+    const double span = up[spec->name] - down[spec->name];
     if (!(span > 0)) continue;
     const SimulationResult a = model.Simulate(up, drop), b = model.Simulate(down, drop);
     *runs += 2;
     if (!a.ok || !b.ok) continue;
-    // Per sigma: the difference over the span actually taken, times 2 sigma / span.
-    const double scale = 2 * it->second / span;
     for (size_t i = 0; i < bounces; ++i) {
       const double ha = i < a.bounce_heights_m.size() ? a.bounce_heights_m[i] : 0.0;
       const double hb = i < b.bounce_heights_m.size() ? b.bounce_heights_m[i] : 0.0;
-      const double d = 0.5 * (ha - hb) * scale;
-      var[i] += d * d;
+      grad[j][i] = (ha - hb) / span;  // metres per unit of the coefficient
     }
   }
-  for (double& x : var) x = std::sqrt(x);
-  return var;
+  std::vector<double> sd(bounces, 0.0);
+  for (size_t i = 0; i < bounces; ++i) {
+    double var = 0;
+    for (size_t a = 0; a < n; ++a)
+      for (size_t b = 0; b < n; ++b) var += grad[a][i] * u.cov[a][b] * grad[b][i];
+    sd[i] = std::sqrt(std::max(0.0, var));
+  }
+  return sd;
 }
 
 void Run(const PredictOptions& o) {
@@ -118,7 +143,7 @@ void Run(const PredictOptions& o) {
   // The spread: the ensemble's (the model's own chaos) and the fitted coefficients' uncertainty.
   int param_runs = 0;
   const std::vector<double> param_sd =
-      ParameterSpread(*model, table.values, FittedSigmas(o.coeffs), drop, e.mean_m.size(), &param_runs);
+      ParameterSpread(*model, table.values, ReadUncertainty(o.coeffs), drop, e.mean_m.size(), &param_runs);
   std::vector<double> sd(e.mean_m.size());
   for (size_t i = 0; i < sd.size(); ++i) sd[i] = std::hypot(e.sd_m[i], param_sd[i]);
   if (o.json) {
@@ -141,7 +166,7 @@ void Run(const PredictOptions& o) {
               model->name().c_str(), ball.name.c_str(), o.drop_m, o.ensemble.members,
               o.ensemble.height_jitter_m * 1000, o.ensemble.turn_jitter_rad * 180 / M_PI);
   if (param_runs > 0)
-    std::printf("spread: the runs' and the fitted coefficients' uncertainty (+- 1 sigma each, %d runs), in quadrature\n",
+    std::printf("spread: the runs' and the fitted coefficients' uncertainty (their covariance, %d runs), in quadrature\n",
                 param_runs);
   std::printf("%6s %12s %10s %10s %10s %14s\n", "bounce", "mean_m", "sd_mm", "chaos_mm", "coeffs_mm", "single_run_m");
   for (size_t i = 0; i < e.mean_m.size(); ++i)

@@ -37,6 +37,7 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"values", values},
           {"no_effect", u.no_effect},
           {"unidentified", u.unidentified},
+          {"covariance", {{"names", u.covariance_names}, {"matrix", u.covariance}}},
           {"recorded_m", u.recorded_m},
           {"simulated_m", u.simulated_m},
           {"residual_m", Num(u.residual_m)},

@@ -10,6 +10,8 @@
 #include <thread>
 #include <stdexcept>
 
+#include <Eigen/Dense>
+
 #include "fit/drop_ensemble.h"
 #include "fit/least_squares_search.h"
 #include "fit/live_step.h"
@@ -308,6 +310,34 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
   std::vector<CoefficientEstimate> est;
   if (!jacobian.empty())
     est = EstimateUncertainty(problem.free, r.values, jacobian, u.residual_m, MeasurementSigma());
+  // The covariance of the identifiable ones, in their own units (what `predict` propagates:
+  // e0 and its slope are strongly anti-correlated, their sigmas alone overstate the spread).
+  if (!jacobian.empty()) {
+    std::vector<size_t> cols;
+    for (size_t j = 0; j < est.size() && j < problem.free.size(); ++j)
+      if (est[j].identifiable) cols.push_back(j);
+    const size_t k = jacobian.size(), n = cols.size();
+    if (n > 0 && k >= n) {
+      Eigen::MatrixXd J(k, n);
+      for (size_t i = 0; i < k; ++i)
+        for (size_t c = 0; c < n; ++c)
+          J(i, c) = jacobian[i][cols[c]] / (problem.free[cols[c]].upper - problem.free[cols[c]].lower);
+      double sigma = MeasurementSigma();
+      sigma = std::max(sigma, k > n ? u.residual_m * std::sqrt(double(k) / double(k - n)) : u.residual_m);
+      const Eigen::MatrixXd JtJ = J.transpose() * J;
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(JtJ, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      const Eigen::VectorXd sv = svd.singularValues();
+      Eigen::MatrixXd inv = Eigen::MatrixXd::Zero(n, n);
+      for (Eigen::Index d = 0; d < sv.size(); ++d)
+        if (sv(d) > 1e-12 * sv(0)) inv += svd.matrixV().col(d) * svd.matrixU().col(d).transpose() / sv(d);
+      const Eigen::MatrixXd cov = sigma * sigma * inv;
+      for (size_t c = 0; c < n; ++c) {
+        u.covariance_names.push_back(problem.free[cols[c]].name);
+        u.covariance.emplace_back();
+        for (size_t d = 0; d < n; ++d) u.covariance.back().push_back(cov(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(d)));
+      }
+    }
+  }
   // Every coefficient the session may fit is reported; those not searched in this update
   // keep their value, without an uncertainty.
   const auto all = (&model == &model_) ? FreeSpecs() : model.Coefficients();

@@ -74,6 +74,9 @@ struct FitUpdate {
   int iterations = 0;         // solver iterations they hold for (0: n/a)
   std::vector<std::string> no_effect;      // coefficients found to change no height
   std::vector<std::string> unidentified;   // coefficients the data cannot determine
+  // Covariance of the identifiable fitted coefficients (their units), from the Jacobian.
+  std::vector<std::string> covariance_names;
+  std::vector<std::vector<double>> covariance;
   std::string warning;        // "" or why the answer is doubtful (e.g. its free drop diverges)
   // Final fit: "" for an answer; else why it is none (its residual is more than the heights'
   // measurement explains): a caller reports "no fit: <why>" and writes no coefficients.
