@@ -1,7 +1,8 @@
 // bouncefit predict: the bounce heights a fitted ball is expected to reach when dropped from
 // a given height, as the mean (and spread) of an ensemble of tiny perturbations of the release
 // (fit/drop_ensemble.h), for either model; also the single unperturbed run, which is what
-// `simulate` prints and what the fit reported at its own drop.
+// `simulate` prints and what the fit reported at its own drop. --gltf also writes that
+// single run as an animation (fit/fitted_ball_gltf.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +16,8 @@
 
 #include "cli/commands.h"
 #include "fit/drop_ensemble.h"
+#include "fit/fit_export.h"
+#include "fit/fitted_ball_gltf.h"
 #include "model/ball_preset.h"
 #include "model/coefficient_table.h"
 #include "model/model_by_name.h"
@@ -27,6 +30,7 @@ struct PredictOptions {
   std::string coeffs;
   double drop_m = 0;
   std::string ball;  // "" = the file's
+  std::string gltf;  // "" = none; else the single run as a .glb
   bool json = false;
   double min_height_m = 0.01;
   double duration_s = 0;  // 0: long enough for bounces down to min_height_m
@@ -146,6 +150,23 @@ void Run(const PredictOptions& o) {
       ParameterSpread(*model, table.values, ReadUncertainty(o.coeffs), drop, e.mean_m.size(), &param_runs);
   std::vector<double> sd(e.mean_m.size());
   for (size_t i = 0; i < sd.size(); ++i) sd[i] = std::hypot(e.sd_m[i], param_sd[i]);
+  if (!o.gltf.empty()) {
+    FitUpdate fit;  // the extras say what the file says of its fit
+    fit.model = model->name();
+    fit.values = table.values;
+    fit.drop_height_m = table.drop_height_m.value_or(0);
+    fit.residual_m = std::nan("");
+    FittedBallGltfOptions gltf_options;
+    gltf_options.min_bounce_height_m = std::min(gltf_options.min_bounce_height_m, o.min_height_m);
+    const FittedBallGltf g =
+        WriteFittedBallGltf(o.gltf, *model, ball, table.values, o.drop_m,
+                            FitGltfExtras(fit, ball, {"", "predict --coeffs " + o.coeffs, nullptr}),
+                            nullptr, gltf_options);
+    std::fprintf(o.json ? stderr : stdout,
+                 "wrote %s: %zu keys at %.0f per second (%.2f s), %zu morph targets, %zu bytes\n",
+                 o.gltf.c_str(), g.keys, gltf_options.rate_hz,
+                 g.keys ? double(g.keys - 1) / gltf_options.rate_hz : 0.0, g.morph_targets, g.bytes);
+  }
   if (o.json) {
     nlohmann::ordered_json j;
     j["model"] = model->name();
@@ -194,6 +215,9 @@ void AddPredictCommand(CLI::App& app) {
                 "one JSON object: bounce_heights_m (means), bounce_heights_sd_m (the runs' spread and "
                 "the fitted coefficients' uncertainty in quadrature; each also on its own: "
                 "bounce_heights_chaos_sd_m, bounce_heights_parameter_sd_m), single_run_heights_m");
+  cmd->add_option("--gltf", o->gltf,
+                  "also write the single run as a glTF 2.0 binary (.glb: metres, y up, the floor "
+                  "at y = 0, seconds since the release) for Blender and other tools");
   cmd->add_option("--members", o->ensemble.members, "runs in the ensemble")->capture_default_str();
   cmd->add_option("--height-jitter", o->ensemble.height_jitter_m,
                   "release heights uniform in +- this, metres")

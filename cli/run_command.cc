@@ -56,8 +56,9 @@ std::string Summary(const PipelineOutcome& r, const RunConsole& console, const s
     text += fmt::format("\nfitted ball ({}):{}; residual {:.1f} mm over {} bounces", f.model, law, f.residual_m * 1e3,
                         f.recorded_m.size());
   }
-  text += "\nwrote " + out_dir + ": track.csv, peaks.csv, impacts.csv, summary.json" +
-          (r.final_fit ? ", coefficients.json, fitted_ball/, simulated.csv" : "") + " (`bouncefit report " + out_dir + "` draws them)";
+  text += "\nwrote " + out_dir + ": track.csv, peaks.csv, impacts.csv, summary.json, fit.jsonl" +
+          (r.final_fit ? ", coefficients.json, fitted_ball/ (Bullet), fitted_ball.glb (Blender), simulated.csv" : "") +
+          " (`bouncefit report " + out_dir + "` draws them)";
   if (!s.tracker.empty()) text += "\n" + s.tracker;
   return text;
 }

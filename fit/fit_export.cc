@@ -1,9 +1,12 @@
 #include "fit/fit_export.h"
 
 #include "fit/fitted_ball_project.h"
+#include "model/model_by_name.h"
+#include "model/soft_ball_model.h"
 
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 
 namespace bouncefit {
@@ -55,8 +58,58 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"wall_time_s", u.wall_time_s}};
 }
 
+nlohmann::json FitGltfExtras(const FitUpdate& u, const BallPreset& ball,
+                             const FitExportContext& context) {
+  auto value = [&](const char* name) {
+    const auto it = u.values.find(name);
+    return it == u.values.end() ? nlohmann::json() : Num(it->second);
+  };
+  nlohmann::json j;
+  j["ball"] = {{"preset", ball.name}, {"diameter_m", ball.diameter_m}, {"mass_kg", ball.mass_kg}};
+  // The soft ball's law and the point mass's name their coefficients differently.
+  const bool soft = u.values.count("rebound_restitution") > 0;
+  j["restitution_law"] = {
+      {"formula", "e(v) = e0 - k v, v the impact speed in m/s"},
+      {"e0", soft ? value("rebound_restitution") : value("restitution")},
+      {"k_per_mps", soft ? value("rebound_restitution_per_mps") : value("restitution_per_mps")}};
+  j["drag_coefficient"] = soft ? value("drag") : value("drag_coefficient");
+  nlohmann::json values = nlohmann::json::object();
+  for (const auto& [name, v] : u.values) values[name] = Num(v);
+  j["fit"] = {{"model", u.model},
+              {"method", u.method},
+              {"drop_height_m", u.drop_height_m},
+              {"bounces", u.recorded_m.size()},
+              {"recorded_m", u.recorded_m},
+              {"simulated_m", u.simulated_m},
+              {"residual_m", Num(u.residual_m)},
+              {"time_step_s", u.time_step_s},
+              {"iterations", u.iterations},
+              {"values", values},
+              {"warning", u.warning}};
+  if (!context.clip.empty()) j["fit"]["clip"] = context.clip;
+  if (!context.fitted_by.empty()) j["fit"]["fitted_by"] = context.fitted_by;
+  return j;
+}
+
+FittedBallGltf WriteFitGltf(const std::filesystem::path& path, const FitUpdate& u,
+                            const BallPreset& ball, double drop_height_m,
+                            const FitExportContext& context) {
+  std::unique_ptr<BallModel> model;
+  if (u.model == "bullet-softbody") {  // the step and iterations the coefficients hold for
+    SoftBallModelConfig config;
+    if (u.time_step_s > 0) config.time_step_s = u.time_step_s;
+    if (u.iterations > 0) config.position_iterations = u.iterations;
+    model = std::make_unique<SoftBallModel>(ball, config);
+  } else {
+    model = MakeBallModel(u.model, ball);
+  }
+  return WriteFittedBallGltf(path, *model, ball, u.values, drop_height_m,
+                             FitGltfExtras(u, ball, context), context.recorded);
+}
+
 std::vector<std::filesystem::path> WriteFitExports(const std::filesystem::path& dir,
-                                                   const FitUpdate& u, const BallPreset& ball) {
+                                                   const FitUpdate& u, const BallPreset& ball,
+                                                   const FitExportContext& context) {
   std::filesystem::create_directories(dir);
   const auto json_path = dir / "coefficients.json";
   {
@@ -65,6 +118,8 @@ std::vector<std::filesystem::path> WriteFitExports(const std::filesystem::path& 
     if (!out) throw std::runtime_error("cannot write " + json_path.string());
   }
   std::vector<std::filesystem::path> written{json_path};
+  if (u.drop_height_m > 0)  // a fit that knows no drop height has no drop to animate
+    written.push_back(WriteFitGltf(dir / "fitted_ball.glb", u, ball, u.drop_height_m, context).path);
   if (FittedBallProjectUnavailable(u.model).empty()) {
     written.push_back(WriteFittedBallProject(dir, u, ball));
   } else {  // said where a user looks for it

@@ -4,6 +4,7 @@
 // Implemented by the Bullet soft-body model (issue 6) and by the point-mass model; used by
 // the fitters (issue 7). Simulate() is const and thread-safe so that a fitter can run
 // several evaluations in parallel on one model object.
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -44,6 +45,16 @@ struct SimulationOptions {
   double release_turn_rad = 0;
   bool record_trajectory = false;
   double trajectory_rate_hz = 120;    // sampling of the recorded trajectory
+  // With the trajectory, a mesh model also keeps its surface at every trajectory sample
+  // (what an animation of the ball plays; a point mass has none).
+  bool record_surface = false;
+};
+
+// The ball's surface over a run: its triangles and, at every trajectory sample, where each
+// of its vertices is (metres, the world's frame: y up, the floor at y = 0).
+struct SurfaceRecording {
+  std::vector<std::array<int, 3>> triangles;  // vertex indices, wound outward
+  std::vector<std::vector<std::array<float, 3>>> positions_m;  // [sample][vertex]
 };
 
 struct SimulationResult {
@@ -53,6 +64,7 @@ struct SimulationResult {
   std::vector<double> apex_times_s;      // their times since release
   std::vector<double> impact_times_s;
   std::vector<TrajectorySample> trajectory;  // when requested
+  SurfaceRecording surface;                  // when requested, of a mesh model
   double simulated_time_s = 0;  // simulated time covered before the run stopped
   double wall_time_s = 0;
 };

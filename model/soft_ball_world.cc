@@ -384,6 +384,23 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
   }
   w.world->addSoftBody(w.ball.get());
   btSoftBody& sb = *w.ball;
+  // The surface's vertices (the nodes its faces use), renumbered from 0.
+  std::vector<int> surface_nodes;
+  if (options.record_trajectory && options.record_surface) {
+    std::vector<int> index_of(ball.mesh.nodes->size(), -1);
+    for (const auto& f : *ball.mesh.faces) {
+      std::array<int, 3> tri{};
+      for (size_t a = 0; a < 3; ++a) {
+        int& index = index_of[static_cast<size_t>(f[a])];
+        if (index < 0) {
+          index = static_cast<int>(surface_nodes.size());
+          surface_nodes.push_back(f[a]);
+        }
+        tri[a] = index;
+      }
+      result.surface.triangles.push_back(tri);
+    }
+  }
   SettleSoftBall(cfg, options.drop_height_m + ball.radius_m, w.world.get(), &w.info, &sb);
   // The rebound boost runs inside stepSimulation from here on, as in a user's world.
   // Always: it also times the impacts (a kick of 0 changes nothing).
@@ -459,6 +476,14 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
       const double height = s.max_y - s.min_y;
       ts.width_height_ratio = height > 0 ? (s.max_x - s.min_x) / height / rest_width_height : 1;
       result.trajectory.push_back(ts);
+      if (!surface_nodes.empty()) {
+        std::vector<std::array<float, 3>> at_t(surface_nodes.size());
+        for (size_t i = 0; i < surface_nodes.size(); ++i) {
+          const btVector3& x = sb.m_nodes[surface_nodes[i]].m_x;
+          at_t[i] = {float(x.x()), float(x.y()), float(x.z())};
+        }
+        result.surface.positions_m.push_back(std::move(at_t));
+      }
       ++next_traj;
     }
     if (step >= total_steps) break;

@@ -1,4 +1,5 @@
 #include "msgs/peaks_csv.h"
+#include "msgs/csv_cell.h"
 
 #include <fmt/format.h>
 
@@ -14,10 +15,6 @@ namespace {
 
 constexpr const char* kHeader =
     "bounce,t_s,height_m,height_px,flight_height_m,emitted_t_s,heard,fused_height_m,refit_height_m";
-
-std::string Cell(double v, int decimals) {
-  return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : std::string();
-}
 
 std::vector<std::string> Split(const std::string& line) {
   std::vector<std::string> cells;
@@ -51,10 +48,10 @@ void WritePeaksCsv(const std::filesystem::path& path, const std::vector<PeaksCsv
     if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
     f << kHeader << '\n';
     for (const PeaksCsvRow& r : rows)
-      f << r.bounce << ',' << Cell(r.t_s, 6) << ',' << Cell(r.height_m, 5) << ','
-        << Cell(r.height_px, 3) << ',' << Cell(r.flight_height_m, 5) << ','
-        << Cell(r.emitted_t_s, 6) << ',' << r.heard << ',' << Cell(r.fused_height_m, 5) << ','
-        << Cell(r.refit_height_m, 5) << '\n';
+      f << r.bounce << ',' << CsvCell(r.t_s, 6) << ',' << CsvCell(r.height_m, 5) << ','
+        << CsvCell(r.height_px, 3) << ',' << CsvCell(r.flight_height_m, 5) << ','
+        << CsvCell(r.emitted_t_s, 6) << ',' << r.heard << ',' << CsvCell(r.fused_height_m, 5) << ','
+        << CsvCell(r.refit_height_m, 5) << '\n';
     if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
   }
   std::filesystem::rename(tmp, path);

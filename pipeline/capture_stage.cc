@@ -1,4 +1,5 @@
 #include "pipeline/capture_stage.h"
+#include "msgs/csv_cell.h"
 
 #include <fmt/format.h>
 
@@ -8,6 +9,7 @@
 
 #include "capture/frame_recorder.h"
 #include "msgs/lcm_bus.h"
+#include "msgs/node_clock.h"
 #include "msgs/lcm_log_recorder.h"
 #include "pipeline/output_dir.h"
 #include "pipeline/sound_listener.h"
@@ -18,16 +20,6 @@
 
 namespace bouncefit {
 namespace {
-
-int64_t WallMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-std::string Cell(double v, int decimals) {
-  return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : std::string();
-}
 
 // Flags that need the frame size, checked before anything is written.
 void ValidateAgainstFrame(const TrackerConfig& t, const SourceInfo& info) {
@@ -136,13 +128,13 @@ void CaptureStage::OnFrame(const Frame& frame, const BallObservation& obs) {
   PublishAndLog(bus_, log_.get(), config_.channels.ball_box, box);
   if (track_csv_) {
     auto& f = *track_csv_;
-    f << box.frame << ',' << Cell((box.utime - t0_utime_) * 1e-6, 6) << ',' << (box.found ? 1 : 0);
+    f << box.frame << ',' << CsvCell((box.utime - t0_utime_) * 1e-6, 6) << ',' << (box.found ? 1 : 0);
     if (box.found)
-      f << ',' << Cell(box.cx, 3) << ',' << Cell(box.cy, 3) << ',' << Cell(box.x, 0) << ','
-        << Cell(box.y, 0) << ',' << Cell(box.w, 0) << ',' << Cell(box.h, 0);
+      f << ',' << CsvCell(box.cx, 3) << ',' << CsvCell(box.cy, 3) << ',' << CsvCell(box.x, 0) << ','
+        << CsvCell(box.y, 0) << ',' << CsvCell(box.w, 0) << ',' << CsvCell(box.h, 0);
     else
       f << ",,,,,,";
-    f << ',' << Cell(box.camera_dx, 2) << ',' << Cell(box.camera_dy, 2) << '\n';
+    f << ',' << CsvCell(box.camera_dx, 2) << ',' << CsvCell(box.camera_dy, 2) << '\n';
     f.flush();
   }
   for (const impact_t& m : sound_->AdvanceTo((frame.utime - t0_utime_) * 1e-6, t0_utime_)) Send(m);

@@ -8,7 +8,9 @@
 #include <stdexcept>
 
 #include "detect/node/detect_node.h"
+#include "msgs/csv_cell.h"
 #include "msgs/lcm_bus.h"
+#include "msgs/node_clock.h"
 #include "msgs/msg_json.h"
 #include "msgs/peaks_csv.h"
 #include "pipeline/clock_report.h"
@@ -18,12 +20,6 @@
 
 namespace bouncefit {
 namespace {
-
-int64_t SteadyMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 // "; refitted with the whole drop, m: 1 0.733, 2 0.515, ..." for the apexes a drop emitted.
 std::string RefitHeights(const SequenceSummary& d) {
@@ -87,7 +83,8 @@ void DetectStage::OnStream(const stream_t& m) {
     if (started_) return;  // one stream per node; a second start waits for another node
     start_ = m;
     StartStream(m.utime);
-    notice_(fmt::format("detect: {}, {:.2f} fps; ball {} ({:.1f} mm, {:.1f} g); sound: {}", m.description,
+    if (config_.announce_stream)
+      notice_(fmt::format("detect: {}, {:.2f} fps; ball {} ({:.1f} mm, {:.1f} g); sound: {}", m.description,
                         m.nominal_fps, config_.ball.name, config_.ball.diameter_m * 1e3,
                         config_.ball.mass_kg * 1e3, m.sound));
   } else if (m.state == "end") {
@@ -132,14 +129,10 @@ void DetectStage::EmitPeak(bounce_peak_t m) {
   emitted_.push_back(m);
   if (m.bounce == 0 && release_utime_ == 0) release_utime_ = m.apex_utime;
   if (peaks_csv_) {
-    std::vector<PeaksCsvRow> one = {PeaksCsvRowOf(m, t0_)};
     // The live row as it is emitted: whatever happens later, it is on disk.
-    const PeaksCsvRow& r = one.front();
-    *peaks_csv_ << fmt::format("{},{:.6f},{},{},{},{:.6f},,,\n", r.bounce, r.t_s,
-                               std::isfinite(r.height_m) ? fmt::format("{:.5f}", r.height_m) : "",
-                               std::isfinite(r.height_px) ? fmt::format("{:.3f}", r.height_px) : "",
-                               std::isfinite(r.flight_height_m) ? fmt::format("{:.5f}", r.flight_height_m) : "",
-                               r.emitted_t_s)
+    const PeaksCsvRow r = PeaksCsvRowOf(m, t0_);
+    *peaks_csv_ << fmt::format("{},{:.6f},{},{},{},{:.6f},,,\n", r.bounce, r.t_s, CsvCell(r.height_m, 5),
+                               CsvCell(r.height_px, 3), CsvCell(r.flight_height_m, 5), r.emitted_t_s)
                 << std::flush;
   }
 }

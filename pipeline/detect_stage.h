@@ -38,6 +38,7 @@ struct DetectStageConfig {
   bool keep_frame_times = false;  // never re-time dropped pictures (only say so)
   bool force = false;          // keep a scale or clock flag the measurement contradicts
   int frame_width_px = 0, frame_height_px = 0;  // when no STREAM says so (an older log)
+  bool announce_stream = true;  // say what the stream is when it starts (its host may say it already)
   Channels channels;
   std::filesystem::path out_dir;  // empty: nothing written
 };

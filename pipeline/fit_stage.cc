@@ -8,19 +8,10 @@
 #include "fit/fit_export.h"
 #include "fit/fit_notes.h"
 #include "msgs/lcm_bus.h"
+#include "msgs/node_clock.h"
 #include "msgs/msg_json.h"
 
 namespace bouncefit {
-namespace {
-
-int64_t SteadyMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
-
 void WriteSimulatedCsv(const std::filesystem::path& dir, double t_release_s,
                        const std::vector<TrajectorySample>& trajectory) {
   std::ofstream f(dir / "simulated.csv", std::ios::trunc);
@@ -39,9 +30,16 @@ FitStage::FitStage(FitStageConfig config, LcmBus& bus, NoticeFn notice)
   });
   const Channels& ch = config_.node.channels;
   bus_.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) {
-    if (m.state == "start") t0_ = m.utime, have_t0_ = true;
+    if (m.state != "start") return;
+    t0_ = m.utime;
+    have_t0_ = true;
+    input_ = m.input;
   });
-  bus_.Subscribe<ball_box_t>(ch.ball_box, [this](const ball_box_t& m) { now_ = std::max(now_, m.utime); });
+  bus_.Subscribe<ball_box_t>(ch.ball_box, [this](const ball_box_t& m) {
+    now_ = std::max(now_, m.utime);
+    if (m.found && !config_.out_dir.empty()) boxes_.push_back(m);
+  });
+  bus_.Subscribe<calibration_t>(ch.calibration, [this](const calibration_t& m) { calibration_ = m; });
   bus_.Subscribe<bounce_peak_t>(ch.bounce_peak, [this](const bounce_peak_t& m) { OnPeak(m); });
   bus_.Subscribe<drop_t>(ch.drop, [this](const drop_t& m) { OnDrop(m); });
   if (!config_.out_dir.empty()) {
@@ -133,7 +131,9 @@ void FitStage::WaitDone(const std::function<void(int, int)>& progress) {
 
 void FitStage::WriteExports() {
   if (config_.out_dir.empty() || !final_) return;
-  WriteFitExports(config_.out_dir, *final_, node_->ball());
+  const RecordedTrack recorded = Recorded();
+  WriteFitExports(config_.out_dir, *final_, node_->ball(),
+                  FitExportContext{input_, "run", recorded.t_s.empty() ? nullptr : &recorded});
   // The model's trajectory with the final coefficients, on the stream clock.
   SimulationOptions so;
   so.drop_height_m = final_->drop_height_m;
@@ -141,6 +141,26 @@ void FitStage::WriteExports() {
   so.duration_s = 8.0;
   const SimulationResult r = node_->model().Simulate(final_->values, so);
   if (r.ok) WriteSimulatedCsv(config_.out_dir, SecondsSince(release_utime_, t0_), r.trajectory);
+}
+
+RecordedTrack FitStage::Recorded() const {
+  RecordedTrack r;
+  if (!calibration_ || !(calibration_->px_per_m > 0) || release_utime_ == 0) return r;
+  const calibration_t& c = *calibration_;
+  const double down_x = std::sin(c.roll_rad), down_y = std::cos(c.roll_rad);
+  for (const ball_box_t& b : boxes_) {
+    if (b.utime < release_utime_) continue;  // the animation starts at the release
+    const double x = b.cx - b.camera_dx, y = b.cy - b.camera_dy;  // in the scene
+    const double bottom_px = x * down_x + y * down_y + b.radius_px;
+    r.t_s.push_back(SecondsSince(b.utime, release_utime_));
+    r.bottom_height_m.push_back((c.floor_px - bottom_px) / c.px_per_m);
+    r.horizontal_m.push_back((x * down_y - y * down_x) / c.px_per_m);
+  }
+  if (!r.horizontal_m.empty()) {  // from where the ball was first seen
+    const double x0 = r.horizontal_m.front();
+    for (double& x : r.horizontal_m) x -= x0;
+  }
+  return r;
 }
 
 }  // namespace bouncefit

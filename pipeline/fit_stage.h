@@ -16,10 +16,12 @@
 #include <vector>
 
 #include "bouncefit/ball_box_t.hpp"
+#include "bouncefit/calibration_t.hpp"
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/drop_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
 #include "bouncefit/stream_t.hpp"
+#include "fit/fitted_ball_gltf.h"
 #include "fit/node/fit_node.h"
 #include "model/ball_model.h"
 
@@ -72,6 +74,8 @@ class FitStage {
   void OnPeak(const bounce_peak_t& m);
   void OnDrop(const drop_t& m);
   void WriteExports();
+  // The tracked ball in metres above the floor on the release's clock (for the .glb).
+  RecordedTrack Recorded() const;
 
   FitStageConfig config_;
   LcmBus& bus_;
@@ -88,6 +92,9 @@ class FitStage {
   bool stream_done_ = false, done_ = false, finished_since_peak_ = true;
   int final_sims_start_ = 0;
   int64_t last_wall_us_ = 0, last_peak_wall_us_ = 0;
+  std::string input_;                    // the clip or camera (STREAM)
+  std::vector<ball_box_t> boxes_;        // the frames the ball was found in
+  std::optional<calibration_t> calibration_;
 };
 
 }  // namespace bouncefit

@@ -24,6 +24,7 @@ Pipeline::Pipeline(PipelineConfig config, NoticeFn notice) : config_(std::move(c
 
 void Pipeline::Open() {
   config_.capture.out_dir = config_.detect.out_dir = config_.out_dir;
+  config_.detect.announce_stream = false;  // run says it in its first line
   if (config_.fit) config_.fit->out_dir = config_.out_dir;
   bus_ = std::make_unique<LcmBus>("memq://");
   if (!config_.lcm_url.empty() && config_.lcm_url.rfind("memq://", 0) != 0) {

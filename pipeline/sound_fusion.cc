@@ -1,4 +1,5 @@
 #include "pipeline/sound_fusion.h"
+#include "msgs/csv_cell.h"
 
 #include <fmt/format.h>
 
@@ -16,10 +17,6 @@ namespace bouncefit {
 namespace {
 
 int64_t Utime(double t_s, int64_t t0_utime) { return t0_utime + std::llround(t_s * 1e6); }
-
-std::string Cell(double v, int decimals) {
-  return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : std::string();
-}
 
 }  // namespace
 
@@ -118,9 +115,9 @@ void SoundFusion::WriteImpactsCsv(const std::filesystem::path& dir) const {
     for (const auto& fl : fused_.flights)
       if (fl.from == static_cast<int>(i)) flight = fl.flight_s, height = fl.height_m;
     const bool heard = m.source != ImpactSource::kVideo;
-    f << i << ',' << Cell(m.t_s, 6) << ',' << ImpactSourceName(m.source) << ','
-      << (heard ? Cell(m.strength, 4) : "") << ',' << (heard ? Cell(m.confidence, 3) : "") << ','
-      << Cell(m.video_t_s, 6) << ',' << Cell(flight, 6) << ',' << Cell(height, 5) << '\n';
+    f << i << ',' << CsvCell(m.t_s, 6) << ',' << ImpactSourceName(m.source) << ','
+      << (heard ? CsvCell(m.strength, 4) : "") << ',' << (heard ? CsvCell(m.confidence, 3) : "") << ','
+      << CsvCell(m.video_t_s, 6) << ',' << CsvCell(flight, 6) << ',' << CsvCell(height, 5) << '\n';
   }
 }
 

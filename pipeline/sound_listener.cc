@@ -21,6 +21,17 @@ double CpuSeconds() {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+impact_t HeardMessage(const AudioImpact& i, int index, int64_t t0_utime) {
+  impact_t m{};
+  m.utime = t0_utime + std::llround(i.t_s * 1e6);
+  m.index = index;
+  m.source = "audio";
+  m.strength = i.strength;
+  m.confidence = i.confidence;
+  m.snr_db = i.snr_db;
+  return m;
+}
+
 }  // namespace
 
 SoundListener::SoundListener(const std::string& clip) : first_sample_t_s_(NAN) {
@@ -55,16 +66,7 @@ void SoundListener::Listen(const AudioChunk& chunk, double shift_s, int64_t t0_u
   Envelope(chunk, t0);
   std::vector<AudioImpact> heard = detector_->Push(t0, chunk.samples.data(), chunk.samples.size());
   decoded_to_s_ = t0 + static_cast<double>(chunk.samples.size()) / chunk.sample_rate;
-  for (const AudioImpact& i : heard) {
-    impact_t m{};
-    m.utime = t0_utime + std::llround(i.t_s * 1e6);
-    m.index = next_index_++;
-    m.source = "audio";
-    m.strength = i.strength;
-    m.confidence = i.confidence;
-    m.snr_db = i.snr_db;
-    out->push_back(m);
-  }
+  for (const AudioImpact& i : heard) out->push_back(HeardMessage(i, next_index_++, t0_utime));
 }
 
 void SoundListener::Envelope(const AudioChunk& chunk, double t0_s) {
@@ -118,16 +120,7 @@ std::vector<impact_t> SoundListener::Finish(int64_t t0_utime) {
     out = AdvanceTo(1e300, t0_utime);
   }
   ended_ = true;
-  for (const AudioImpact& i : detector_->Finish()) {
-    impact_t m{};
-    m.utime = t0_utime + std::llround(i.t_s * 1e6);
-    m.index = next_index_++;
-    m.source = "audio";
-    m.strength = i.strength;
-    m.confidence = i.confidence;
-    m.snr_db = i.snr_db;
-    out.push_back(m);
-  }
+  for (const AudioImpact& i : detector_->Finish()) out.push_back(HeardMessage(i, next_index_++, t0_utime));
   return out;
 }
 

@@ -1,5 +1,7 @@
 #include "report/report_html.h"
 
+#include "report/report_3d.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -310,7 +312,11 @@ std::string ReportStyle() {
        "figcaption{color:#444;font-size:.92em}\n"
        ".left{display:block;text-align:left}"
        "pre{background:#f6f6f6;padding:8px;overflow-x:auto;font-size:.88em}"
-       ".note{color:#555;font-size:.92em}\n";
+       ".note{color:#555;font-size:.92em}\n"
+       ".view3d-row{display:flex;flex-wrap:wrap;gap:16px;align-items:flex-start}"
+       ".view3d{width:540px}.view3d canvas{width:540px;height:440px;border:1px solid #ddd}"
+       ".view3d-controls input{width:300px;vertical-align:middle}"
+       ".view3d-row figure{flex:1;min-width:300px;margin:0}\n";
 }
 
 std::string RenderReportHtml(const ReportRunData& run, const std::vector<ReportFigure>& figures,
@@ -323,6 +329,10 @@ std::string RenderReportHtml(const ReportRunData& run, const std::vector<ReportF
     << "<h1>bouncefit report</h1>\n<p class=\"note\">Heights are the ball's bottom above the "
        "floor along true vertical; times are seconds since the first frame.</p>\n";
   SummarySection(h, run);
+  std::string height_figure;
+  for (const auto& f : figures)
+    if (f.id == "height") height_figure = FigureHtml(f);
+  h << View3dSection(run.dir, height_figure);
 
   h << "<h2>Figures</h2>\n";
   for (const auto& f : figures) h << FigureHtml(f);

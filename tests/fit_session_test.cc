@@ -430,8 +430,9 @@ TEST(FitExport, JsonAndAFittedBallProjectWithEveryValue) {
   const auto ball = *FindBallPreset("pingpong");
   const auto dir = testing::ScratchDir("fit_export");
   const auto paths = WriteFitExports(dir, u, ball);
-  ASSERT_EQ(paths.size(), 2u);
-  EXPECT_EQ(paths[1], dir / "fitted_ball");
+  ASSERT_EQ(paths.size(), 3u);
+  EXPECT_EQ(paths[1], dir / "fitted_ball.glb");
+  EXPECT_EQ(paths[2], dir / "fitted_ball");
   std::ifstream in(paths[0]);
   const auto j = nlohmann::json::parse(in);
   EXPECT_EQ(j["coefficients"]["linear_stiffness"]["value"], 0.8);

@@ -5,18 +5,9 @@
 #include <stdexcept>
 
 #include "msgs/lcm_bus.h"
+#include "msgs/node_clock.h"
 
 namespace bouncefit {
-namespace {
-
-int64_t SteadyMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
-
 calibration_t ToCalibrationMsg(const Calibration& c) {
   calibration_t m{};
   m.utime = c.utime;

@@ -1,27 +1,10 @@
 #include "track/node/capture_node.h"
 
-#include <chrono>
-
 #include "msgs/lcm_bus.h"
+#include "msgs/node_clock.h"
 #include "msgs/lcm_log_recorder.h"
 
 namespace bouncefit {
-namespace {
-
-int64_t SteadyMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-int64_t WallMicros() {  // the clock lcm-logger stamps events with
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
-
 CaptureNode::CaptureNode(FrameSource& source, Tracker& tracker, LcmBus* bus,
                          CaptureNodeConfig config)
     : source_(source), tracker_(tracker), bus_(bus), config_(std::move(config)) {}
