@@ -276,7 +276,8 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
   u.utime = last_utime_;
   u.sequence = sequence_;
   u.start_bounce = start_bounce_;
-  u.after_bounce = start_bounce_ + static_cast<int>(problem.recorded_m.size());
+  // This drop's last bounce fitted (a joint fit's recorded_m holds the other drops' too).
+  u.after_bounce = start_bounce_ + static_cast<int>(FittedHeights().size());
   u.final = final;
   u.cancelled = r.cancelled;
   u.model = model.name();
