@@ -92,12 +92,17 @@ ExitStatus RunOffline(FitOptions o) {
     drops.emplace_back();
     for (size_t i = 0; i < h.size(); ++i) drops.back().push_back({0, static_cast<int>(i), h[i], 0, 0});
   } else {
-    for (const auto& path : o.peaks_csv) drops.push_back(ReadDropPeaks(path));
+    for (const auto& path : o.peaks_csv)
+      for (auto& drop : ReadPeaksDrops(path)) drops.push_back(std::move(drop));
   }
   const BallPreset ball = ResolveBallPreset(o.node.ball, o.node.diameter_m, o.node.mass_kg);
   const FitUpdate final_fit = FitDropsOffline(
       drops, o.node, o.final_only, [&](const FitUpdate& u) { Emit(o, FitNode::ToMessage(u), u); },
       [](int sims, int budget) { std::fprintf(stderr, "final fit  %d / %d simulations\n", sims, budget); });
+  if (!final_fit.no_answer.empty()) {
+    std::fprintf(stderr, "bouncefit fit: no fit: %s\n", final_fit.no_answer.c_str());
+    return kExitNoFit;
+  }
   if (!o.export_dir.empty()) {
     for (const auto& path : WriteFitExports(o.export_dir, final_fit, ball))
       std::fprintf(stderr, "wrote %s\n", path.string().c_str());

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -34,6 +36,80 @@ struct PredictOptions {
   double duration_s = 0;  // 0: long enough for bounces down to min_height_m
   DropEnsembleOptions ensemble;
 };
+
+// The fitted coefficients' uncertainty in a fit's coefficients.json: the covariance of the
+// identifiable ones ("covariance": {"names", "matrix"}), else their sigmas alone
+// ("coefficients": {name: {"value", "sigma"}}) as uncorrelated; none for a plain table.
+struct FittedUncertainty {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> cov;
+};
+
+FittedUncertainty ReadUncertainty(const std::string& path) {
+  FittedUncertainty out;
+  try {
+    std::ifstream f(path);
+    const auto j = nlohmann::json::parse(f);
+    if (j.contains("covariance") && j["covariance"].is_object() && !j["covariance"]["names"].empty()) {
+      out.names = j["covariance"]["names"].get<std::vector<std::string>>();
+      out.cov = j["covariance"]["matrix"].get<std::vector<std::vector<double>>>();
+      if (out.cov.size() == out.names.size()) return out;
+      out = {};
+    }
+    if (!j.contains("coefficients") || !j["coefficients"].is_object()) return out;
+    for (const auto& [name, c] : j["coefficients"].items())
+      if (c.is_object() && c.contains("sigma") && c["sigma"].is_number()) {
+        const double s = c["sigma"].get<double>();
+        if (std::isfinite(s) && s > 0) out.names.push_back(name);
+      }
+    out.cov.assign(out.names.size(), std::vector<double>(out.names.size(), 0.0));
+    for (size_t i = 0; i < out.names.size(); ++i) {
+      const double s = j["coefficients"][out.names[i]]["sigma"].get<double>();
+      out.cov[i][i] = s * s;
+    }
+  } catch (const std::exception&) {
+    out = {};
+  }
+  return out;
+}
+
+// Per bounce, the spread the coefficients' uncertainty gives, linearised: each coefficient
+// moved by +- its sigma (within its bounds) in the unperturbed run gives the heights'
+// gradient g, and the variance is g^T C g.
+std::vector<double> ParameterSpread(const BallModel& model, const CoefficientValues& values,
+                                    const FittedUncertainty& u, const SimulationOptions& drop, size_t bounces,
+                                    int* runs) {
+  const size_t n = u.names.size();
+  std::vector<std::vector<double>> grad(n, std::vector<double>(bounces, 0.0));
+  const auto specs = model.Coefficients();
+  for (size_t j = 0; j < n; ++j) {
+    auto spec = std::find_if(specs.begin(), specs.end(), [&](const auto& s) { return s.name == u.names[j]; });
+    auto v = values.find(u.names[j]);
+    const double sigma = std::sqrt(std::max(0.0, u.cov[j][j]));
+    if (spec == specs.end() || v == values.end() || !(sigma > 0)) continue;
+    CoefficientValues up = values, down = values;
+    up[spec->name] = std::min(spec->upper, v->second + sigma);
+    down[spec->name] = std::max(spec->lower, v->second - sigma);
+    const double span = up[spec->name] - down[spec->name];
+    if (!(span > 0)) continue;
+    const SimulationResult a = model.Simulate(up, drop), b = model.Simulate(down, drop);
+    *runs += 2;
+    if (!a.ok || !b.ok) continue;
+    for (size_t i = 0; i < bounces; ++i) {
+      const double ha = i < a.bounce_heights_m.size() ? a.bounce_heights_m[i] : 0.0;
+      const double hb = i < b.bounce_heights_m.size() ? b.bounce_heights_m[i] : 0.0;
+      grad[j][i] = (ha - hb) / span;  // metres per unit of the coefficient
+    }
+  }
+  std::vector<double> sd(bounces, 0.0);
+  for (size_t i = 0; i < bounces; ++i) {
+    double var = 0;
+    for (size_t a = 0; a < n; ++a)
+      for (size_t b = 0; b < n; ++b) var += grad[a][i] * u.cov[a][b] * grad[b][i];
+    sd[i] = std::sqrt(std::max(0.0, var));
+  }
+  return sd;
+}
 
 void Run(const PredictOptions& o) {
   if (!(o.drop_m > 0 && o.drop_m < 100)) throw std::invalid_argument("--drop must be in (0, 100) m");
@@ -68,6 +144,12 @@ void Run(const PredictOptions& o) {
   if (!e.ok)
     throw std::runtime_error("the ball diverges dropped from " + std::to_string(o.drop_m) +
                              " m (" + e.failure + ")");
+  // The spread: the ensemble's (the model's own chaos) and the fitted coefficients' uncertainty.
+  int param_runs = 0;
+  const std::vector<double> param_sd =
+      ParameterSpread(*model, table.values, ReadUncertainty(o.coeffs), drop, e.mean_m.size(), &param_runs);
+  std::vector<double> sd(e.mean_m.size());
+  for (size_t i = 0; i < sd.size(); ++i) sd[i] = std::hypot(e.sd_m[i], param_sd[i]);
   if (!o.gltf.empty()) {
     FitUpdate fit;  // the extras say what the file says of its fit
     fit.model = model->name();
@@ -94,7 +176,9 @@ void Run(const PredictOptions& o) {
     j["height_jitter_m"] = o.ensemble.height_jitter_m;
     j["turn_jitter_rad"] = o.ensemble.turn_jitter_rad;
     j["bounce_heights_m"] = e.mean_m;
-    j["bounce_heights_sd_m"] = e.sd_m;
+    j["bounce_heights_sd_m"] = sd;  // both below, in quadrature
+    j["bounce_heights_chaos_sd_m"] = e.sd_m;
+    j["bounce_heights_parameter_sd_m"] = param_sd;
     j["single_run_heights_m"] = e.single_m;
     std::printf("%s\n", j.dump(2).c_str());
     return;
@@ -102,10 +186,13 @@ void Run(const PredictOptions& o) {
   std::printf("%s, %s dropped from %.6g m: %d runs (release +- %.3g mm, turned +- %.3g deg)\n",
               model->name().c_str(), ball.name.c_str(), o.drop_m, o.ensemble.members,
               o.ensemble.height_jitter_m * 1000, o.ensemble.turn_jitter_rad * 180 / M_PI);
-  std::printf("%6s %12s %10s %14s\n", "bounce", "mean_m", "sd_mm", "single_run_m");
+  if (param_runs > 0)
+    std::printf("spread: the runs' and the fitted coefficients' uncertainty (their covariance, %d runs), in quadrature\n",
+                param_runs);
+  std::printf("%6s %12s %10s %10s %10s %14s\n", "bounce", "mean_m", "sd_mm", "chaos_mm", "coeffs_mm", "single_run_m");
   for (size_t i = 0; i < e.mean_m.size(); ++i)
-    std::printf("%6zu %12.4f %10.2f %14s\n", i + 1, e.mean_m[i], e.sd_m[i] * 1000,
-                i < e.single_m.size() ? std::to_string(e.single_m[i]).c_str() : "-");
+    std::printf("%6zu %12.4f %10.2f %10.2f %10.2f %14s\n", i + 1, e.mean_m[i], sd[i] * 1000, e.sd_m[i] * 1000,
+                param_sd[i] * 1000, i < e.single_m.size() ? std::to_string(e.single_m[i]).c_str() : "-");
 }
 
 }  // namespace
@@ -125,8 +212,9 @@ void AddPredictCommand(CLI::App& app) {
       ->required();
   cmd->add_option("--ball", o->ball, "ball preset, when the file names none: " + BallPresetNames());
   cmd->add_flag("--json", o->json,
-                "one JSON object: bounce_heights_m (means), bounce_heights_sd_m, "
-                "single_run_heights_m");
+                "one JSON object: bounce_heights_m (means), bounce_heights_sd_m (the runs' spread and "
+                "the fitted coefficients' uncertainty in quadrature; each also on its own: "
+                "bounce_heights_chaos_sd_m, bounce_heights_parameter_sd_m), single_run_heights_m");
   cmd->add_option("--gltf", o->gltf,
                   "also write the single run as a glTF 2.0 binary (.glb: metres, y up, the floor "
                   "at y = 0, seconds since the release) for Blender and other tools");

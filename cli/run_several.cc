@@ -97,7 +97,7 @@ ExitStatus RunSeveral(RunOptions o) {
   nlohmann::json summary = {{"clips", clips}, {"ball", {{"name", ball.name}, {"diameter_m", ball.diameter_m}, {"mass_kg", ball.mass_kg}}}};
   if (!o.no_fit) {
     if (drops.empty()) {
-      std::fprintf(stderr, "bouncefit run: no fit: no clip gave a drop with its release seen (see the warnings above)\n");
+      std::fprintf(stderr, "bouncefit run: no fit: no clip gave a drop with an apex and a rebound after it (see the warnings above)\n");
       std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
       return any_bounce ? kExitNoFit : kExitNoBounce;
     }
@@ -111,6 +111,12 @@ ExitStatus RunSeveral(RunOptions o) {
     }, [&](int sims, int budget) {
       if (talk) std::fprintf(stderr, "final fit  %d / %d simulations\n", sims, budget);
     });
+    if (!final_fit.no_answer.empty()) {
+      std::fprintf(stderr, "bouncefit run: no fit: %s\n", final_fit.no_answer.c_str());
+      summary["no_fit"] = final_fit.no_answer;
+      std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
+      return kExitNoFit;
+    }
     WriteFitExports(root, final_fit, ball);
     summary["final_fit"] = FitUpdateToJson(final_fit, ball);
     WriteDropsBesideTheirSimulation(o, ball, final_fit, drops, fitted_dirs, root);

@@ -32,12 +32,13 @@ void ParallelFor(int n, int threads, const Job& job) {
 }  // namespace
 
 std::string UnsafeDrop(const BallModel& model, const CoefficientValues& values,
-                       const std::vector<double>& drops_m, int threads, int max_bounces) {
+                       const std::vector<double>& drops_m, int threads, int max_bounces,
+                       double min_bounce_m) {
   std::vector<SimulationResult> results(drops_m.size());
   ParallelFor(static_cast<int>(drops_m.size()), threads, [&](int i) {
     SimulationOptions o;
     o.drop_height_m = drops_m[i];
-    o.min_bounce_height_m = 0.01;
+    o.min_bounce_height_m = min_bounce_m;
     o.duration_s = 6 + 4 * drops_m[i];
     o.max_bounces = max_bounces;
     results[i] = SimulateSafely(model, values, o);

@@ -37,11 +37,13 @@ DropEnsemble SimulateDropEnsemble(const BallModel& model, const CoefficientValue
                                   const DropEnsembleOptions& options = {});
 
 // Safety (issue 14 item 5): "" when the ball, dropped from each of these heights, runs until
-// its bounces fall below 1 cm (or 6 s + 4 s/m) without diverging; else "diverges dropped from
+// its bounces fall below min_bounce_m (or 6 s + 4 s/m) without diverging; else "diverges dropped from
 // H m (reason)" for the first that does. The drops run in parallel. max_bounces > 0: a short
 // check, each drop ends after that many bounces (the hardest impacts come first).
+// min_bounce_m: hops lower than this end a drop unchecked (a big ball's hops of a tenth of
+// its diameter or less are contact chatter, its measured apexes noisy by a millimetre).
 std::string UnsafeDrop(const BallModel& model, const CoefficientValues& values,
                        const std::vector<double>& drops_m, int threads = 0,
-                       int max_bounces = 0);
+                       int max_bounces = 0, double min_bounce_m = 0.01);
 
 }  // namespace bouncefit

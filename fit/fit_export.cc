@@ -30,6 +30,8 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"final", u.final},
           {"sequence", u.sequence},
           {"after_bounce", u.after_bounce},
+          // The apex the simulation starts from: 0 the release, else the first apex in view.
+          {"start_bounce", u.start_bounce},
           {"ball", {{"name", ball.name}, {"mass_kg", ball.mass_kg}, {"diameter_m", ball.diameter_m}}},
           {"time_step_s", u.time_step_s},
           {"iterations", u.iterations},
@@ -38,6 +40,7 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"values", values},
           {"no_effect", u.no_effect},
           {"unidentified", u.unidentified},
+          {"covariance", {{"names", u.covariance_names}, {"matrix", u.covariance}}},
           {"recorded_m", u.recorded_m},
           {"simulated_m", u.simulated_m},
           {"residual_m", Num(u.residual_m)},
@@ -50,6 +53,7 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"other_drop_heights_m", u.other_drop_heights_m},
           {"other_drop_bounces", u.other_drop_bounces},
           {"warning", u.warning},
+          {"held_at_preset", u.held_at_preset},
           {"evaluations", u.evaluations},
           {"wall_time_s", u.wall_time_s}};
 }

@@ -263,10 +263,14 @@ std::vector<double> FitObjective::Residuals(const Evaluation& e) const {
     r.push_back(problem_.recorded_m[i] - (i < e.simulated_m.size() ? e.simulated_m[i] : 0.0));
   if (!timed()) return r;
   for (size_t i = 0; i < problem_.recorded_flight_s.size() && i < problem_.recorded_m.size(); ++i)
-    if (std::isfinite(problem_.recorded_flight_s[i]))
-      r.push_back(problem_.flight_weight_mps *
-                  (problem_.recorded_flight_s[i] -
-                   (i < e.simulated_flight_s.size() ? e.simulated_flight_s[i] : 0.0)));
+    if (std::isfinite(problem_.recorded_flight_s[i])) {
+      // A flight f weighs as the flight-time height g f^2 / 8 it gives (dh/df = g f / 4), at
+      // most flight_weight_mps: a short hop's flight, timed to a few ms like a long one's,
+      // tells its height less well and must not outweigh it.
+      const double w = std::min(problem_.flight_weight_mps, 9.81 * problem_.recorded_flight_s[i] / 4);
+      r.push_back(w * (problem_.recorded_flight_s[i] -
+                       (i < e.simulated_flight_s.size() ? e.simulated_flight_s[i] : 0.0)));
+    }
   return r;
 }
 

@@ -56,7 +56,9 @@ struct FitProblem {
   int safety_simulations = 0;
   // Timing (issue 14 item 3): the recorded flight times, impact to impact, of arcs 1..k (NaN:
   // not seen), against the simulated ones: the objective adds (w (f_i - g_i))^2, w in m/s (at
-  // 1 m/s a flight 2 ms off weighs as a height 2 mm off). 0 or none: heights only.
+  // 1 m/s a flight 2 ms off weighs as a height 2 mm off); a flight f weighs at most as the
+  // flight-time height g f^2 / 8 it gives (g f / 4 m/s: a 0.1 s hop's flight 0.25 m/s).
+  // 0 or none: heights only.
   std::vector<double> recorded_flight_s;
   double flight_weight_mps = 0;
   // Further drops of the same ball fitted with this one (issue 14 item 4): each from its own

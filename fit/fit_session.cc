@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <future>
 #include <set>
 #include <thread>
 #include <stdexcept>
+
+#include <Eigen/Dense>
 
 #include "fit/drop_ensemble.h"
 #include "fit/least_squares_search.h"
@@ -31,6 +34,18 @@ void AddWarning(FitUpdate* u, const std::string& warning) {
 bool Contains(const std::vector<std::string>& v, const std::string& s) {
   return std::find(v.begin(), v.end(), s) != v.end();
 }
+
+std::string FormatNumber(double v, int precision = 3) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+  return buf;
+}
+std::string FormatMm(double m) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f mm", m * 1000);
+  return buf;
+}
+std::string FormatPercent(double f) { return FormatNumber(100 * f) + "%"; }
 
 }  // namespace
 
@@ -89,6 +104,8 @@ FitSession::FitSession(const BallModel& model, const BallModel* quick_model,
 
 void FitSession::Reset(int sequence) {
   sequence_ = sequence;
+  apexes_.clear();
+  start_bounce_ = 0;
   drop_height_m_ = 0;
   heights_.clear();
   sigmas_.clear();
@@ -104,20 +121,59 @@ bool FitSession::AddPeak(const PeakInput& p) {
   if (p.sequence != sequence_) return false;
   if (!std::isfinite(p.height_m) || p.bounce < 0) return true;  // nothing usable
   last_utime_ = p.utime;
-  if (p.bounce == 0) {
-    drop_height_m_ = p.height_m;
-    return true;
-  }
-  const size_t i = static_cast<size_t>(p.bounce - 1);
-  if (heights_.size() <= i) {
-    heights_.resize(i + 1, std::numeric_limits<double>::quiet_NaN());
-    sigmas_.resize(i + 1, 0.0);
-    impacts_before_.resize(i + 1, std::numeric_limits<double>::quiet_NaN());
-  }
-  heights_[i] = p.height_m;
-  sigmas_[i] = p.sigma_m;
-  impacts_before_[i] = p.impact_before_s;
+  apexes_[p.bounce] = {p.height_m, p.sigma_m, p.impact_before_s};
+  ChooseStart();
   return true;
+}
+
+void FitSession::ChooseStart() {
+  // Runs of consecutive bounces, each apex high enough to fit and none higher than the one
+  // before it (a ball picked up and dropped again, or a lock on something else, is not a
+  // rebound); bounce 0 (the release) starts a run at any height. The start is the release
+  // when it begins a run with a rebound after it, else the first apex of the longest run
+  // (the earliest of equal ones).
+  const double min_h = config_.min_bounce_height_m;
+  auto usable = [&](int b) {
+    auto it = apexes_.find(b);
+    return it != apexes_.end() && (b == 0 || it->second.height_m >= min_h);
+  };
+  auto follows = [&](int b) {  // apex b is a rebound of apex b - 1
+    return b > 0 && usable(b) && usable(b - 1) &&
+           apexes_.at(b).height_m <= 1.05 * apexes_.at(b - 1).height_m + 0.002;
+  };
+  int best_start = -1, best_len = 0;
+  for (const auto& [b, a] : apexes_) {
+    if (!usable(b) || follows(b)) continue;  // not a run's first apex
+    int len = 0;
+    while (follows(b + len + 1)) ++len;
+    const bool release = b == 0 && len > 0;
+    if (release) {
+      best_start = 0, best_len = len;
+      break;
+    }
+    if (best_start < 0 || len > best_len) best_start = b, best_len = len;
+  }
+  heights_.clear();
+  sigmas_.clear();
+  impacts_before_.clear();
+  if (best_start < 0) {
+    start_bounce_ = 0;
+    drop_height_m_ = 0;
+    return;
+  }
+  start_bounce_ = best_start;
+  drop_height_m_ = apexes_.at(best_start).height_m;
+  for (int b = best_start + 1; b <= best_start + best_len; ++b) {
+    const Apex& a = apexes_.at(b);
+    heights_.push_back(a.height_m);
+    sigmas_.push_back(a.sigma_m);
+    impacts_before_.push_back(a.impact_before_s);
+  }
+  // The flight of the last arc needs the next bounce's impact_before, when that bounce was
+  // seen (below the minimum or not) and is a rebound of it.
+  auto next = apexes_.find(best_start + best_len + 1);
+  if (next != apexes_.end() && next->second.height_m <= 1.05 * apexes_.at(best_start + best_len).height_m + 0.002)
+    impacts_before_.push_back(next->second.impact_before_s);
 }
 
 std::vector<double> FitSession::FittedHeights() const {
@@ -130,10 +186,26 @@ std::vector<double> FitSession::FittedHeights() const {
 }
 
 std::vector<double> FitSession::FittedFlights() const {
-  const size_t k = FittedHeights().size();
+  const std::vector<double> h = FittedHeights();
+  const size_t k = h.size();
   std::vector<double> f(k, std::numeric_limits<double>::quiet_NaN());
   for (size_t i = 0; i < k && i + 1 < impacts_before_.size(); ++i)
     f[i] = impacts_before_[i + 1] - impacts_before_[i];  // NaN when either is
+  // Flights on another clock than the heights' (a slow-motion file's impacts on its slowed
+  // timeline, heights from the real one): the flight a height gives, 2 sqrt(2 h / g) drag
+  // aside, against the recorded one. Far off by their median: the heights alone are fitted.
+  std::vector<double> ratios;
+  for (size_t i = 0; i < k; ++i)
+    if (std::isfinite(f[i]) && h[i] > 0) ratios.push_back(f[i] / (2 * std::sqrt(2 * h[i] / 9.81)));
+  flight_clock_ratio_ = std::nan("");
+  if (!ratios.empty()) {
+    std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+    const double median = ratios[ratios.size() / 2];
+    if (median < 0.8 || median > 1.2) {
+      flight_clock_ratio_ = median;
+      std::fill(f.begin(), f.end(), std::numeric_limits<double>::quiet_NaN());
+    }
+  }
   return f;
 }
 
@@ -203,7 +275,9 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
   FitUpdate u;
   u.utime = last_utime_;
   u.sequence = sequence_;
-  u.after_bounce = static_cast<int>(problem.recorded_m.size());
+  u.start_bounce = start_bounce_;
+  // This drop's last bounce fitted (a joint fit's recorded_m holds the other drops' too).
+  u.after_bounce = start_bounce_ + static_cast<int>(FittedHeights().size());
   u.final = final;
   u.cancelled = r.cancelled;
   u.model = model.name();
@@ -230,10 +304,41 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
     if (u.iterations == 0) u.iterations = config_.iterations;
   }
   u.no_effect = r.inactive;
+  if (std::isfinite(flight_clock_ratio_))
+    AddWarning(&u, "the flight times between impacts are " + FormatNumber(flight_clock_ratio_, 2) +
+                       "x what the heights give (the impacts on another clock?): the heights alone are fitted");
 
   std::vector<CoefficientEstimate> est;
   if (!jacobian.empty())
     est = EstimateUncertainty(problem.free, r.values, jacobian, u.residual_m, MeasurementSigma());
+  // The covariance of the identifiable ones, in their own units (what `predict` propagates:
+  // e0 and its slope are strongly anti-correlated, their sigmas alone overstate the spread).
+  if (!jacobian.empty()) {
+    std::vector<size_t> cols;
+    for (size_t j = 0; j < est.size() && j < problem.free.size(); ++j)
+      if (est[j].identifiable) cols.push_back(j);
+    const size_t k = jacobian.size(), n = cols.size();
+    if (n > 0 && k >= n) {
+      Eigen::MatrixXd J(k, n);
+      for (size_t i = 0; i < k; ++i)
+        for (size_t c = 0; c < n; ++c)
+          J(i, c) = jacobian[i][cols[c]] / (problem.free[cols[c]].upper - problem.free[cols[c]].lower);
+      double sigma = MeasurementSigma();
+      sigma = std::max(sigma, k > n ? u.residual_m * std::sqrt(double(k) / double(k - n)) : u.residual_m);
+      const Eigen::MatrixXd JtJ = J.transpose() * J;
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(JtJ, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      const Eigen::VectorXd sv = svd.singularValues();
+      Eigen::MatrixXd inv = Eigen::MatrixXd::Zero(n, n);
+      for (Eigen::Index d = 0; d < sv.size(); ++d)
+        if (sv(d) > 1e-12 * sv(0)) inv += svd.matrixV().col(d) * svd.matrixU().col(d).transpose() / sv(d);
+      const Eigen::MatrixXd cov = sigma * sigma * inv;
+      for (size_t c = 0; c < n; ++c) {
+        u.covariance_names.push_back(problem.free[cols[c]].name);
+        u.covariance.emplace_back();
+        for (size_t d = 0; d < n; ++d) u.covariance.back().push_back(cov(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(d)));
+      }
+    }
+  }
   // Every coefficient the session may fit is reported; those not searched in this update
   // keep their value, without an uncertainty.
   const auto all = (&model == &model_) ? FreeSpecs() : model.Coefficients();
@@ -281,6 +386,7 @@ FitUpdate FitSession::QuickUpdate() {
   const SearchResult r = LeastSquaresSearch(p, quick_current_, o);
   // The next quick fit starts from here; missing heights make no sense to carry over.
   for (const auto& s : p.free) quick_current_[s.name] = r.values.at(s.name);
+  quick_fitted_ = r.evaluations > 0 && r.failure.empty();
   return Finish(p, r, false, r.jacobian, 0, Seconds(t0), *quick_model_);
 }
 
@@ -291,6 +397,13 @@ FitUpdate FitSession::Update(const CancelToken* cancel) {
   const std::vector<CoefficientSpec> live =
       FirstSpecs(live_order_, std::max(1, std::min(config_.live_coefficients, k)));
   const bool fast = config_.live_method == "gauss-newton";
+  // Under the restitution law the soft ball starts each live update on the point mass's
+  // latest curve (QuickUpdate, milliseconds), not on the preset's: a carpet's e 0.5 is
+  // far from a ping-pong preset's 0.92 for one Gauss-Newton step.
+  if (UsesRestitutionLaw() && quick_current_.count("restitution") && quick_fitted_)
+    current_ = WithRestitutionLaw(current_, quick_current_.at("restitution"),
+                                  quick_current_.at("restitution_per_mps"),
+                                  quick_current_.at("drag_coefficient"));
   FitProblem p = MakeProblem(live, current_, fast);
   SearchOptions o;
   o.max_evaluations = config_.max_evaluations_per_bounce;
@@ -337,8 +450,9 @@ FitProblem FitSession::WithSafety(FitProblem p) const {
   // runs stop at the last recorded bounce). One thread: the starts keep the cores busy.
   std::vector<double> heights = config_.safe_drops_m;
   heights.push_back(p.simulation.drop_height_m);
-  p.safety = [model, heights](const CoefficientValues& v) {
-    return UnsafeDrop(*model, v, heights, 1);
+  const double min_bounce = config_.safe_min_bounce_m;
+  p.safety = [model, heights, min_bounce](const CoefficientValues& v) {
+    return UnsafeDrop(*model, v, heights, 1, 0, min_bounce);
   };
   p.safety_simulations = static_cast<int>(heights.size());
   return p;
@@ -385,7 +499,9 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   FitProblem restitution_problem;
   const bool restitution = UsesRestitutionLaw();
   SearchResult restitution_result;
-  if (restitution) restitution_result = FinalRestitutionSearch(budget * starts, o, &restitution_problem);
+  std::vector<std::string> held, held_why;
+  if (restitution)
+    restitution_result = FinalRestitutionSearch(budget * starts, o, &restitution_problem, &held, &held_why);
   // The starts' leads: 2, 3, 4... coefficients, never more than the bounces.
   std::vector<int> leads;
   for (int start_index = 0; start_index < starts && !restitution; ++start_index) {
@@ -461,11 +577,38 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
     for (const auto& [e, name] : effect) live_order_.push_back(name);
   }
   FitUpdate u = Finish(p, r, true, jac, extra, Seconds(t0), model_);
+  // The law's coefficients the bounces could not fit: the preset's value, said so.
+  for (size_t i = 0; i < held.size(); ++i) {
+    for (auto& c : u.coefficients)
+      if (c.name == held[i]) {
+        c.note = held_why[i] + "; the ball preset's value is used";
+        c.identifiable = false;
+        c.sigma = std::numeric_limits<double>::quiet_NaN();
+        if (!Contains(u.unidentified, c.name)) u.unidentified.push_back(c.name);
+      }
+    u.held_at_preset.push_back(held[i] + " " + held_why[i] + "; the ball preset's value is used");
+  }
   u.safety_checks = r.safety_checks;
   u.rejected_unsafe = r.rejected_unsafe;
   if (!r.failure.empty() && !r.cancelled)  // every point the search tried failed or was unsafe
     u.warning = "no usable coefficient set found: " + r.failure;
   if (!(cancel && cancel->cancelled())) CheckFreeRun(p, &u);
+  // An answer only when the fitted ball's heights are as close as the measurement explains.
+  if (!u.recorded_m.empty()) {
+    const double highest = *std::max_element(u.recorded_m.begin(), u.recorded_m.end());
+    const double sigma = MeasurementSigma();
+    const double limit = std::max({config_.answer_floor_m, config_.answer_fraction * highest,
+                                   config_.answer_sigmas * sigma});
+    if (!r.failure.empty() && !r.cancelled)
+      u.no_answer = u.warning;
+    else if (!(u.residual_m <= limit))
+      u.no_answer = "the fitted ball's heights are " + FormatMm(u.residual_m) +
+                    " RMS from the recorded ones, more than their measurement explains (" +
+                    FormatMm(limit) + ": the largest of " + FormatMm(config_.answer_floor_m) + ", " +
+                    FormatPercent(config_.answer_fraction) + " of the highest apex and " +
+                    FormatNumber(config_.answer_sigmas) + " x the heights' uncertainty " +
+                    FormatMm(sigma) + ")";
+  }
   u.wall_time_s = Seconds(t0);
   return u;
 }
@@ -492,14 +635,20 @@ int FitSession::FinalBudget() const {
 }
 
 SearchResult FitSession::FinalRestitutionSearch(int budget, const SearchOptions& options,
-                                               FitProblem* p) const {
+                                               FitProblem* p, std::vector<std::string>* held,
+                                               std::vector<std::string>* held_why) const {
   RestitutionFitOptions ro;
   ro.segments = config_.objective == "segments";
   ro.max_evaluations = std::min(budget, ro.max_evaluations);
+  ro.measurement_sigma_m = MeasurementSigma();
   const RestitutionFit rf =
       FitRestitutionCurve(WithSafety(MakeProblem(FreeSpecs(), final_start_)), *quick_model_, options, ro);
-  *p = MakeProblem(FirstSpecs({"rebound_restitution", "rebound_restitution_per_mps", "drag"}, 3),
-                   rf.soft.values);
+  std::vector<std::string> fitted;
+  for (const std::string name : {"rebound_restitution", "rebound_restitution_per_mps", "drag"})
+    if (!Contains(rf.held, name)) fitted.push_back(name);
+  *p = MakeProblem(FirstSpecs(fitted, static_cast<int>(fitted.size())), rf.soft.values);
+  *held = rf.held;
+  *held_why = rf.held_why;
   return rf.soft;
 }
 
@@ -542,7 +691,8 @@ void FitSession::CheckFreeRun(const FitProblem& p, FitUpdate* u) {
     return;
   }
   if (!config_.safe_drops_m.empty()) {
-    const std::string unsafe = UnsafeDrop(model_, u->values, config_.safe_drops_m, config_.threads);
+    const std::string unsafe =
+        UnsafeDrop(model_, u->values, config_.safe_drops_m, config_.threads, 0, config_.safe_min_bounce_m);
     const int n = static_cast<int>(config_.safe_drops_m.size());
     simulations_ += n;
     u->evaluations += n;

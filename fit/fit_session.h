@@ -1,7 +1,10 @@
 #pragma once
 // A fit that follows a drop bounce by bounce.
 //
-// Bounce 0 (the release) sets the simulated drop height; after bounce k, Update() refines
+// Any apex seen or heard is a state the simulation can start from: the ball at that height,
+// at rest vertically. The start is bounce 0 (the release) when it was seen, else the first
+// apex in view (a throw, a release not in view, a clip begun mid-bounce, heard-only impacts);
+// the apexes after it are r_1..r_k. After each, Update() refines
 // the coefficients so that the simulated s_1..s_k match the recorded r_1..r_k (objective
 // sum (r_i - s_i)^2 inside the coefficients' bounds), warm-started from the previous
 // answer. QuickUpdate() is the point-mass estimate (restitution, its speed dependence and
@@ -17,6 +20,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,7 +45,8 @@ struct PeakInput {
 struct FitUpdate {
   int64_t utime = 0;
   int sequence = 0;
-  int after_bounce = 0;       // uses bounces 1..after_bounce
+  int after_bounce = 0;       // uses bounces start_bounce+1..after_bounce
+  int start_bounce = 0;       // the apex the simulation starts from (0: the release)
   bool final = false;
   bool cancelled = false;     // superseded before it finished (best point so far)
   std::string model;          // "point-mass", "bullet-softbody", ...
@@ -69,7 +74,16 @@ struct FitUpdate {
   int iterations = 0;         // solver iterations they hold for (0: n/a)
   std::vector<std::string> no_effect;      // coefficients found to change no height
   std::vector<std::string> unidentified;   // coefficients the data cannot determine
+  // Covariance of the identifiable fitted coefficients (their units), from the Jacobian.
+  std::vector<std::string> covariance_names;
+  std::vector<std::vector<double>> covariance;
   std::string warning;        // "" or why the answer is doubtful (e.g. its free drop diverges)
+  // Final fit: "" for an answer; else why it is none (its residual is more than the heights'
+  // measurement explains): a caller reports "no fit: <why>" and writes no coefficients.
+  std::string no_answer;
+  // Coefficients the data could not fit (pinned at a bound, or not identifiable): each holds
+  // the ball preset's value, and this says so, one entry per coefficient.
+  std::vector<std::string> held_at_preset;
   // A joint fit of several drops: recorded_m / simulated_m / free_run_* hold this drop's
   // bounces, then each other drop's; their release heights and bounce counts (empty: one).
   std::vector<double> other_drop_heights_m;
@@ -103,6 +117,9 @@ struct FitSessionConfig {
   // The check inside the search: for models that can diverge (ConfigureSessionForModel turns
   // it on for the soft ball); a smooth model would only spend budget on it.
   bool safe_search = false;
+  // The safe drops end at hops lower than this (ConfigureSessionForModel: a tenth of the
+  // ball's diameter, at least 1 cm; a basketball's 1 cm hops are contact chatter).
+  double safe_min_bounce_m = 0.01;
   int max_evaluations_per_bounce = 16;  // per-bounce update budget (simulations)
   // Final fit budget, everything included: 900 for the searches (chaotic heights:
   // docs/MODEL.md), the Jacobian (2 x 16 + 2) and the free-running checks (8 + 1 + 2).
@@ -122,6 +139,12 @@ struct FitSessionConfig {
   double min_bounce_height_m = 0.01;  // bounces lower than this are not fitted
   double default_sigma_m = 0.002;   // height uncertainty when a peak gives none
   double duration_margin = 1.5;     // simulate this x the free-fall time to bounce k (+0.2 s)
+  // A final fit is an answer only when its RMS residual is at most the largest of these:
+  // the floor, the fraction of the highest recorded apex, and sigmas x the heights'
+  // measurement uncertainty (what the measurement explains); else FitUpdate::no_answer.
+  double answer_floor_m = 0.003;
+  double answer_fraction = 0.05;
+  double answer_sigmas = 3.0;
   double target_rms_fraction = 0;   // stop early at RMS <= this x drop height (0: never)
   // Coefficients searched (empty: every model coefficient with bounds, minus the
   // never-fitted ones below). The model's other coefficients stay at `start`/defaults.
@@ -150,17 +173,21 @@ class FitSession {
   // follow, fitted jointly with the next drops (issue 14 item 4), then starts a new drop.
   void KeepDropAndReset(int sequence);
   int kept_drops() const { return static_cast<int>(kept_.size()); }
-  // Records a peak. Bounce 0 sets the drop height; bounce k sets r_k. Returns false (and
+  // Records a peak (a later one of the same bounce replaces it: a revision). The start is
+  // bounce 0 when seen, else the first apex of the longest unbroken run of apexes at least
+  // min_bounce_height_m high; the apexes after it are r_1, r_2, ... Returns false (and
   // records nothing) for a peak of another sequence: call Reset() first.
   bool AddPeak(const PeakInput& peak);
 
   int sequence() const { return sequence_; }
   bool has_drop_height() const { return drop_height_m_ > 0; }
-  double drop_height_m() const { return drop_height_m_; }
-  int bounces() const { return static_cast<int>(heights_.size()); }  // highest bounce index seen
+  double drop_height_m() const { return drop_height_m_; }  // the start's height
+  int start_bounce() const { return start_bounce_; }
+  int bounces() const { return start_bounce_ + static_cast<int>(heights_.size()); }  // last bounce index seen
   std::vector<double> FittedHeights() const;  // r_1.. above the minimum height
   // Flight times of the fitted arcs (impact before arc i+1 minus impact before arc i; NaN
-  // where either is unknown).
+  // where either is unknown; all NaN when their median is more than 20% off the flights the
+  // heights give: impacts timed on another clock than the heights were measured with).
   std::vector<double> FittedFlights() const;
   bool CanFit() const { return has_drop_height() && !FittedHeights().empty(); }
 
@@ -195,7 +222,10 @@ class FitSession {
   // The final fit's problems reject candidate answers that diverge from config_.safe_drops_m.
   FitProblem WithSafety(FitProblem p) const;
   // The restitution impact's final fit: the law's curve in two stages; *p its problem.
-  SearchResult FinalRestitutionSearch(int budget, const SearchOptions& options, FitProblem* p) const;
+  // *held / *held_why: the law's coefficients held at the preset's value, and why.
+  SearchResult FinalRestitutionSearch(int budget, const SearchOptions& options, FitProblem* p,
+                                      std::vector<std::string>* held,
+                                      std::vector<std::string>* held_why) const;
   // The final fit's free-running check: simulated_m and residual_m from one drop as
   // `simulate` runs it, free_run_* from the ensemble.
   void CheckFreeRun(const FitProblem& problem, FitUpdate* update);
@@ -206,15 +236,26 @@ class FitSession {
   const BallModel& model_;
   const BallModel* quick_model_;
   FitSessionConfig config_;
+  // Every apex of the drop by bounce index; the start and the vectors below follow from it.
+  struct Apex {
+    double height_m = 0, sigma_m = 0, impact_before_s = 0;
+  };
+  std::map<int, Apex> apexes_;
+  // FittedFlights(): the recorded flights over those the heights give, when they disagree
+  // so much that they are not used (NaN: used, or none).
+  mutable double flight_clock_ratio_ = std::nan("");
+  void ChooseStart();
   int sequence_ = 0;
+  int start_bounce_ = 0;
   double drop_height_m_ = 0;
-  std::vector<double> heights_;   // index i: bounce i+1 (NaN until seen)
+  std::vector<double> heights_;   // index i: bounce start+i+1 (NaN until seen)
   std::vector<double> sigmas_;
   std::vector<double> impacts_before_;  // index i: the impact starting bounce i+1's arc
   int64_t last_utime_ = 0;
   CoefficientValues current_;     // warm start of the model
   CoefficientValues final_start_; // start of the next final fit: the table or the last final
   CoefficientValues quick_current_;
+  bool quick_fitted_ = false;     // quick_current_ holds a QuickUpdate's answer
   std::vector<std::string> live_order_;  // free coefficients, most sensitive first
   std::vector<std::string> initial_live_order_;  // as configured: the final fit's lead
   std::atomic<int> simulations_{0};

@@ -18,7 +18,12 @@ void FitWorker::Submit(const PeakInput& peak) {
   std::lock_guard<std::mutex> lock(mutex_);
   pending_.push_back(peak);
   ++stats_.peaks;
-  if (running_) running_->Cancel();
+  // A new apex supersedes the running update; a revision of one already seen (every apex is
+  // revised once or twice within ~0.2 s as the sound and the drop's refit come in) waits for
+  // it, or on a busy machine no soft-ball update would ever get out between apexes.
+  const bool newer = peak.sequence != newest_sequence_ || peak.bounce > newest_bounce_;
+  if (newer) newest_sequence_ = peak.sequence, newest_bounce_ = peak.bounce;
+  if (running_ && (newer || running_final_)) running_->Cancel();
   wake_.notify_one();
 }
 

@@ -32,7 +32,8 @@ class FitWorker {
   FitWorker& operator=(const FitWorker&) = delete;
 
   void Start();
-  // Never blocks on a fit: records the peak and cancels the running update.
+  // Never blocks on a fit: records the peak; a new apex (or any peak during a final fit)
+  // cancels the running update, a revision of an apex already seen lets it finish.
   void Submit(const PeakInput& peak);
   // Asks for the final fit of the current drop (end of stream, or the drop is over).
   void Finish();
@@ -71,6 +72,9 @@ class FitWorker {
   bool busy_ = false;
   std::shared_ptr<CancelToken> running_;
   bool running_final_ = false;  // the running fit is a final one: Finish() lets it end
+  // The newest apex submitted (sequence, bounce): a revision of an apex already seen (a
+  // height refitted or heard) does not cut the running update short, a new apex does.
+  int newest_sequence_ = -1, newest_bounce_ = -1;
   std::thread thread_;
   Stats stats_;
 };

@@ -1,8 +1,11 @@
 #include "fit/restitution_fit.h"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 #include "fit/least_squares_search.h"
+#include "fit/sensitivity.h"
 
 namespace bouncefit {
 
@@ -19,7 +22,21 @@ CoefficientSpec Narrowed(const BallModel& model, const std::string& name, double
   throw std::invalid_argument("model '" + model.name() + "' has no coefficient '" + name + "'");
 }
 
+std::string Num(double v) {
+  std::ostringstream o;
+  o.precision(3);
+  o << v;
+  return o.str();
+}
+
 }  // namespace
+
+std::string SoftLawName(const std::string& n) {
+  if (n == "restitution") return "rebound_restitution";
+  if (n == "restitution_per_mps") return "rebound_restitution_per_mps";
+  if (n == "drag_coefficient") return "drag";
+  return n;
+}
 
 CoefficientValues WithRestitutionLaw(CoefficientValues values, double restitution,
                                      double restitution_per_mps, double drag) {
@@ -39,21 +56,62 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
                                    const SearchOptions& options, const RestitutionFitOptions& o) {
   RestitutionFit out;
   // Stage 1: the point mass on the same heights, from its defaults (the ball's preset).
+  // Coefficients the heights cannot fit hold the preset's value (RestitutionFitOptions).
   FitProblem pm = soft;
   pm.model = &point_mass;
-  pm.free = point_mass.Coefficients();
   pm.fixed.clear();
   pm.segments = false;  // not chaotic: its free drop is the best estimate
   pm.grid.clear();
   pm.safety = nullptr;  // a point mass cannot diverge
   pm.safety_simulations = 0;
+  const std::vector<CoefficientSpec> all = point_mass.Coefficients();
   CoefficientValues pm_start;
-  for (const auto& s : pm.free) pm_start[s.name] = s.default_value;
+  for (const auto& s : all) pm_start[s.name] = s.default_value;
+  pm.fixed = pm_start;  // a coefficient held: the preset's value
   SearchOptions po = options;
   po.max_evaluations = o.point_mass_evaluations;
   po.threads = 1;  // milliseconds each
   po.target_rms_m = 0;
-  out.point_mass = LeastSquaresSearch(pm, pm_start, po);
+  // Never more coefficients than heights: restitution, then its slope, then drag.
+  const size_t heights = soft.recorded_m.size();
+  std::vector<CoefficientSpec> free;
+  for (const auto& s : all) {
+    if (free.size() < std::max<size_t>(1, heights)) {
+      free.push_back(s);
+    } else {
+      out.held.push_back(SoftLawName(s.name));
+      out.held_why.push_back("not identifiable from " + std::to_string(heights) + " height" +
+                             (heights == 1 ? "" : "s") + " (more coefficients than heights)");
+    }
+  }
+  for (;;) {
+    pm.free = free;
+    out.point_mass = LeastSquaresSearch(pm, pm_start, po);
+    if (free.size() <= 1 || out.point_mass.jacobian.empty()) break;
+    SensitivityOptions so;
+    so.max_sigma_fraction = o.max_sigma_fraction;
+    const auto est = EstimateUncertainty(free, out.point_mass.values, out.point_mass.jacobian,
+                                         out.point_mass.rms_m, o.measurement_sigma_m, so);
+    // The one to hold: drag before the slope; restitution is always fitted.
+    int hold = -1;
+    std::string why;
+    for (int j = static_cast<int>(free.size()) - 1; j >= 1 && hold < 0; --j) {
+      const CoefficientSpec& s = free[j];
+      const double v = out.point_mass.values.at(s.name);
+      const double range = s.upper - s.lower;
+      if (v <= s.lower + o.pinned_fraction * range || v >= s.upper - o.pinned_fraction * range) {
+        hold = j;
+        why = "pinned at its bound " + Num(v <= s.lower + o.pinned_fraction * range ? s.lower : s.upper);
+      } else if (!est[j].identifiable) {
+        hold = j;
+        why = "not identifiable from these bounces (" + est[j].note + ")";
+      }
+    }
+    if (hold < 0) break;
+    out.held.push_back(SoftLawName(free[hold].name));
+    out.held_why.push_back(why);
+    free.erase(free.begin() + hold);
+  }
   const double e0 = out.point_mass.values.at("restitution");
   const double k = out.point_mass.values.at("restitution_per_mps");
   const double cd = out.point_mass.values.at("drag_coefficient");
@@ -62,11 +120,17 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
   FitProblem sp = soft;
   sp.segments = o.segments;
   sp.fixed = WithRestitutionLaw(soft.fixed, e0, k, cd);
-  sp.free = {Narrowed(*soft.model, "rebound_restitution", e0 - o.restitution_range,
-                      e0 + o.restitution_range),
-             Narrowed(*soft.model, "rebound_restitution_per_mps", k - o.slope_range,
-                      k + o.slope_range),
-             Narrowed(*soft.model, "drag", cd / o.drag_factor, cd * o.drag_factor)};
+  sp.free.clear();
+  for (const auto& f : free) {
+    if (f.name == "restitution")
+      sp.free.push_back(Narrowed(*soft.model, "rebound_restitution", e0 - o.restitution_range,
+                                 e0 + o.restitution_range));
+    else if (f.name == "restitution_per_mps")
+      sp.free.push_back(Narrowed(*soft.model, "rebound_restitution_per_mps", k - o.slope_range,
+                                 k + o.slope_range));
+    else if (f.name == "drag_coefficient")
+      sp.free.push_back(Narrowed(*soft.model, "drag", cd / o.drag_factor, cd * o.drag_factor));
+  }
   SearchOptions so = options;
   so.max_evaluations = o.max_evaluations;
   LeastSquaresOptions ls;

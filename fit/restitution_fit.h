@@ -24,12 +24,28 @@ struct RestitutionFitOptions {
   double restitution_range = 0.08;
   double slope_range = 0.04;
   double drag_factor = 1.6;
+  // Stage 1's honesty: a coefficient the heights cannot fit (pinned at a bound, or its
+  // uncertainty above this fraction of its range, or degenerate with the others) holds the
+  // ball preset's value (the point mass's default) and the fit is redone without it; drag
+  // first, then the speed slope (restitution itself is always fitted). Never more
+  // coefficients than recorded heights.
+  double measurement_sigma_m = 0.002;
+  double max_sigma_fraction = 0.25;
+  double pinned_fraction = 1e-3;  // within this fraction of the range from a bound: pinned
 };
 
 struct RestitutionFit {
   SearchResult point_mass;  // stage 1 (point-mass coefficient names)
   SearchResult soft;        // stage 2: every soft-ball coefficient in `values`
+  // Soft-ball coefficient names held at the preset's value, and for each why (one line).
+  std::vector<std::string> held;
+  std::vector<std::string> held_why;
 };
+
+// The soft ball's name for a point-mass coefficient of the law (restitution ->
+// rebound_restitution, restitution_per_mps -> rebound_restitution_per_mps,
+// drag_coefficient -> drag).
+std::string SoftLawName(const std::string& point_mass_name);
 
 // `soft` is the soft ball's problem (recorded heights, drop, fixed coefficients: the start);
 // its `free` is ignored. `point_mass` is the point-mass model. Simulations count against

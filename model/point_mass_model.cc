@@ -13,7 +13,7 @@ PointMassModel::PointMassModel(const BallPreset& ball, double g_mps2)
 
 std::vector<CoefficientSpec> PointMassModel::Coefficients() const {
   return {
-      {"restitution", "", ball_.restitution, 0.0, 1.0, false,
+      {"restitution", "", ball_.restitution, 0.3, 1.0, false,
        "coefficient of restitution at low impact speed"},
       {"restitution_per_mps", "1/(m/s)", ball_.restitution_per_mps, 0.0, 0.2, false,
        "loss of restitution per m/s of impact speed: e(v) = e0 - k v"},

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "fit/fit_export.h"
+#include "fit/fit_notes.h"
 #include "msgs/lcm_bus.h"
 #include "msgs/node_clock.h"
 #include "msgs/msg_json.h"
@@ -92,7 +93,16 @@ void FitStage::Poll() {
     m.published_utime = now_;
     bus_.Publish(config_.node.channels.fit_update, m);
     if (fit_jsonl_) *fit_jsonl_ << ToJson(m, t0_).dump() << '\n' << std::flush;
-    if (u.final && u.model == node_->model().name()) final_ = u;
+    if (u.final && u.model == node_->model().name()) {
+      if (u.no_answer.empty()) {
+        final_ = u;
+        no_fit_why_.clear();
+      } else {  // not an answer: no coefficients are written from it
+        final_.reset();
+        no_fit_why_ = u.no_answer;
+      }
+      for (const auto& line : FinalFitNotices(u, node_->ball())) notice_(line);
+    }
     if (on_update_) on_update_(m, u);
   }
   // A drop with no DROP word (an older log): its final fit after a quiet spell.

@@ -61,7 +61,10 @@ class FitStage {
 
   // Called from Poll() with every update as it is published.
   void set_update_observer(std::function<void(const fit_update_t&, const FitUpdate&)> fn) { on_update_ = std::move(fn); }
+  // The last final fit that is an answer (none when the last one was not: no_fit_why()).
   const std::optional<FitUpdate>& final_fit() const { return final_; }
+  // Why the last final fit is no answer ("" when it is one, or when none ran).
+  const std::string& no_fit_why() const { return no_fit_why_; }
   const BallPreset& ball() const { return node_->ball(); }
   int final_budget() const { return node_->final_budget(); }
   int64_t last_message_wall_us() const { return last_wall_us_; }
@@ -82,6 +85,7 @@ class FitStage {
   std::mutex inbox_mutex_;
   std::deque<std::pair<fit_update_t, FitUpdate>> inbox_;
   std::optional<FitUpdate> final_;
+  std::string no_fit_why_;
   std::unique_ptr<std::ofstream> fit_jsonl_;
   int64_t t0_ = 0, now_ = 0, release_utime_ = 0;
   bool have_t0_ = false;  // t0_ is the stream's first frame (a file's is 0)

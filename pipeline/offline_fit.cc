@@ -14,24 +14,22 @@
 
 namespace bouncefit {
 
-std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& path) {
-  std::vector<PeakInput> peaks;
-  int drops = 0;
+std::vector<std::vector<PeakInput>> ReadPeaksDrops(const std::filesystem::path& path) {
+  std::vector<std::vector<PeakInput>> drops;
   for (const PeaksCsvRow& r : ReadPeaksCsv(path)) {
-    if (r.bounce == 0 && ++drops > 1) break;
     PeakInput p;
     p.bounce = r.bounce;
     p.height_m = r.HeightToUse();
     if (!std::isfinite(p.height_m)) throw std::runtime_error(path.string() + ": bounce " + std::to_string(r.bounce) + " has no height");
     p.utime = static_cast<int64_t>(std::llround(r.t_s * 1e6));
-    peaks.push_back(p);
+    if (drops.empty() || r.bounce == 0 || r.bounce <= drops.back().back().bounce) drops.emplace_back();
+    drops.back().push_back(p);
   }
-  if (peaks.empty()) throw std::runtime_error(path.string() + ": no rows (no bounce was found in that run)");
-  if (peaks.front().bounce != 0)
-    throw std::runtime_error(path.string() + ": the first peak must be bounce 0 (the release height; the "
-                             "release was not seen)");
-  return peaks;
+  if (drops.empty()) throw std::runtime_error(path.string() + ": no rows (no bounce was found in that run)");
+  return drops;
 }
+
+std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& path) { return ReadPeaksDrops(path).front(); }
 
 FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConfig node, bool final_only,
                           const std::function<void(const FitUpdate&)>& emit,
@@ -51,13 +49,15 @@ FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConf
     for (const auto& p : drops[d]) {
       session.AddPeak(p);
       if (final_only || p.bounce < 1 || !session.CanFit()) continue;
-      if (static_cast<int>(session.FittedHeights().size()) < p.bounce) continue;  // below 1 cm
+      if (session.bounces() < p.bounce) continue;  // below 1 cm, or not after the start
       emit(session.QuickUpdate());
       emit(session.Update());
     }
   }
   if (!session.CanFit())
-    throw std::runtime_error(fmt::format("no bounce above {:g} cm to fit", node.session.min_bounce_height_m * 100));
+    throw std::runtime_error(fmt::format("no fit: no drop has two apexes in a row (a start and a rebound after it) "
+                                         "of {:g} cm or more",
+                                         node.session.min_bounce_height_m * 100));
   if (final_only) emit(session.QuickUpdate());
   auto running = std::async(std::launch::async, [&session] { return session.FinalUpdate(); });
   const int budget = session.FinalBudget();

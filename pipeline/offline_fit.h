@@ -12,14 +12,21 @@
 
 namespace bouncefit {
 
-// The first drop of a peaks.csv (msgs/peaks_csv.h) as the fit's peaks: the height to quote
-// of every row, its bounce and time. Throws std::runtime_error with a one-line reason (no
-// file, no rows, no release, not a number).
+// The drops of a peaks.csv (msgs/peaks_csv.h) as the fit's peaks: the height to quote of
+// every row, its bounce and time. A drop starts at its first row, whatever its bounce (the
+// release when seen, else the first apex in view: any apex is a start); a row whose bounce
+// does not follow the one before (bounce 0 again, or a number not above it) starts the
+// next drop. Throws std::runtime_error with a one-line reason (no file, no rows, not a
+// number).
+std::vector<std::vector<PeakInput>> ReadPeaksDrops(const std::filesystem::path& peaks_csv);
+// The first of them.
 std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& peaks_csv);
 
-// Fits the drops (each a list of peaks, bounce 0 first); emit gets every update, the final
-// one last; progress (simulations run, budget) about once a second during the final fit.
-// Returns the final update. Throws std::runtime_error when no bounce is high enough to fit.
+// Fits the drops (each a list of peaks from its start: bounce 0 when the release was seen,
+// else its first apex); emit gets every update, the final one last; progress (simulations
+// run, budget) about once a second during the final fit. Returns the final update (its
+// no_answer set when it is no answer). Throws std::runtime_error when no drop has an apex
+// after its start high enough to fit.
 FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConfig node, bool final_only,
                           const std::function<void(const FitUpdate&)>& emit,
                           const std::function<void(int, int)>& progress = {});

@@ -106,7 +106,10 @@ PipelineOutcome Pipeline::Run(const std::atomic<bool>* stop, const std::function
     out.why = s.failure;
   } else if (fit_ && !out.final_fit) {
     out.status = kExitNoFit;
-    out.why = "no fit: the bounces found gave none (a release seen and a rebound of 1 cm or more are needed)";
+    out.why = !fit_->no_fit_why().empty()
+                  ? "no fit: " + fit_->no_fit_why()
+                  : "no fit: the bounces found gave none (two apexes in a row of 1 cm or more are needed: a start and a "
+                    "rebound after it)";
   }
   return out;
 }
