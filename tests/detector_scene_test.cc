@@ -59,7 +59,7 @@ TEST(DetectorScene, GatesFollowTheNoiseAndTheSpeed) {
   const DetectorScene scene = SceneOf(testing::MakeSimClip({}));
   const SceneConfig config;
   EXPECT_DOUBLE_EQ(scene.Gate(), config.gate_sigmas * config.initial_noise_px);
-  EXPECT_DOUBLE_EQ(scene.FollowGate(1200), scene.Gate() + 0.02 * 1200 / 120);
+  EXPECT_NEAR(scene.FollowGate(1200), scene.Gate() + 0.02 * 1200 / 120, 1e-4);
   // Before the noise is measured an arc's first samples get a share of the ball's radius.
   EXPECT_GE(scene.StartGate(), scene.Gate());
   EXPECT_DOUBLE_EQ(scene.MinApexPx(), std::max(config.min_apex_px, 5 * config.initial_noise_px));
