@@ -1,5 +1,6 @@
-// Following a drop in flight: predicting and refitting each arc, and confirming impacts.
-#include "detect/bounce_detector.h"
+// Following a drop in flight: predicting and refitting each arc, judging each sample
+// against it, and keeping a young arc from losing its own samples.
+#include "detect/flight_follower.h"
 #include "detect/detector_stats.h"
 
 #include <Eigen/Dense>
@@ -7,20 +8,76 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <stdexcept>
 
 namespace bouncefit {
 
-using detector_stats::LineDrift;
 using detector_stats::Median;
 using detector_stats::ParabolaAt;
 
 constexpr int kMissesEndArc = 6;  // samples in a row off an arc that end it
 
-bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
+FlightFollower::FlightFollower(const FlightFollowerConfig& config, DetectorScene& scene,
+                               DropHost& host)
+    : config_(config), scene_(scene), host_(host) {}
+
+void FlightFollower::Start(DetectorArc first) {
+  arcs_.clear();
+  arcs_.push_back(std::move(first));
+  pending_up_.clear();
+  pending_off_.clear();
+}
+
+void FlightFollower::Saw(const DetectorSample& s) {
+  if (flight_seen_.size() < kFlightSeenKept) flight_seen_.push_back(s);
+}
+
+void FlightFollower::Reset() {
+  arcs_.clear();
+  flight_seen_.clear();
+  pending_up_.clear();
+  pending_off_.clear();
+  last_far_.reset();
+  misses_ = 0;
+}
+
+void FlightFollower::RescaleTime(double k) {
+  auto scale = [k](std::vector<DetectorSample>& v) {
+    for (auto& q : v) q.t *= k;
+  };
+  scale(pending_up_);
+  scale(pending_off_);
+  scale(flight_seen_);
+  for (auto& a : arcs_) {
+    scale(a.samples);
+    a.fit.t_apex *= k;
+    a.fit.vw /= k;
+    a.fit_ok = false;
+  }
+}
+
+std::vector<FlightArcData> FlightFollower::ArcData() const {
+  std::vector<FlightArcData> out;
+  for (const auto& a : arcs_) {
+    FlightArcData d;
+    d.held_before_apex = a.held;
+    for (const auto& s : a.samples) d.samples.push_back({s.t, s.x, s.y});
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+void FlightFollower::TakeFits(const FlightFit& flight) {
+  for (size_t j = 0; j < arcs_.size() && j < flight.arcs.size(); ++j) {
+    arcs_[j].fit = flight.arcs[j];
+    arcs_[j].fit_ok = true;
+    arcs_[j].u_sigma = flight.u_apex_sigma[j];
+  }
+}
+
+bool FlightFollower::Predict(const DetectorArc& arc, double t, double* u, double* w,
                              double* v_down) const {
-  if (calibrated_ && arc.fit_ok) {
-    const FlightGlobals& g = calibration_.flight.globals;
+  if (scene_.calibrated() && arc.fit_ok) {
+    const FlightGlobals& g = scene_.calibration().flight.globals;
     double x, y;
     FlightPosition(g, arc.fit, arc.held, t, &x, &y);
     *u = AlongDown(x, y, g.roll_rad);
@@ -33,7 +90,7 @@ bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
   // No model yet (the first fall): a local quadratic through the last moving samples,
   // or, early in a fall from a hold, u = u_hold + A/2 (t - t_release)^2 fitted as a line
   // in sqrt(u - u_hold) (a quadratic through the first few noisy samples extrapolates badly).
-  std::vector<const Sample*> moving;
+  std::vector<const DetectorSample*> moving;
   std::vector<double> hold_u;
   for (size_t i = 0; i < arc.samples.size(); ++i) {
     if (i < arc.hold_samples)
@@ -48,7 +105,7 @@ bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
     // Weighted by the drop: a pixel of noise moves sqrt(u - u_hold) by 1 / (2 sqrt(u - u_hold)),
     // so the first samples below the hand, a few pixels down, say least about the fall.
     double st = 0, sq = 0, stt = 0, stq = 0, n = 0, w_sum = 0;
-    for (const Sample* m : moving) {
+    for (const DetectorSample* m : moving) {
       const double d = std::max(0.0, Down(*m) - uh);
       const double q = std::sqrt(d);
       const double wt = std::max(d, 1.0);
@@ -93,9 +150,9 @@ bool BounceDetector::Predict(const Arc& arc, double t, double* u, double* w,
   return true;
 }
 
-void BounceDetector::RefitArc(Arc& arc) {
-  if (!calibrated_) return;
-  const FlightGlobals& g = calibration_.flight.globals;
+void FlightFollower::RefitArc(DetectorArc& arc) {
+  if (!scene_.calibrated()) return;
+  const FlightGlobals& g = scene_.calibration().flight.globals;
   auto fit = [&](size_t first, FlightArcParams* out, double* u_sigma) {
     FlightArcData d;
     d.held_before_apex = arc.held;
@@ -103,7 +160,7 @@ void BounceDetector::RefitArc(Arc& arc) {
       d.samples.push_back({arc.samples[i].t, arc.samples[i].x, arc.samples[i].y});
     std::vector<FlightArcParams> init;
     if (arc.fit_ok) init.push_back(arc.fit);
-    const FlightFit f = calibrator_.FitArcs({d}, g, init);
+    const FlightFit f = scene_.calibrator().FitArcs({d}, g, init);
     if (!f.ok) return false;
     *out = f.arcs[0];
     if (u_sigma) *u_sigma = f.u_apex_sigma[0];
@@ -120,7 +177,7 @@ void BounceDetector::RefitArc(Arc& arc) {
   if (!arc.release && arc.samples.size() >= 3 && arc.samples.size() <= 8) {
     FlightArcParams rest;
     if (fit(1, &rest, nullptr)) {
-      const Sample& front = arc.samples.front();
+      const DetectorSample& front = arc.samples.front();
       double x, y;
       FlightPosition(g, rest, false, front.t, &x, &y);
       // Judged by two samples, along the floor the rest's course is a guess (two samples do
@@ -130,11 +187,11 @@ void BounceDetector::RefitArc(Arc& arc) {
                              ? std::abs(AlongDown(x, y, g.roll_rad) - Down(front))
                              : std::hypot(x - front.x, y - front.y);
       const bool may_straddle =
-          !began || front.t <= began->t + config_.straddle_frames * frame_dt_;
+          !began || front.t <= began->t + config_.straddle_frames * scene_.frame_dt();
       const double limit =
-          may_straddle ? Gate()
+          may_straddle ? scene_.Gate()
           : arc.late_drops < config_.max_late_drops
-              ? std::max(Gate(), config_.off_arc_radius_share * RadiusPx())
+              ? std::max(scene_.Gate(), config_.off_arc_radius_share * scene_.RadiusPx())
               : std::numeric_limits<double>::infinity();
       if (off > limit) {
         arc.samples.erase(arc.samples.begin());
@@ -145,10 +202,10 @@ void BounceDetector::RefitArc(Arc& arc) {
   arc.fit_ok = fit(0, &arc.fit, &arc.u_sigma);
 }
 
-double BounceDetector::ScaleGatePx(const Arc& arc, double t) const {
+double FlightFollower::ScaleGatePx(const DetectorArc& arc, double t) const {
   // Only the first rebound is followed with the scale of a fall alone.
-  if (!calibrated_ || arc.samples.size() < 2 || arcs_.size() != 2 || arc.apex_emitted) return 0;
-  const Calibration& cal = calibration_.calibration;
+  if (!scene_.calibrated() || arc.samples.size() < 2 || arcs_.size() != 2 || arc.apex_emitted) return 0;
+  const Calibration& cal = scene_.calibration().calibration;
   if (cal.px_per_m <= 0) return 0;
   // An arc fitted through its samples with a gravity off by dg departs from them by
   // dg/2 ((t - tc)^2 - var(t_i)) at t (tc: their mean time, the fit absorbs the rest).
@@ -161,39 +218,39 @@ double BounceDetector::ScaleGatePx(const Arc& arc, double t) const {
   const double rel =
       std::max(cal.px_per_m_sigma / cal.px_per_m, config_.first_scale_min_rel_sigma);
   const double dg =
-      config_.scale_gate_sigmas * rel * std::abs(calibration_.flight.globals.gravity_px);
+      config_.scale_gate_sigmas * rel * std::abs(scene_.calibration().flight.globals.gravity_px);
   return 0.5 * dg * reach;
 }
 
-double BounceDetector::SidewaysSpeed(const Arc& arc) const {
-  if (calibrated_ && arc.fit_ok) return arc.fit.vw;
+double FlightFollower::SidewaysSpeed(const DetectorArc& arc) const {
+  if (scene_.calibrated() && arc.fit_ok) return arc.fit.vw;
   const auto& q = arc.samples;
   if (q.size() < 2) return 0;
-  const Sample& a = q[q.size() >= 4 ? q.size() - 4 : 0];
-  const Sample& b = q.back();
+  const DetectorSample& a = q[q.size() >= 4 ? q.size() - 4 : 0];
+  const DetectorSample& b = q.back();
   return b.t > a.t ? (Floor(b) - Floor(a)) / (b.t - a.t) : 0;
 }
 
-void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
-  Arc& cur = arcs_.back();
+void FlightFollower::OnFlight(const DetectorSample& s, std::vector<DetectorEvent>& ev) {
+  DetectorArc& cur = arcs_.back();
   double up, wp, vp;
   if (!Predict(cur, s.t, &up, &wp, &vp)) {
     // The first frames of the first fall: nothing to predict with yet; take what moves on
     // down the same vertical line (a stray detection elsewhere is dropped).
-    const Sample& last = cur.samples.back();
-    const double g = Gate();
+    const DetectorSample& last = cur.samples.back();
+    const double g = scene_.Gate();
     if (std::abs(Floor(s) - Floor(last)) <= 2 * g && Down(s) >= Down(last) - g &&
         Down(s) - Down(last) <= 20 * g)
       cur.samples.push_back(s);
     return;
   }
   const double u = Down(s), w = Floor(s);
-  const double gap_frames = std::max(1.0, (s.t - cur.samples.back().t) / frame_dt_);
-  double gate = FollowGate(vp, gap_frames);
-  if (cur.samples.size() < 4 || !calibrated_) gate += 2 * Gate();
+  const double gap_frames = std::max(1.0, (s.t - cur.samples.back().t) / scene_.frame_dt());
+  double gate = scene_.FollowGate(vp, gap_frames);
+  if (cur.samples.size() < 4 || !scene_.calibrated()) gate += 2 * scene_.Gate();
   // Until the drop's noise is measured, an arc whose own samples scatter more than assumed
   // (a smeared ball at 20-30 fps is located to pixels, not tenths) is followed with its scatter.
-  if (!sigma_measured_) gate = std::max(gate, config_.gate_sigmas * ArcScatter(cur));
+  if (!scene_.sigma_measured()) gate = std::max(gate, scene_.config().gate_sigmas * ArcScatter(cur));
   gate += ScaleGatePx(cur, s.t);
   const double ru = u - up, rw = w - wp;
   // Farther from the arc than any rebound could have carried the ball since its last sample
@@ -206,18 +263,19 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   // extrapolated speed, and the gate with it, grow every frame and would soon reach anywhere (a
   // lookalike at the picture's edge while a thrown ball bounced unseen, six frames at 30 fps,
   // ended its drop).
-  const double reach = 2 * std::abs(vp) * frame_dt_ * gap_frames + 4 * s.r + 10 * gate;
+  const double reach = 2 * std::abs(vp) * scene_.frame_dt() * gap_frames + 4 * s.r + 10 * gate;
   const double across_reach =
-      2 * std::abs(SidewaysSpeed(cur)) * frame_dt_ * gap_frames + 4 * s.r + 10 * Gate();
+      2 * std::abs(SidewaysSpeed(cur)) * scene_.frame_dt() * gap_frames + 4 * s.r + 10 * scene_.Gate();
   const bool far = std::hypot(ru, rw) > reach || std::abs(rw) > across_reach;
   const bool still_far = far && last_far_ && std::hypot(s.x - last_far_->x, s.y - last_far_->y) <= s.r + gate;
   last_far_.reset();
   if (far) last_far_ = s;
   if (still_far) {
-    last_seen_t_ = cur.samples.back().t;
+    double last_seen_t = cur.samples.back().t;
     for (const auto* pending : {&pending_off_, &pending_up_})
-      if (!pending->empty()) last_seen_t_ = std::max(last_seen_t_, pending->back().t);
-    TryEmitApex(s.t, s.utime, false, ev);
+      if (!pending->empty()) last_seen_t = std::max(last_seen_t, pending->back().t);
+    scene_.set_last_seen_t(last_seen_t);
+    host_.OnNoSample(s.t, s.utime, ev);
     return;
   }
   // Before the first calibration a fall from the hand is followed with a guess from its first
@@ -227,7 +285,7 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   // it (above, it is no rebound: the ball is lower than at its last sample).
   // Only while the fall is young (followed as a fall from the hand, under 10 samples): a "fall"
   // the hand drew slowly for seconds before the ball dropped is no guess to outrun.
-  const bool young_fall_off_guess = !calibrated_ && cur.release && cur.held &&
+  const bool young_fall_off_guess = !scene_.calibrated() && cur.release && cur.held &&
                                     cur.samples.size() < cur.hold_samples + 10 &&
                                     std::abs(ru) > gate && std::abs(ru) < 0.5 * reach &&
                                     std::abs(rw) <= 2 * gate && Down(s) > Down(cur.samples.back());
@@ -237,26 +295,21 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
     pending_off_.clear();
     misses_ = 0;
     RefitArc(cur);
-    if (!bounce0_emitted_ && arcs_.size() == 2 && arcs_[0].held &&
-        static_cast<int>(arcs_[1].samples.size()) >= config_.bounce0_rising_samples) {
-      Recalibrate(s.utime, ev);  // the rising branch pins drag against gravity
-      EmitPeak(0, s.utime, ev);
-    }
-    TryEmitApex(s.t, s.utime, true, ev);
+    host_.OnSampleKept(s, ev);
     return;
   }
   // Off the arc past its fitted apex, the apex not out yet: the scale the arc is followed with
   // may be what is off (a first fall's gravity from a few smeared frames, 12% high on a clip
   // of a ball dropped on a table). Emitting the apex refits the scale with this arc's samples;
   // then the sample is judged again.
-  if (!rejudging_ && calibrated_ && cur.fit_ok && !cur.apex_emitted && arcs_.size() >= 2 &&
-      s.t >= cur.fit.t_apex + config_.emit_after_apex_frames * frame_dt_) {
-    const double scale_before = scale_;
-    const int sequence_before = sequence_;
-    TryEmitApex(s.t, s.utime, false, ev);
-    if (phase_ != Phase::kFlight || sequence_ != sequence_before) return;
-    Sample again = s;
-    again.t *= scale_ / scale_before;  // the clock may have been decided by that refit
+  if (!rejudging_ && scene_.calibrated() && cur.fit_ok && !cur.apex_emitted && arcs_.size() >= 2 &&
+      host_.ApexDue(cur, s.t)) {
+    const double scale_before = scene_.scale();
+    const int sequence_before = host_.Sequence();
+    host_.OnNoSample(s.t, s.utime, ev);
+    if (!host_.InFlight() || host_.Sequence() != sequence_before) return;
+    DetectorSample again = s;
+    again.t *= scene_.scale() / scale_before;  // the clock may have been decided by that refit
     rejudging_ = true;
     OnFlight(again, ev);
     rejudging_ = false;
@@ -272,8 +325,8 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   if (cur.fit_ok) {
     vw = cur.fit.vw;
   } else if (cur.samples.size() >= 2) {
-    const Sample& a = cur.samples[cur.samples.size() - 2];
-    const Sample& b = cur.samples.back();
+    const DetectorSample& a = cur.samples[cur.samples.size() - 2];
+    const DetectorSample& b = cur.samples.back();
     if (b.t > a.t) vw = (Floor(b) - Floor(a)) / (b.t - a.t);
   }
   const double along_gate = 2 * gate + std::abs(vw) * (s.t - cur.samples.back().t);
@@ -311,21 +364,21 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
   }
   if (misses_ >= kMissesEndArc) {
     // Six frames in a row off the arc: it has ended (at rest, caught, rolling away).
-    const bool near_floor = calibrated_ && calibration_.calibration.has_floor &&
-                            std::abs(u - calibration_.calibration.floor_centre_px()) <=
-                                3 * Gate();
-    std::vector<Sample> recent = pending_off_;
+    const bool near_floor = scene_.calibrated() && scene_.calibration().calibration.has_floor &&
+                            std::abs(u - scene_.calibration().calibration.floor_centre_px()) <=
+                                3 * scene_.Gate();
+    std::vector<DetectorSample> recent = pending_off_;
     recent.insert(recent.end(), pending_up_.begin(), pending_up_.end());
     std::sort(recent.begin(), recent.end(),
-              [](const Sample& x, const Sample& y) { return x.t < y.t; });
+              [](const DetectorSample& x, const DetectorSample& y) { return x.t < y.t; });
     Eigen::Vector3d fall;
     if (!near_floor && YoungFallContinues(cur, recent, &fall)) {
       // The release arc's young model lost its own fall (a push, a smeared 24 fps fall):
       // the samples it turned away are that fall, not the end of the drop. An arc not seen
       // held keeps only its samples on that fall: the still ones it began with were the hand.
       if (!cur.held) {
-        const double t_last = recent.back().t, g = StartGate();
-        std::erase_if(cur.samples, [&](const Sample& q) {
+        const double t_last = recent.back().t, g = scene_.StartGate();
+        std::erase_if(cur.samples, [&](const DetectorSample& q) {
           return std::abs(Down(q) - ParabolaAt(fall, q.t - t_last)) > g;
         });
       }
@@ -336,29 +389,29 @@ void BounceDetector::OnFlight(const Sample& s, std::vector<DetectorEvent>& ev) {
       RefitArc(cur);
       return;
     }
-    EndSequence(near_floor ? "rest" : "broken", ev);
+    host_.EndSequence(near_floor ? "rest" : "broken", ev);
     if (!near_floor)
-      for (const auto& o : recent) OnWaiting(o, ev);
+      for (const auto& o : recent) host_.OnWaiting(o, ev);
   }
 }
 
-bool BounceDetector::AdoptOffArcSamples(Arc& cur) {
+bool FlightFollower::AdoptOffArcSamples(DetectorArc& cur) {
   // A rebound's first samples at a low frame rate: the one straddling the impact is smeared,
   // and an arc of two or three samples extrapolates its error for every frame after (at
   // 24 fps the next sample is then tens of pixels off). When the samples it turned away, high
   // or low, agree with one arc together with its samples that fit too, they are that
   // rebound, not a new impact or the end of the drop.
-  std::vector<Sample> missed = pending_off_;
+  std::vector<DetectorSample> missed = pending_off_;
   missed.insert(missed.end(), pending_up_.begin(), pending_up_.end());
-  if (!calibrated_ || cur.release || cur.samples.size() > 3 || missed.size() < 2) return false;
-  std::sort(missed.begin(), missed.end(), [](const Sample& x, const Sample& y) { return x.t < y.t; });
-  const FlightGlobals& g = calibration_.flight.globals;
-  auto offset = [&](const Arc& a, const Sample& q) {
+  if (!scene_.calibrated() || cur.release || cur.samples.size() > 3 || missed.size() < 2) return false;
+  std::sort(missed.begin(), missed.end(), [](const DetectorSample& x, const DetectorSample& y) { return x.t < y.t; });
+  const FlightGlobals& g = scene_.calibration().flight.globals;
+  auto offset = [&](const DetectorArc& a, const DetectorSample& q) {
     double x, y;
     FlightPosition(g, a.fit, a.held, q.t, &x, &y);
     return std::hypot(x - q.x, y - q.y);
   };
-  Arc trial = cur;
+  DetectorArc trial = cur;
   for (const auto& q : missed) trial.samples.push_back(q);
   for (size_t kept = cur.samples.size();; --kept) {
     trial.fit_ok = false;
@@ -366,7 +419,7 @@ bool BounceDetector::AdoptOffArcSamples(Arc& cur) {
     if (!trial.fit_ok || trial.samples.size() < 3) return false;
     double worst = 0;
     for (const auto& q : trial.samples) worst = std::max(worst, offset(trial, q));
-    if (worst <= 3 * StartGate()) break;  // a young arc's gate (the noise maybe not measured)
+    if (worst <= 3 * scene_.StartGate()) break;  // a young arc's gate (the noise maybe not measured)
     // The arc's own first samples may be the ones off (straddling the impact): drop them.
     if (kept == 0 || offset(trial, trial.samples.front()) < worst) return false;
     trial.samples.erase(trial.samples.begin());
@@ -376,10 +429,10 @@ bool BounceDetector::AdoptOffArcSamples(Arc& cur) {
   // swallow. One that left it then is this rebound, even without any of the arc's own samples
   // (its first two, smeared rising from the floor at 25 fps, 25-35 px off it).
   const FlightImpact* began = ImpactBeforeCurrentArc();
-  if (began && calibration_.calibration.has_floor) {
-    const double rise = calibration_.calibration.floor_centre_px() - trial.fit.u_apex;
+  if (began && scene_.calibration().calibration.has_floor) {
+    const double rise = scene_.calibration().calibration.floor_centre_px() - trial.fit.u_apex;
     const double left_floor = trial.fit.t_apex - std::sqrt(2 * std::max(0.0, rise) / g.gravity_px);
-    if (left_floor > began->t + 1.5 * frame_dt_) return false;
+    if (left_floor > began->t + 1.5 * scene_.frame_dt()) return false;
   } else if (trial.samples.front().t > cur.samples.back().t) {
     return false;
   }
@@ -390,11 +443,31 @@ bool BounceDetector::AdoptOffArcSamples(Arc& cur) {
   return true;
 }
 
-double BounceDetector::ArcScatter(const Arc& arc) const {
+bool FlightFollower::YoungFallContinues(const DetectorArc& cur,
+                                        const std::vector<DetectorSample>& missed,
+                                        Eigen::Vector3d* fall_parabola) const {
+  // Only a release arc not yet calibrated, before any impact, turning away samples that are
+  // one fall: each lower than the one before it, from the arc's last sample on, falling
+  // faster and faster along one parabola (within the start gate).
+  if (!cur.release || scene_.calibrated() || arcs_.size() != 1 || cur.samples.empty() || missed.size() < 3)
+    return false;
+  std::vector<DetectorSample> fall{cur.samples.back()};
+  for (const DetectorSample& q : missed) {
+    if (q.t <= fall.back().t || Down(q) <= Down(fall.back())) return false;
+    fall.push_back(q);
+  }
+  double rms = 0;
+  *fall_parabola = scene_.DownParabola(fall, &rms);
+  const double bend = (*fall_parabola)(2);
+  // Free flight for the ball's size on some clock the file may have, not a hand's curve.
+  return bend > 0 && rms <= scene_.StartGate() && scene_.SlowdownOfBend(2 * bend) > 0;
+}
+
+double FlightFollower::ArcScatter(const DetectorArc& arc) const {
   constexpr int kArcParams = 4;  // apex time, height and horizontal place, horizontal speed
   const int coords = 2 * static_cast<int>(arc.samples.size());
-  if (!calibrated_ || !arc.fit_ok || coords - kArcParams < 4) return 0;
-  const FlightGlobals& g = calibration_.flight.globals;
+  if (!scene_.calibrated() || !arc.fit_ok || coords - kArcParams < 4) return 0;
+  const FlightGlobals& g = scene_.calibration().flight.globals;
   double ss = 0;
   for (const auto& q : arc.samples) {
     double x, y;
@@ -402,173 +475,6 @@ double BounceDetector::ArcScatter(const Arc& arc) const {
     ss += (x - q.x) * (x - q.x) + (y - q.y) * (y - q.y);
   }
   return std::sqrt(ss / (coords - kArcParams));
-}
-
-bool BounceDetector::NearTheFloor(const Arc& cur) const {
-  if (!calibrated_ || !calibration_.calibration.has_floor || !cur.fit_ok) return true;
-  const double floor = calibration_.calibration.floor_centre_px();
-  const double apex = floor - cur.fit.u_apex;
-  if (!(apex > MinApexPx())) return true;
-  // Around an impact the samples either side lie within one frame's travel of the floor,
-  // so the lower of the two is in the lower part of the arc; near the apex both are high.
-  const double low = floor - std::max(Down(cur.samples.back()), Down(pending_up_.front()));
-  return low < 0.6 * apex;
-}
-
-bool BounceDetector::ImpactNotSeen() const {
-  if (pending_up_.size() < 2) return false;
-  const double gate = Gate();
-  if (Down(pending_up_.front()) - Down(pending_up_.back()) > gate) return false;  // it rises
-  // The contact, from a trial fit of the arcs with the rebound's samples as the next one.
-  CalibrationInput in;
-  in.utime = pending_up_.back().utime;
-  in.arcs = ArcData();
-  FlightArcData next;
-  for (const auto& q : pending_up_) next.samples.push_back({q.t, q.x, q.y});
-  in.arcs.push_back(std::move(next));
-  in.radius_px = RadiusPx();
-  FlightGlobals prev_globals;
-  if (calibrated_) {
-    prev_globals = calibration_.flight.globals;
-    in.previous_globals = &prev_globals;
-  }
-  const CalibrationResult res = calibrator_.Calibrate(in);
-  const size_t j = arcs_.size() - 1;  // the impact between the current arc and the rebound
-  if (!res.flight.ok || j >= res.impacts.size() || !res.impacts[j].ok) return false;
-  const FlightImpact& imp = res.impacts[j];
-  const double roll = res.flight.globals.roll_rad;
-  bool near = false;
-  for (const auto& q : seen_) {
-    const double dt = q.t - imp.t;
-    if (std::abs(dt) > frame_dt_) continue;
-    near = true;
-    // From a sample this close the ball reaches the contact within its speed there (its
-    // fastest on that branch) times the time between them, or half a frame: an exposure that
-    // straddles the contact shows the ball at most half a frame's travel above it.
-    const double speed = dt < 0 ? imp.speed_in : imp.speed_out;
-    const double reach = speed * std::max(std::abs(dt), 0.5 * frame_dt_) + gate;
-    if (imp.u - AlongDown(q.x, q.y, roll) <= reach) return false;
-  }
-  return near;  // seen near it, never near enough; unseen around it: the ball was lost there
-}
-
-const FlightImpact* BounceDetector::ImpactBeforeCurrentArc() const {
-  if (arcs_.size() < 2) return nullptr;
-  const size_t j = arcs_.size() - 2;  // impacts[j] lies between arcs j and j + 1
-  if (j >= calibration_.impacts.size() || !calibration_.impacts[j].ok) return nullptr;
-  return &calibration_.impacts[j];
-}
-
-bool BounceDetector::StraddlesItsImpact(const Arc& cur) const {
-  const FlightImpact* began = ImpactBeforeCurrentArc();
-  if (!calibrated_ || !calibration_.calibration.has_floor || !began || cur.samples.size() > 2 ||
-      pending_up_.size() < 2)
-    return false;
-  const int bounce = static_cast<int>(arcs_.size() - 1) + first_bounce_;
-  if (std::any_of(peaks_.begin(), peaks_.end(), [&](const BouncePeak& p) { return p.bounce == bounce; }))
-    return false;
-  // The highest the arc can have flown: a flight from its impact to the first rising sample.
-  const double g = calibration_.flight.globals.gravity_px;
-  const double t_max = pending_up_.front().t - began->t;
-  const double cur_max = g * t_max * t_max / 8;
-  // The rebound after it, from its first two samples under the same gravity.
-  const Sample& p = pending_up_[0];
-  const Sample& q = pending_up_[1];
-  if (!(q.t > p.t)) return false;
-  const double t_apex = 0.5 * (p.t + q.t) + (Down(q) - Down(p)) / (g * (q.t - p.t));
-  const double u_apex = Down(p) - 0.5 * g * (p.t - t_apex) * (p.t - t_apex);
-  const double next = calibration_.calibration.floor_centre_px() - u_apex;
-  // A ball that is only bounced rises lower after every impact: a rebound clearly higher
-  // than the arc before it could have flown means that arc was no flight.
-  return next > 1.5 * cur_max + Gate();
-}
-
-void BounceDetector::ForgetStraddlingArc() {
-  const size_t idx = arcs_.size() - 1;
-  const int bounce = static_cast<int>(idx) + first_bounce_;
-  impacts_.erase(std::remove_if(impacts_.begin(), impacts_.end(),
-                                [&](const BounceImpact& i) { return i.index == bounce; }),
-                 impacts_.end());
-  arcs_.pop_back();
-}
-
-void BounceDetector::ConfirmImpact(const Sample& s, std::vector<DetectorEvent>& ev) {
-  // The last sample of the falling arc may straddle the impact too: drop it if the samples
-  // before it put it off the arc (it would bend the fall, and the scale with it).
-  {
-    Arc& prev = arcs_.back();
-    if (prev.samples.size() >= 6) {
-      Arc probe = prev;
-      const Sample last = probe.samples.back();
-      probe.samples.pop_back();
-      if (calibrated_) RefitArc(probe);
-      double up, wp, vp;
-      if (Predict(probe, last.t, &up, &wp, &vp) &&
-          std::abs(Down(last) - up) > FollowGate(vp))
-        prev.samples.pop_back();
-    }
-  }
-  Arc next;
-  next.samples = pending_up_;
-  pending_up_.clear();
-  pending_off_.clear();
-  misses_ = 0;
-  arcs_.push_back(next);
-  Recalibrate(s.utime, ev);
-  // The drop's first arc was taken for a throw (the ball seen before it, where the arc leads
-  // back to). Seen down at the floor just before it, the ball came from an impact the arc's
-  // start did not show (its first samples, smeared, off it): its apex is bounce 1.
-  if (arcs_.size() == 2 && arcs_[0].entered && first_bounce_ == 0 && peaks_.empty() &&
-      low_before_entered_ && calibrated_ && calibration_.calibration.has_floor &&
-      calibration_.calibration.floor_centre_px() - Down(*low_before_entered_) <=
-          std::max(2 * RadiusPx(), 3 * Gate()))
-    first_bounce_ = 1;
-  // Taken for an arc from out of view, it was a fall from a hold the tracker missed: its
-  // vertex is the release, bounce 0 (a still ball found only once it fell).
-  if (arcs_.size() == 2 && peaks_.empty() && EnteredFallWasAnUnseenRelease()) {
-    arcs_[0].entered = false;
-    arcs_[0].release = true;
-    first_bounce_ = 0;
-  }
-  const size_t idx = arcs_.size() - 1;
-  const FlightImpact* began = ImpactBeforeCurrentArc();
-  if (calibrated_ && began && calibration_.calibration.valid()) {
-    const BounceImpact bi = ToBounceImpact(*began, static_cast<int>(idx) + first_bounce_);
-    impacts_.push_back(bi);
-    DetectorEvent e;
-    e.kind = DetectorEvent::Kind::kImpact;
-    e.impact = bi;
-    ev.push_back(e);
-  }
-  // An arc whose apex went unreported (seen too briefly, or hidden, or the arc that began
-  // the sequence in flight): report it late.
-  if ((idx >= 2 || arcs_[0].entered) && !arcs_[idx - 1].apex_emitted && calibrated_ &&
-      arcs_[idx - 1].fit_ok) {
-    const double h = calibration_.calibration.floor_centre_px() - arcs_[idx - 1].fit.u_apex;
-    if (h >= MinApexPx()) EmitPeak(idx - 1, s.utime, ev);
-  }
-  if (!bounce0_emitted_ && idx == 1 && arcs_[0].held &&
-      static_cast<int>(arcs_[1].samples.size()) >= config_.bounce0_rising_samples)
-    EmitPeak(0, s.utime, ev);
-}
-
-bool BounceDetector::YoungFallContinues(const Arc& cur, const std::vector<Sample>& missed,
-                                        Eigen::Vector3d* fall_parabola) const {
-  // Only a release arc not yet calibrated, before any impact, turning away samples that are
-  // one fall: each lower than the one before it, from the arc's last sample on, falling
-  // faster and faster along one parabola (within the start gate).
-  if (!cur.release || calibrated_ || arcs_.size() != 1 || cur.samples.empty() || missed.size() < 3)
-    return false;
-  std::vector<Sample> fall{cur.samples.back()};
-  for (const Sample& q : missed) {
-    if (q.t <= fall.back().t || Down(q) <= Down(fall.back())) return false;
-    fall.push_back(q);
-  }
-  double rms = 0;
-  *fall_parabola = DownParabola(fall, &rms);
-  const double bend = (*fall_parabola)(2);
-  // Free flight for the ball's size on some clock the file may have, not a hand's curve.
-  return bend > 0 && rms <= StartGate() && SlowdownOfBend(2 * bend) > 0;
 }
 
 }  // namespace bouncefit

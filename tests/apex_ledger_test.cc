@@ -1,0 +1,53 @@
+// The apexes of a rendered drop as the ledger emits them (parts wired by
+// tests/detector_parts.h): in bounce order, each a frame past its apex, measured to the
+// truth; and revised with the whole drop at its end.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "detect_sim.h"
+#include "detector_parts.h"
+
+namespace bouncefit {
+namespace {
+
+TEST(ApexLedger, EmitsEveryApexInBounceOrderMeasuredToTheTruth) {
+  testing::SimOptions o;  // ping-pong, 1 m, 120 fps, 300 px/m
+  const auto clip = testing::MakeSimClip(o);
+  testing::PartsHost host;
+  const auto events = host.Run(clip.obs);
+  std::vector<BouncePeak> peaks;
+  for (const auto& e : events)
+    if (e.kind == DetectorEvent::Kind::kPeak) peaks.push_back(e.peak);
+  ASSERT_GE(peaks.size(), 6u);
+  for (size_t i = 0; i < peaks.size(); ++i) EXPECT_EQ(peaks[i].bounce, static_cast<int>(i));
+  const auto score = testing::ScorePeaks(clip, peaks);
+  EXPECT_EQ(score.false_peaks, 0) << score.report;
+  EXPECT_LT(score.max_err_mm, 5) << score.report;
+  // A rebound goes out the frame after its fitted apex, or the next.
+  for (double late : score.latency_frames) EXPECT_LT(late, 4) << score.report;
+}
+
+TEST(ApexLedger, TheDropsSummaryRevisesEveryApexWithTheWholeDrop) {
+  testing::SimOptions o;
+  const auto clip = testing::MakeSimClip(o);
+  testing::PartsHost host;
+  host.Run(clip.obs);
+  const auto& summaries = host.ledger.summaries();
+  ASSERT_EQ(summaries.size(), 1u);
+  const SequenceSummary& s = summaries[0];
+  EXPECT_EQ(s.end_reason, "rest");
+  ASSERT_GE(s.peaks.size(), 6u);
+  for (size_t b = 1; b < 6; ++b) {
+    const double truth = clip.truth.apex_heights_m[b];
+    EXPECT_NEAR(s.FinalHeightOf(static_cast<int>(b)), truth, 0.005) << "bounce " << b;
+    // The flight time between its impacts says the same height, drag aside.
+    EXPECT_NEAR(s.FlightHeightOf(static_cast<int>(b)), truth, 0.05 * truth) << "bounce " << b;
+    EXPECT_GT(s.peaks[b].impact_after_utime, s.peaks[b].apex_utime);
+  }
+  EXPECT_GE(s.impacts.size(), 5u);
+  EXPECT_TRUE(std::isfinite(s.restitution_intercept));
+}
+
+}  // namespace
+}  // namespace bouncefit

@@ -1,0 +1,89 @@
+// How a drop starts, on rendered drops: a release from a hold, a release at the first frame
+// (no hold seen), and a clip begun mid-bounce (an arc entered in flight, its apex bounce 1).
+#include <gtest/gtest.h>
+
+#include <optional>
+
+#include "detect/drop_start.h"
+#include "detect_sim.h"
+
+namespace bouncefit {
+namespace {
+
+struct Start {
+  std::optional<DropStartFound> found;
+  double t = 0;  // stream time of the sample that started it
+};
+
+// The first start DropStart finds in the clip.
+Start FirstStart(const testing::SimClip& clip) {
+  DetectorScene scene(SceneConfig{}, CalibratorConfig{});
+  DropStart start(DropStartConfig{}, scene);
+  for (const auto& o : clip.obs) {
+    double t = 0;
+    if (!scene.Advance(o.utime, &t) || !o.found) continue;
+    const DetectorSample s{t, o.cx, o.cy, o.radius_px, o.utime};
+    scene.Saw(s);
+    if (auto found = start.OnWaiting(s)) return {found, t};
+  }
+  return {};
+}
+
+TEST(DropStart, AReleaseFromAHoldStartsAHeldArcAFewFramesAfterIt) {
+  testing::SimOptions o;
+  o.hold_s = 0.3;
+  const Start s = FirstStart(testing::MakeSimClip(o));
+  ASSERT_TRUE(s.found);
+  EXPECT_TRUE(s.found->arc.held);
+  EXPECT_FALSE(s.found->arc.entered);
+  EXPECT_EQ(s.found->first_bounce, 0);
+  EXPECT_GT(s.found->arc.hold_samples, 10u);  // the hold's last 0.25 s
+  EXPECT_GT(s.t, o.hold_s);
+  EXPECT_LT(s.t, o.hold_s + 8 / o.fps);
+}
+
+TEST(DropStart, AReleaseAtTheFirstFrameIsAFallFromAnUnseenHold) {
+  testing::SimOptions o;
+  o.hold_s = 0;
+  const Start s = FirstStart(testing::MakeSimClip(o));
+  ASSERT_TRUE(s.found);
+  EXPECT_FALSE(s.found->arc.held);
+  EXPECT_FALSE(s.found->arc.entered);
+  EXPECT_EQ(s.found->first_bounce, 0);
+  EXPECT_LT(s.t, 0.1);
+}
+
+TEST(DropStart, AClipBegunMidBounceStartsAnEnteredArcWhoseApexIsBounce1) {
+  testing::SimOptions o;
+  // After the first impact (0.45 s after a 1 m release), rising.
+  o.begin_after_release_s = 0.55;
+  const auto clip = testing::MakeSimClip(o);
+  const Start s = FirstStart(clip);
+  ASSERT_TRUE(s.found);
+  EXPECT_TRUE(s.found->arc.entered);
+  EXPECT_FALSE(s.found->arc.held);
+  EXPECT_EQ(s.found->first_bounce, 1);
+  EXPECT_LT(s.t, 0.2);
+}
+
+TEST(DropStart, ABallAtRestMovedAgainBringsBackTheWaiting) {
+  const auto clip = testing::MakeSimClip({});
+  DetectorScene scene(SceneConfig{}, CalibratorConfig{});
+  DropStart start(DropStartConfig{}, scene);
+  // The clip's last detections: the ball at rest on the floor.
+  const auto& rest = clip.obs.back();
+  int64_t utime = rest.utime;
+  auto sample = [&](double dy) {
+    utime += 8333;
+    double t = 0;
+    scene.Advance(utime, &t);
+    return DetectorSample{t, rest.cx, rest.cy + dy, rest.radius_px, utime};
+  };
+  for (int i = 0; i < 10; ++i) EXPECT_FALSE(start.PickedUp(sample(0)));
+  EXPECT_FALSE(start.PickedUp(sample(-20)));
+  EXPECT_FALSE(start.PickedUp(sample(-40)));
+  EXPECT_TRUE(start.PickedUp(sample(-60)));  // three moves: picked up
+}
+
+}  // namespace
+}  // namespace bouncefit
