@@ -34,6 +34,12 @@ std::string ClockReport::Update(const Calibration& c) {
                        "--time-scale {:.3f} if so)",
                        1 / std::sqrt(q), std::sqrt(q));
   }
+  // Two scales more than 10% apart: which one the heights use, and what the other would mean.
+  if (std::abs(std::log(q)) > std::log(1.1) && c.px_per_m > 0 && c.method != "ball-diameter")
+    r += fmt::format("; heights use the {} scale, {:.0f} px/m; the ball's size gives {:.0f} px/m: were it right, "
+                     "every height would be {:.2f}x (restitution, a ratio of speeds, is the same either way)",
+                     c.method == "free-fall" ? "free fall's" : c.method, c.px_per_m, c.free_fall_px_per_m / q,
+                     c.px_per_m / (c.free_fall_px_per_m / q));
   // Said again only when it changes the answer: another clock, another scale's source, or
   // the two scales coming to agree or disagree.
   const std::string kind = fmt::format("{} {} {} {}", c.time_scale, c.method,
