@@ -1,6 +1,6 @@
-// Issue 16 spike: the Bullet FEM (btDeformableBody, Neo-Hookean) ball measured against the
-// issue's decision criteria, with the classic btSoftBody ball as the baseline of the same
-// run. docs/MODEL.md "FEM deformable ball" holds the figures and the decision.
+// A trial, measured and not adopted: the Bullet FEM (btDeformableBody, Neo-Hookean) ball
+// measured against the criteria for adopting it, with the classic btSoftBody ball as the
+// baseline of the same run. docs/MODEL.md "FEM deformable ball" holds the figures and the decision.
 //
 //   build/bench/fem_ball_bench [--section rebound|steps|smooth|cost|transfer|all] [--ball pingpong]
 //
@@ -366,7 +366,7 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") {
       std::printf("usage: %s [--section rebound|steps|smooth|cost|transfer|all] [--ball NAME (smooth, transfer)]\n"
-                  "Measures the Bullet FEM ball (issue 16) against the classic soft ball.\n", argv[0]);
+                  "Measures the Bullet FEM ball against the classic soft ball.\n", argv[0]);
       return 0;
     }
     if (i + 1 >= argc) {

@@ -19,14 +19,14 @@
 // final residual, and their median residual. The soft body's heights are chaotic in the
 // coefficients (docs/MODEL.md), so a final residual is one draw from such a spread.
 //
-// --law: issue 14's comparison of searches on the default objective (the restitution law,
+// --law: the comparison of searches on the default objective (the restitution law,
 // heights and flight times, one free drop): for each ball, five inputs (drops of synth's
 // point mass from --inputs heights); the paper's serial search on rebound_restitution, its
 // slope and drag (full bounds, the session's start, --budget soft-body runs) against the
 // default search (fit/restitution_fit.h: the point mass, then Levenberg-Marquardt on the soft
 // ball near it). The figure: soft-body simulations the default needed to reach the paper
 // search's final objective, over the paper search's simulations; median per ball (the
-// must-show: <= 1/3). Point-mass runs (microseconds) are counted apart.
+// target: <= 1/3). Point-mass runs (microseconds) are counted apart.
 //
 // Realtime: the peaks of a drop are replayed on the wall clock (each emitted
 // --detector-delay after its apex) into the live fit worker; prints, per bounce, the time

@@ -1,4 +1,4 @@
-// Speed of the soft-body ball model (issue 6): simulated seconds per second of one core,
+// Speed of the soft-body ball model: simulated seconds per second of one core,
 // for the default mesh, and how the cost grows with the mesh resolution, as ratios against
 // the default mesh measured in the same run.
 //

@@ -1,4 +1,4 @@
-// Sound cost against the video path, per clip (issue 15: decoding and detecting the sound
+// Sound cost against the video path, per clip (the target: decoding and detecting the sound
 // costs <= 10% of the video path). For each clip given, in one
 // run and alternated, best of 3 each:
 //   video path: decode every frame (replay/video_file_source) and track it (automatic tracker);

@@ -1,4 +1,4 @@
-// transfer_bench: issue 14's transfer matrix. A ball whose restitution falls with impact
+// transfer_bench: the transfer matrix (docs/ACCURACY.md "Transfer"). A ball whose restitution falls with impact
 // speed (synth's point mass, e(v) = e0 - k v, drag) is dropped from one height; its recorded
 // heights are fitted; the fitted ball is then predicted from the other height (ensemble mean,
 // as `bouncefit predict` does) and compared with the truth on every bounce of 2 cm or more:
@@ -271,7 +271,7 @@ int main(int argc, char** argv) {
                                                 SimulateSafely(*model, values, fitted_drop).impact_times_s);
         const double timing_pred = TimingErrorMs(TruthDrop(truth_ball, pred_h).impact_times_s,
                                                  SimulateSafely(*model, values, pred).impact_times_s);
-        // Issue 14 item 5: safe wherever a user may drop it.
+        // Safe wherever a user may drop it (0.3-2 m).
         const std::string unsafe = UnsafeDrop(*model, values, {0.3, 2.0}, a.threads);
         ++rows;
         holds += v.ok && unsafe.empty();

@@ -4,7 +4,7 @@
 // timestamps and sequence numbers (gaps counted as dropped frames).
 //
 // Every system call goes through V4l2Io, so tests drive this very code with a scripted fake
-// device (capture/v4l2_fake_device.h).
+// device (tests/v4l2_fake_device.h).
 #include <cstdint>
 #include <optional>
 #include <string>

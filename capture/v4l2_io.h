@@ -1,6 +1,6 @@
 #pragma once
 // The few system calls the V4L2 camera makes, behind a thin seam: the real kernel in
-// production, a scripted fake device (capture/v4l2_fake_device.h) in tests. Every call has
+// production, a scripted fake device (tests/v4l2_fake_device.h) in tests. Every call has
 // the system call's own contract: -1 (or MAP_FAILED) with errno set on failure.
 #include <poll.h>
 #include <sys/types.h>

@@ -220,6 +220,10 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_option("--audio-device", o->audio_device,
                   "camera: ALSA microphone beside it (e.g. hw:1,0); impacts heard go out on IMPACT")
       ->excludes(no_audio);
+  cmd->footer(
+      "Examples:\n"
+      "  bouncefit capture --replay drop.avi --out out/drop              # a clip as the camera\n"
+      "  bouncefit capture --device /dev/video0 --fps 120 --record drop.avi   # keep a live drop");
   cmd->callback([o] { Run(*o); });
 }
 

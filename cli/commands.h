@@ -19,7 +19,4 @@ void AddSimulateCommand(CLI::App& app);
 void AddPredictCommand(CLI::App& app);
 void AddReplayLogCommand(CLI::App& app);
 
-// For subcommands whose issue has not landed yet: a clear error, never fake output.
-[[noreturn]] void NotYetAvailable(const std::string& command, int issue);
-
 }  // namespace bouncefit::cli

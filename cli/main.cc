@@ -5,15 +5,6 @@
 #include "capture/frame_memory.h"
 #include "cli/commands.h"
 
-namespace bouncefit::cli {
-
-void NotYetAvailable(const std::string& command, int issue) {
-  throw std::runtime_error(command + " is not yet available (see issue " +
-                           std::to_string(issue) + ")");
-}
-
-}  // namespace bouncefit::cli
-
 int main(int argc, char** argv) {
   using namespace bouncefit::cli;
   bouncefit::KeepFreedFrameMemory();

@@ -90,6 +90,9 @@ void AddReplayLogCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--lcm-url", o->lcm_url, "LCM URL")->capture_default_str();
   cmd->add_flag("--quiet,-q", o->quiet, "print only the final line");
+  cmd->footer(
+      "Example (with `bouncefit detect` and `bouncefit fit` listening in other terminals):\n"
+      "  bouncefit replay-log out/sample/session.lcm");
   cmd->callback([o] { Run(*o); });
 }
 

@@ -30,6 +30,8 @@ void AddReportCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(300, 4000));
   cmd->add_flag("--quiet,-q", flags->quiet, "Print nothing on success");
+  cmd->footer("Example (after `bouncefit run --out out/sample`; then open out/sample/report.html):\n"
+              "  bouncefit report out/sample");
   cmd->callback([flags] {
     // `run a.mp4 b.mp4 --out DIR` leaves one directory per clip and the joint fit's drops.csv.
     const ReportOutcome out = IsSeveralClipsDirectory(flags->dir)

@@ -1,4 +1,4 @@
-// `bouncefit run a.mp4 b.mp4 ...`: several clips of one ball (issue 14 item 4), each run on its
+// `bouncefit run a.mp4 b.mp4 ...`: several clips of one ball, each run on its
 // own, their drops fitted jointly, and each drop written beside its simulation.
 #include <cstdio>
 #include <filesystem>

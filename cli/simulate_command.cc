@@ -241,6 +241,10 @@ void AddSimulateCommand(CLI::App& app) {
                 "List the coefficients: name, unit, default, bounds, what each one is");
   cmd->add_option("--render", o->render,
                   "Also render the simulated drop as a clip (.avi or .mp4) with synth's renderer");
+  cmd->footer(
+      "Examples:\n"
+      "  bouncefit simulate --ball pingpong --drop 1.0 --no-trajectory\n"
+      "  bouncefit simulate --coeffs out/sample/coefficients.json --drop 1.6 --no-trajectory");
   cmd->callback([o] { Run(*o); });
 }
 

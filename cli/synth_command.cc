@@ -184,6 +184,7 @@ void AddSynthCommand(CLI::App& app) {
   cmd->add_option("--room-noise", o->audio.noise_rms, "Room noise RMS, full scale 1")
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", o->quiet, "Print only the final summary line");
+  cmd->footer("Example:\n  bouncefit synth --ball softball --drop-height 1.6 --roll 1 --out soft.avi");
   cmd->callback([o] { Run(*o); });
 }
 

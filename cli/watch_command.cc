@@ -174,6 +174,9 @@ void AddWatchCommand(CLI::App& app) {
                   "Seconds without a message before showing \"waiting for data\"")
       ->capture_default_str()
       ->check(Positive());
+  cmd->footer(
+      "Example (in a second terminal while `bouncefit run --out out/sample` runs):\n"
+      "  bouncefit watch");
   cmd->callback([f] { RunWatch(*f); });
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 // What a video container says about its own clock beyond the frame times: the capture rate
 // a phone writes into a slow-motion file (frames captured at 120 or 240 fps, stored on a
-// slowed 30 fps timeline; NOTES.md "Footage from ordinary cameras"). The detector uses it
-// only as a hint that gravity against the ball's size must confirm.
+// slowed 30 fps timeline, sometimes only a middle part of the clip through the container's
+// edit list). The detector uses it only as a hint that gravity against the ball's size must
+// confirm (docs/ACCURACY.md "The clock").
 #include <string>
 
 namespace bouncefit {

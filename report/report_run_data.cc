@@ -322,7 +322,7 @@ ReportRunData LoadRunDirectory(const fs::path& dir) {
   if (auto p = optional("calibration.json")) run.calibration = LoadCalibration(*p);
   if (auto p = optional("fit.jsonl")) run.fits = LoadFits(*p);
   if (auto p = optional("simulated.csv")) run.simulated = LoadSimulated(*p);
-  // The sound's files (runs before issue 15, or --no-audio, have none: nothing to say).
+  // The sound's files (absent with --no-audio and in runs written without them: nothing to say).
   if (fs::exists(dir / "impacts.csv")) run.impacts = LoadImpacts(dir / "impacts.csv");
   if (fs::exists(dir / "waveform.csv")) run.waveform = LoadWaveform(dir / "waveform.csv");
   if (auto p = optional("summary.json")) run.summary = ParseJson(*p, ReadWholeFile(*p));

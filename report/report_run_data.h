@@ -80,7 +80,7 @@ struct ReportFit {
   int iterations = 0;
 };
 
-// impacts.csv: an impact heard, seen or both (issue 15).
+// impacts.csv: an impact heard, seen or both.
 struct ReportImpact {
   double t_s = 0;
   std::string source;  // "audio", "video" or "both"

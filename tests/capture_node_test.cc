@@ -13,7 +13,7 @@
 #include "bouncefit/ball_box_t.hpp"
 #include "capture/frame_recorder.h"
 #include "capture/v4l2_camera.h"
-#include "capture/v4l2_fake_device.h"
+#include "tests/v4l2_fake_device.h"
 #include "msgs/lcm_bus.h"
 #include "msgs/lcm_log_recorder.h"
 #include "replay/node/lcm_log_replay.h"

@@ -1,4 +1,4 @@
-// The must-shows of issue 4, end to end with real processes:
+// Capture and replay, end to end with real processes:
 //  - `bouncefit capture --replay CLIP` and `bouncefit detect` in two processes talk over udpm
 //    (ttl=0); the detector sees every box; lcm-logger records them; replaying that log with
 //    `bouncefit replay-log` gives the same boxes and the same peaks.

@@ -29,7 +29,7 @@ struct Case {
   double drop_m;
   double fps;
   double roll_deg;
-  // Motion kinds beyond a drop from rest (issue 13): a throw, a clip that begins after the
+  // Motion kinds beyond a drop from rest: a throw, a clip that begins after the
   // release (mid-bounce), a long exposure (motion blur); the name says which.
   std::string kind = "";
   double throw_up_mps = 0, throw_right_mps = 0, start_s = 0, exposure_s = 0;
@@ -174,8 +174,8 @@ INSTANTIATE_TEST_SUITE_P(
 
 // Real footage has no truth. The tennis clip has a ruler (its author used 253.7 px/m) and a
 // ball of known size; its free fall says 305 px/m, 20% more, while the ball's size agrees
-// with the ruler: the clip's 25 fps clock is not the camera's (NOTES.md: wrong frame timing
-// gives 20% errors in g). What must hold on real footage whatever the clock: the heights in
+// with the ruler: the clip's 25 fps clock is not the camera's (a wrong frame clock is a known source of
+// 20% errors in g in video analysis). What must hold on real footage whatever the clock: the heights in
 // metres agree with the scale-free flight-time heights g dt^2/8 (both scale alike with a
 // wrong clock), and the diameter cross-check exposes the inconsistency.
 TEST(DetectRealClips, TennisHeightsAgreeWithFlightTimes) {
@@ -214,7 +214,7 @@ TEST(DetectRealClips, TennisHeightsAgreeWithFlightTimes) {
 
 // `bouncefit detect` as a process of its own: boxes published from here over UDP multicast
 // (ttl=0), peaks printed by it, and it exits by itself after --exit-after-idle.
-// The clock (issue 13): a phone's slow-motion file holds frames captured at 120 fps on a
+// The clock: a phone's slow-motion file holds frames captured at 120 fps on a
 // 30 fps timeline and says so in its metadata (com.android.capture.fps). Made here from a
 // synth clip by stretching its timestamps 4x (ffmpeg -itsscale, no re-encoding). Gravity
 // read on that clock is 16x too small; the ball's size says so; with the container's word

@@ -1,4 +1,4 @@
-// The Bullet FEM ball (model/fem_ball_model.h, issue 16 spike), with real tetgen meshes and
+// The Bullet FEM ball (model/fem_ball_model.h, a trial measured and not adopted), with real tetgen meshes and
 // real Bullet deformable-body runs. Short drops (0.3 m) on the default 93-node mesh keep
 // each simulation well under a second of CPU.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// A sweep of first falls that are not clean falls from rest (docs/ACCURACY.md, "A first fall
-// that is not a clean fall from rest"): 3 balls at 24-120 fps dropped from rest or pushed down
+// A sweep of first falls that are not clean falls from rest (docs/ACCURACY.md, "Rendered drops
+// (synth truth)"): 3 balls at 24-120 fps dropped from rest or pushed down
 // by the hand, and falls smeared into 2.5 px of scatter at 24-30 fps. Prints how many drops
 // broke (in two, or a rebound numbered wrong) and how many rebound rows of 5 cm or more lie
 // beyond max(2 mm, 1%) of the truth, and holds the counts measured when it was written.
@@ -65,8 +65,7 @@ TEST(FirstFallSweep, DropsBrokenAndRowsOff) {
   for (int k = 0; k < kKinds; ++k)
     std::printf("%-20s %3d runs, %2d broken, %3d of %4d rebound rows off\n", kKindName[k],
                 tally[k].runs, tally[k].broken, tally[k].rows_off, tally[k].rows);
-  // Measured in the sixteenth session (9763098 before: 1, 4, 10 and 7 broken; 6b2807a: 1, 4, 30
-  // and 30).
+  // The bounds are the measured counts (docs/ACCURACY.md "Rendered drops (synth truth)").
   EXPECT_LE(tally[kFromRest].broken, 0);
   EXPECT_LE(tally[kPushed03].broken, 0);
   EXPECT_LE(tally[kPushed06].broken, 3);

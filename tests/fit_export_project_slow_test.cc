@@ -1,4 +1,4 @@
-// The fitted_ball project that `fit --export` writes (issue 14): configured, built against
+// The fitted_ball project that `fit --export` writes: configured, built against
 // the system's Bullet and run, it prints `simulate`'s bounce heights; it needs nothing of
 // bouncefit's; bad input is a one-line error.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // A fit's exported coefficients.json, run again: `simulate` (and `predict`) at the fitted
-// drop print exactly the heights the fit reported (issue 14). A real, small soft-body fit.
+// drop print exactly the heights the fit reported. A real, small soft-body fit.
 #include <gtest/gtest.h>
 
 #include <cstdio>

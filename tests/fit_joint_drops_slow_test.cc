@@ -1,4 +1,4 @@
-// Issue 14 item 4: several drops of one ball, one fit. Peaks of synth's point mass (a
+// Several drops of one ball, one fit. Peaks of synth's point mass (a
 // softball whose restitution falls with speed: e(v) = 0.42 - 0.03 v) dropped from 1.0 m and
 // from 1.6 m, given as two peak files to `bouncefit fit`; the joint answer lists both drops,
 // matches both, and predicts drops between them (0.7-1.6 m) within max(5 mm, 3%).

@@ -151,7 +151,7 @@ TEST(FitPresets, BrokenOverrideIsAOneLineError) {
   }
 }
 
-// The lookup no longer goes through the source path: from another working directory, with
+// The lookup does not go through the source path: from another working directory, with
 // no override, the tables are there all the same.
 TEST(FitPresets, LookupNeedsNeitherSourceTreeNorWorkingDirectory) {
   const auto dir = testing::ScratchDir("elsewhere");

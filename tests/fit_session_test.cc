@@ -193,7 +193,7 @@ TEST(FitWorker, NewSequenceFinalisesThePreviousDrop) {
   EXPECT_EQ(finals, 1);
 }
 
-// The ball dropped again in the same stream (issue 14 item 4): the second drop's final fit
+// The ball dropped again in the same stream: the second drop's final fit
 // takes the first drop's bounces too, each drop from its own height.
 TEST(FitWorker, AStreamsLaterDropIsFittedWithTheEarlierOnes) {
   const auto ball = *FindBallPreset("wiffle");
@@ -449,7 +449,7 @@ TEST(FitExport, JsonAndAFittedBallProjectWithEveryValue) {
   EXPECT_NE(data.str().find("{\"angular_stiffness\", 1}"), std::string::npos);
   for (const char* f : {"CMakeLists.txt", "main.cc", "fitted_ball.h", "model/soft_ball_world.cc"})
     EXPECT_TRUE(std::filesystem::exists(dir / "fitted_ball" / f)) << f;
-  // Exported again over an older export: a model file it no longer ships is gone (the
+  // Exported again over an older export: a model file it does not ship is gone (the
   // project globs model/*.cc).
   std::ofstream(dir / "fitted_ball" / "model" / "stale.cc") << "#error stale\n";
   WriteFitExports(dir, u, ball);

@@ -49,7 +49,8 @@ TEST_P(FinalFit, RmsWithinOnePercentOfTheDropOverAllBouncesAboveOneCentimetre) {
               ball.name.c_str(), r.size(), u.residual_m * 1000, 100 * u.residual_m / drop,
               u.evaluations, u.wall_time_s);
   EXPECT_LE(u.residual_m, 0.01 * drop);
-  // Bullet 3.24 ignores these (NOTES.md): the fit finds out and says so.
+  // Bullet 3.24's solver never reads a material's m_kAST and m_kVST (docs/MODEL.md): the fit
+  // finds out and says so.
   for (const char* name : {"angular_stiffness", "volume_stiffness"}) {
     bool found = false;
     for (const auto& n : u.no_effect) found = found || n == name;
@@ -57,7 +58,7 @@ TEST_P(FinalFit, RmsWithinOnePercentOfTheDropOverAllBouncesAboveOneCentimetre) {
   }
 }
 
-// Issue 14 item 5: the stored airball table goes through the floor dropped from 0.3 m. A
+// Safety: the stored airball table goes through the floor dropped from 0.3 m. A
 // final fit started from it rejects it (and every other candidate that diverges) inside the
 // search; the answer runs to rest from 0.3 m and from 2 m.
 TEST(FinalFitSafety, UnsafeCandidatesAreRejectedInsideTheSearch) {

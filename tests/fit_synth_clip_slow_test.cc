@@ -1,4 +1,4 @@
-// Issue 7's first must-show, end to end as a user runs it: `bouncefit synth` renders a 1 m
+// The fit end to end as a user runs it: `bouncefit synth` renders a 1 m
 // drop of each ball preset, `bouncefit run` tracks it, detects the apexes and fits the
 // Bullet soft body after the last bounce; the final fit's RMS of (simulated - recorded)
 // over every bounce above 1 cm is within 1% of the drop height. Real Bullet runs on the
@@ -78,12 +78,12 @@ TEST_P(FinalFitOnSynthClip, RmsWithinOnePercentOfTheDrop) {
     if (p["sequence"] == 0 && p["bounce"].get<int>() > 0 && p["height_m"].get<double>() >= 0.01)
       ++above;
   EXPECT_EQ(static_cast<int>(recorded.size()), above);
-  // One line per ball: the figures of docs/ACCURACY.md "Final fit".
+  // One line per ball: the figures of docs/ACCURACY.md "Final fit on rendered clips".
   std::printf("| %s | %.3f | %zu | %.2f | %.2f%% | %d | %.1f |\n", ball.c_str(), drop,
               recorded.size(), rms * 1000, 100 * rms / drop, fit["evaluations"].get<int>(),
               fit["wall_time_s"].get<double>());
   EXPECT_LE(rms, 0.01 * drop);
-  // Issue 14: the answer is the ensemble mean of perturbed free drops, within 1% as well.
+  // The answer is the ensemble mean of perturbed free drops, within 1% as well.
   const auto mean = fit["free_run_mean_m"].get<std::vector<double>>();
   ASSERT_EQ(mean.size(), recorded.size());
   double mean_sum = 0;

@@ -1,9 +1,9 @@
-// A hand-held camera (issue 13): a synth drop before a patterned wall, every frame moved by up
-// to 2 px each way (ffmpeg's crop at a random offset), as a phone held in a hand moves. The
-// finder compares frames to see what moved; with the picture moving, every brick edge moved
-// too and the ball was never chosen (brick: no row; poster: one false 3 cm row). It now moves
-// the frames it compares onto one another by the shift most textured tiles agree on
-// (track/picture_shift.h), and every rebound is found at its true height, numbered as it is.
+// A hand-held camera: a synth drop before a patterned wall, every frame moved by up to 2 px
+// each way (ffmpeg's crop at a random offset), as a phone held in a hand moves. The finder
+// compares frames to see what moved; with the picture moving, every brick edge would move too
+// and hide the ball, so it moves the frames it compares onto one another by the shift most
+// textured tiles agree on (track/picture_shift.h). Every rebound must be found at its true
+// height, numbered as it is.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
-// A sweep of drops whose release is not seen or not a drop (issue 13: "every arc between two
-// impacts is a bounce ... bounce 0 only when the release is seen"): 3 balls at 25-240 fps,
+// A sweep of drops whose release is not seen or not a drop (every arc between two impacts is
+// a bounce; bounce 0 only when the release is seen): 3 balls at 25-240 fps,
 // thrown up (0.5-2 m/s) or sideways (0.4-1.2 m/s) from a seen hold, and clips that begin
 // mid-bounce (0.5-1.5 s after the release), scale, drop height and roll drawn at random; the
 // detector as `bouncefit run --ball B` configures it (picture and ball size known). Prints,
@@ -81,8 +81,8 @@ TEST(NoReleaseSweep, ThrowsAndClipsBegunMidBounce) {
                 "%2d of %3d rows off\n",
                 kKindName[k], tally[k].runs, tally[k].whole, tally[k].broken, tally[k].missed,
                 tally[k].apexes, tally[k].false_peaks, tally[k].rows_off, tally[k].rows);
-  // Measured in the seventeenth session (before: 57, 59 and 46 whole). The begun mid-bounce
-  // runs not whole: a clip begun 2 frames before a rebound's apex at 120 fps and 8 at 240 fps
+  // The bounds are the measured counts (docs/ACCURACY.md "Rendered drops (synth truth)"). The
+  // begun mid-bounce runs not whole: a clip begun 2 frames before a rebound's apex at 120 fps and 8 at 240 fps
   // (the rise into it within a hold's jitter: taken for a release, bounce 0, every rebound
   // numbered one too low), one begun 0.7 frames after it (its vertex taken for a release out
   // of sight), and one with two false 1-2 cm hops.

@@ -112,7 +112,7 @@ TEST(RealClips, GivenWhiteTheArmAtTheBorderIsNotTheBall) {
   for (size_t k = 2; k < bs.size(); ++k) EXPECT_LT(bs[k].apex_m, bs[k - 1].apex_m) << k;
 }
 
-// Issue 13's must-show, one test per shared clip: `bouncefit run CLIP --ball B` with no
+// One test per shared clip: `bouncefit run CLIP --ball B` with no
 // other flag (--speed 0, --no-fit and memq:// only make it quick) finds the rebounds a person
 // counts (README, small ones included), no false peak (apexes fall within a drop), heights of 10 cm or more within 5% of the
 // flight-time heights g dt^2/8 (the heights refitted with the whole drop when it ended, which

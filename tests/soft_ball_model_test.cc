@@ -230,7 +230,7 @@ TEST(SoftBallModel, FacesAppendedSoPressureAndVolumeWork) {
   const auto mesh = model.Mesh({});
   EXPECT_FALSE(mesh->faces.empty());
   EXPECT_GT(mesh->SurfaceVolume(), 0);
-  // Without faces Bullet's volume is 0 and kPR gives NaN (NOTES.md); with them, a pressurised
+  // Without faces Bullet's volume is 0 and kPR gives NaN (docs/MODEL.md); with them, a pressurised
   // ball with volume conservation bounces.
   const SimulationResult r =
       model.Simulate({{"pressure", 2}, {"volume_conservation", 50}}, Drop(0.5, 2));
@@ -274,7 +274,7 @@ TEST(SoftBallModel, EarlyStopOnceBouncesAreTooLow) {
   EXPECT_LT(r.wall_time_s, 2.0);
 }
 
-// A fit asks for the bounces it recorded only (issue 14, cost): the run ends at the impact
+// A fit asks for the bounces it recorded only (it costs less): the run ends at the impact
 // after bounce k, with bounces 1..k bit for bit those of the full run, in less simulated time
 // (simulated, not wall time: wall time of a 0.05 s run is noise on a loaded CI machine).
 TEST(SoftBallModel, StopsOnceTheBouncesAskedForAreMeasured) {

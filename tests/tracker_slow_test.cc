@@ -102,8 +102,8 @@ TEST(TrackerRealClips, WhitePingPongBall) {
   EXPECT_GE(b.impacts, 4);
 }
 
-// Clips whose ball the old automatic choice (the saturated blob that moves) never found or
-// lost to the background: each must give a track with the bounces a person sees.
+// Clips whose ball a choice by saturation alone (the saturated blob that moves) never finds or
+// loses to the background: each must give a track with the bounces a person sees.
 struct RealTrackCase {
   const char* clip;
   int impacts_at_least;  // lowest points that stand out of the track (README count, minus the small ones)

@@ -55,7 +55,7 @@ TEST_P(TrackerPreset, CentreWithinAFewTenthsOfAPixel) {
 INSTANTIATE_TEST_SUITE_P(AllPresets, TrackerPreset,
                          ::testing::Values("pingpong", "wiffle", "softball", "airball"));
 
-// Scenes where the old choice (the saturated blob that moves) found nothing: the ball as
+// Scenes where a choice by saturation alone (the saturated blob that moves) finds nothing: the ball as
 // saturated as its wall, a patterned wall, a poster wall that shares the ball's hue
 // somewhere. The automatic choice must find the ball by its motion and its contrast with its
 // own surroundings, confirm it by its arc, and track it as well as a given colour.
@@ -439,7 +439,7 @@ TEST(Tracker, ACloseUpWhiteBallIsFollowedByItsBrightness) {
   EXPECT_NE(s.how.find("brighter than its surroundings"), std::string::npos) << s.how;
   EXPECT_GE(s.found, s.in_view * 9 / 10) << s.how;
   // One frame after a bounce the first, tight window cuts the ball and the cut blob's centroid
-  // is taken (26 px off): docs/ACCURACY.md "Close-up balls", not fixed.
+  // is taken (26 px off): a known gap, allowed once.
   EXPECT_LE(s.far, 1);
   EXPECT_EQ(s.on_strip, 0);
 }

@@ -1,4 +1,4 @@
-// Issue 14, end to end as a user meets it: a ball whose restitution falls with impact speed
+// Transfer, end to end as a user meets it: a ball whose restitution falls with impact speed
 // (synth's point mass, e(v) = e0 - k v, drag) is rendered dropped from 1.0 m; `bouncefit run`
 // tracks, detects and fits it; `bouncefit predict` then drops the fitted ball from 1.6 m, a
 // height it never saw. Its mean heights must be within max(5 mm, 3%) of the truth on every
@@ -120,7 +120,7 @@ INSTANTIATE_TEST_SUITE_P(Balls, Transfer,
                          [](const auto& info) { return std::string(info.param.name); });
 
 // Several clips of one ball, one run: `bouncefit run a.avi b.avi` runs each clip into its
-// own directory and fits the drops jointly (issue 14 item 4): the coefficients name both
+// own directory and fits the drops jointly: the coefficients name both
 // drops, and the ball predicts a third height it never saw (1.2 m, between them) within
 // max(5 mm, 3%) of the truth on every bounce of 2 cm or more.
 TEST(SeveralClips, RunFitsTheirDropsJointly) {

@@ -9,7 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "capture/v4l2_camera.h"
-#include "capture/v4l2_fake_device.h"
+#include "tests/v4l2_fake_device.h"
 
 namespace bouncefit {
 namespace {

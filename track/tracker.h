@@ -1,6 +1,6 @@
 #pragma once
-// Finds the ball in one frame. Owned by the tracker issue (#3); the capture node and the
-// run command use only this interface.
+// Finds the ball in one frame. The capture node and the run command use only this
+// interface.
 //
 // Pipeline (the seed paper's, then better): Gaussian blur -> YCbCr (YUYV frames are read as
 // they are) -> optional ROI -> chroma threshold around the ball colour (picked pixel, given

@@ -193,8 +193,8 @@ void ExtractYcc(const Frame& frame, cv::Rect rect, int step, double blur_sigma_p
     if (k > 0 && step == 1) {
       // BGR -> YCbCr is linear: blur the 8-bit pixels first (neighbours outside the rect
       // included), then convert. A view of the frame goes through OpenCV's float filter, not
-      // its fixed-point one (that needs BORDER_ISOLATED): tried, as many instructions on a
-      // ball's window, and other roundings (docs/PERFORMANCE.md, 27th session).
+      // its fixed-point one (that needs BORDER_ISOLATED): on a ball's window the fixed-point
+      // filter costs as many instructions and rounds otherwise, so the tracks would change.
       thread_local cv::Mat blurred;
       cv::GaussianBlur(frame.image(rect), blurred, cv::Size(k, k), blur_sigma_px, blur_sigma_px,
                        cv::BORDER_REPLICATE);

@@ -1,7 +1,7 @@
 #!/bin/bash
 # make_copies.sh [DIR]: copies of every shared real clip as another camera, encoder or hand
-# would give them (docs/ACCURACY.md, "Copies of the shared clips" and "A ball run together
-# with its shadow"), into DIR (default $REAL_RUNS_DIR or /tmp/bouncefit-real-runs/copies):
+# would give them (the harness's copies: docs/ACCURACY.md "Real clips"), into DIR (default
+# $REAL_RUNS_DIR or /tmp/bouncefit-real-runs/copies):
 #   shake0_  cropped 5 px each side, crf 18         crop8_  cropped 8 px each side
 #   s80_     scaled to 0.8                          eq_     brighter, less contrast and colour
 #   gam_     gamma 1.4, crf 23

@@ -1,4 +1,4 @@
-#include "capture/v4l2_fake_device.h"
+#include "tests/v4l2_fake_device.h"
 
 #include <fcntl.h>
 #include <linux/videodev2.h>
