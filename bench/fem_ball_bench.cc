@@ -29,7 +29,7 @@
 
 #include "model/ball_preset.h"
 #include "model/coefficient_table.h"
-#include "model/fem_ball_model.h"
+#include "bench/trial/fem_ball_model.h"
 #include "model/point_mass_drop.h"
 #include "model/soft_ball_model.h"
 

@@ -203,6 +203,7 @@ void AddPredictCommand(CLI::App& app) {
       "Expected bounce heights (ball bottom above the floor, m) of a fitted ball dropped from "
       "--drop: the mean and spread of an ensemble of tiny perturbations of the release, and the "
       "single unperturbed run (what `simulate` prints); either model.");
+  cmd->footer("Example:\n  bouncefit predict --coeffs out/sample/coefficients.json --drop 1.6 --gltf ball.glb");
   auto o = std::make_shared<PredictOptions>();
   cmd->add_option("--coeffs", o->coeffs, "a fit's coefficients.json (or a coefficient table)")
       ->required()

@@ -1,6 +1,6 @@
 #pragma once
 // Pixel-to-metre calibration of a static camera from the ball's own free flight, with no
-// ruler in the scene (NOTES.md, "Ball-drop physics"):
+// ruler in the scene:
 //  - scale: the fitted acceleration of the centre in px/s^2 divided by g is px/m (air drag
 //    is fitted with it, see detect/flight_model.h);
 //  - roll: the direction of that acceleration in the image;

@@ -6,8 +6,8 @@
 // true down (u) and along the floor (w), and a constant horizontal speed.
 //
 // FitFlight fits G, k and roll jointly with every arc's apex by Levenberg-Marquardt: the
-// free-fall calibration of the detector (NOTES.md: "fitted acceleration in px/s^2 divided by
-// g is px/m, and its direction is the camera roll"), with drag modelled rather than ignored
+// free-fall calibration of the detector (the fitted acceleration in px/s^2 divided by g is
+// px/m, and its direction is the camera roll), with drag modelled rather than ignored
 // (drag is up to 40% of g for a ping-pong ball at 5 m/s).
 #include <vector>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Seen apexes placed on the arcs the sound heard (NOTES.md "Sound"). A core with no I/O.
+// Seen apexes placed on the arcs the sound heard. A core with no I/O.
 //
 // Two heard impacts bound one arc, so one arc holds one apex: when the picture split an arc
 // in two (a 30 fps clip's few samples per small bounce, a noisy sample read as an impact),

@@ -1,6 +1,6 @@
 #pragma once
 // Impacts heard in a sound track: onsets of short broadband clicks, timed to the sample
-// (NOTES.md "Sound"). A core with no I/O: push mono samples with their times, get impacts
+// A core with no I/O: push mono samples with their times, get impacts
 // back once each is certain (a few ms after its onset).
 //
 // How: a high-pass (default 2 kHz) removes hum and most of speech's and music's energy; the

@@ -1,5 +1,5 @@
 #pragma once
-// Impacts heard and impacts seen, fused (NOTES.md "Sound"). A core with no I/O.
+// Impacts heard and impacts seen, fused. A core with no I/O.
 //
 // - The audio-video offset: the shift that pairs the most heard impacts with seen ones
 //   (within a frame or so), refined to the median of the pairs' differences.

@@ -1,6 +1,6 @@
 #pragma once
-// A free-running drop judged as an ensemble (docs/MODEL.md, "chaos floor";
-// ../shared/design/NOTES.md, "Fitting a chaotic simulator"): the same coefficients dropped
+// A free-running drop judged as an ensemble (the soft ball is chaotic in its coefficients: docs/MODEL.md;
+// multiple shooting and common random numbers, as for any chaotic simulator): the same coefficients dropped
 // from the release height plus tiny offsets, turned by tiny angles about the vertical, with
 // the same offsets for every coefficient set (common random numbers), so nearby sets compare
 // smoothly. The mean per bounce is the prediction, the spread its honest error bar.
@@ -36,7 +36,7 @@ DropEnsemble SimulateDropEnsemble(const BallModel& model, const CoefficientValue
                                   const SimulationOptions& drop,
                                   const DropEnsembleOptions& options = {});
 
-// Safety (issue 14 item 5): "" when the ball, dropped from each of these heights, runs until
+// Safety: "" when the ball, dropped from each of these heights, runs until
 // its bounces fall below min_bounce_m (or 6 s + 4 s/m) without diverging; else "diverges dropped from
 // H m (reason)" for the first that does. The drops run in parallel. max_bounces > 0: a short
 // check, each drop ends after that many bounces (the hardest impacts come first).

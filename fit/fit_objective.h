@@ -38,7 +38,7 @@ struct FitProblem {
   CoefficientValues fixed;            // every other coefficient (defaults when missing)
   SimulationOptions simulation;
   std::vector<double> recorded_m;     // r_1..r_k, metres
-  // Multiple shooting (../shared/design/NOTES.md, "Fitting a chaotic simulator"): bounce i
+  // Multiple shooting (Bock 1981; Baake et al., Phys. Rev. A 45, 1992): bounce i
   // is simulated as its own segment, the ball released at rest from the recorded apex i-1
   // (the drop height for i = 1), and s_i is that segment's first bounce. Errors cannot
   // compound from bounce to bounce, so the objective does not follow one draw of the chaos.
@@ -48,20 +48,20 @@ struct FitProblem {
   // parameters, so that a search visits a few cached meshes rather than a new mesh per
   // evaluation. Discrete coefficients are on a grid of 1 already.
   std::map<std::string, double> grid;
-  // Safety (issue 14 item 5): a point that would become the best is first checked with this
+  // Safety: a point that would become the best is first checked with this
   // (e.g. short drops from 0.3 and 2 m); a non-empty answer (why it is unsafe) rejects it as
   // a failed evaluation, so the search goes on elsewhere and never answers with it. Each
   // check costs safety_simulations runs, counted against the budget.
   std::function<std::string(const CoefficientValues&)> safety;
   int safety_simulations = 0;
-  // Timing (issue 14 item 3): the recorded flight times, impact to impact, of arcs 1..k (NaN:
+  // Timing: the recorded flight times, impact to impact, of arcs 1..k (NaN:
   // not seen), against the simulated ones: the objective adds (w (f_i - g_i))^2, w in m/s (at
   // 1 m/s a flight 2 ms off weighs as a height 2 mm off); a flight f weighs at most as the
   // flight-time height g f^2 / 8 it gives (g f / 4 m/s: a 0.1 s hop's flight 0.25 m/s).
   // 0 or none: heights only.
   std::vector<double> recorded_flight_s;
   double flight_weight_mps = 0;
-  // Further drops of the same ball fitted with this one (issue 14 item 4): each from its own
+  // Further drops of the same ball fitted with this one: each from its own
   // release height, its recorded heights (and flights) appended after this drop's in
   // recorded_m (recorded_flight_s); the objective sums over every drop.
   struct OtherDrop {

@@ -95,7 +95,7 @@ struct FitSessionConfig {
   // "segments": multiple shooting, every bounce its own segment from the recorded apex before
   // it (FitProblem::segments); "drop" (default): one free-running drop (the paper's). Not yet
   // the default: its free-running residual and transfer are not measured to beat "drop"
-  // (docs/ACCURACY.md, issue 14).
+  // (docs/ACCURACY.md).
   std::string objective = "drop";
   // The impact (docs/MODEL.md): "restitution" (default: the rebound law e(v) = e0 - k v; the
   // final fit is fit/restitution_fit.h's two stages, ~60 simulations; it transfers to other
@@ -107,9 +107,9 @@ struct FitSessionConfig {
   double flight_weight_mps = 1.0;
   int ensemble_members = 8;         // the final fit's free-running check (0: none)
   // A stream's later drops (the person drops the ball again) are fitted jointly with the
-  // earlier ones in the final fits (issue 14 item 4); false: each drop on its own.
+  // earlier ones in the final fits; false: each drop on its own.
   bool joint_drops = true;
-  // Safety (issue 14 item 5: the user may drop it anywhere in 0.3-2 m): inside the final
+  // Safety (the user may drop it anywhere in 0.3-2 m): inside the final
   // fit's search, a point that would become the best is first dropped from these heights
   // and from the fitted one, each until it settles, and rejected if one diverges (empty: no
   // check). The answer is dropped from them again after the fit (a warning if it diverges).
@@ -170,7 +170,7 @@ class FitSession {
   // Starts a new drop (forgets heights; keeps the warm start).
   void Reset(int sequence);
   // Keeps the drop recorded so far (when it has a bounce to fit) for the final fits that
-  // follow, fitted jointly with the next drops (issue 14 item 4), then starts a new drop.
+  // follow, fitted jointly with the next drops, then starts a new drop.
   void KeepDropAndReset(int sequence);
   int kept_drops() const { return static_cast<int>(kept_.size()); }
   // Records a peak (a later one of the same bounce replaces it: a revision). The start is

@@ -1,5 +1,5 @@
 #pragma once
-// The soft ball's restitution curve in two stages (issue 14; docs/MODEL.md, "the restitution
+// The soft ball's restitution curve in two stages (docs/MODEL.md, "the restitution
 // law"). A recorded drop measures restitution at a few impact speeds: apex r_{i-1} -> r_i
 // is one impact at about sqrt(2 g r_{i-1}), drag aside. That curve is what carries over to
 // another drop height, so it is fitted first and on its own:

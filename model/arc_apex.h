@@ -1,6 +1,6 @@
 #pragma once
 // The apex of a ballistic arc from samples around its top: a least-squares parabola
-// through the arc, not the top sample (NOTES.md: pixel noise dominates the half-frame
+// through the arc, not the top sample (pixel noise dominates the half-frame
 // timing error). Shared by the bounce detector (video) and the models (simulation), so
 // simulated and recorded heights are measured the same way.
 #include <vector>

@@ -1,8 +1,8 @@
 #pragma once
 // A simulated ball: coefficients in, bounce heights (and a trajectory) out.
 //
-// Implemented by the Bullet soft-body model (issue 6) and by the point-mass model; used by
-// the fitters (issue 7). Simulate() is const and thread-safe so that a fitter can run
+// Implemented by the Bullet soft-body model and by the point-mass model; used by the
+// fitters. Simulate() is const and thread-safe so that a fitter can run
 // several evaluations in parallel on one model object.
 #include <array>
 #include <cstdint>

@@ -17,7 +17,7 @@
 // as ok = false with the reason, never a crash or a hang.
 //
 // The heights are chaotic in the coefficients: a change of a few parts per million moves the
-// second and later bounces by percent (docs/MODEL.md, "chaos floor"). Fitters must treat
+// second and later bounces by percent (docs/MODEL.md). Fitters must treat
 // them as noisy.
 #include <string>
 #include <vector>

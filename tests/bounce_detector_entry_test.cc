@@ -355,7 +355,7 @@ INSTANTIATE_TEST_SUITE_P(
              std::to_string(i.param.frames_missed) + "_missed";
     });
 
-// Issue 13: no release needed. A throw (vertical and horizontal launch speed), a clip that
+// No release needed. A throw (vertical and horizontal launch speed), a clip that
 // begins mid-bounce, from 25 to 240 fps, with the exposure half the frame period (1/60 s at
 // 30 fps: the centre is the exposure average); every apex found within max(2 mm, 1%), no
 // false peak, and promptly (median <= 2 and max <= 4 frames after the apex).
@@ -413,7 +413,7 @@ TEST_P(DetectorMotionKinds, EveryApexWithoutARelease) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Issue13, DetectorMotionKinds,
+    NoRelease, DetectorMotionKinds,
     ::testing::Values(Motion{"dropped_30fps", "tennis", 1.0, 30, 0, 0, 0},
                       Motion{"dropped_25fps", "basketball", 1.2, 25, 0, 0, 0},
                       Motion{"thrown_up_60fps", "tennis", 0.8, 60, 1.5, 0.3, 0},

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "model/ball_preset.h"
-#include "model/fem_ball_model.h"
+#include "bench/trial/fem_ball_model.h"
 
 namespace bouncefit {
 namespace {

@@ -1,4 +1,4 @@
-// Issue 49's rendered situations, end to end as a user runs them (`bouncefit synth` then
+// The rendered situations of a fit that starts wherever the footage starts, end to end as a user runs them (`bouncefit synth` then
 // `bouncefit run CLIP --ball B`): a release not in view, a throw, a clip begun mid-bounce,
 // two drops in one clip, a 2.5 m drop onto a soft floor (e 0.47 at 7 m/s). Each gives a final
 // fit from whatever apex its footage starts at; the fitted ball's heights are within

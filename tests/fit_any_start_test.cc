@@ -1,4 +1,4 @@
-// Issue 49: any apex seen or heard is a state the fit starts from (the ball at that height,
+// Any apex seen or heard is a state the fit starts from (the ball at that height,
 // at rest vertically); bounce 0 used when seen, never required; several drops; a fit that
 // does not match its heights is no answer; the ball's own bounce standard as e at its speed.
 #include <gtest/gtest.h>

@@ -279,7 +279,7 @@ TEST(RealClipsMustShow, RedBallSlowMotion120On30fps) {
   ExpectMustShow({"red_ball_ceiling_drop_slomo120_30fps.mp4", "pingpong", 2, 3, 0.25});
 }
 
-// Issue 49's must-show, one test per shared clip whose README counts 2 rebounds or more (all
+// A fitted ball from every shared clip: one test per clip whose README counts 2 rebounds or more (all
 // 8): `bouncefit run CLIP --ball B` with no other flag (memq:// and --out only keep the test
 // to itself; the clip is replayed at its recorded pace, as a user sees it) writes a final fit
 // (coefficients.json, fitted_ball/) within max(3 mm, 5% of the highest fitted apex) of the

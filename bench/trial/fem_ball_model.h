@@ -1,5 +1,5 @@
 #pragma once
-// A ball as a Bullet 3.24 *deformable* body (issue 16 spike): the TetGen sphere of the
+// A ball as a Bullet 3.24 *deformable* body (a trial kept for its measurements): the TetGen sphere of the
 // classic model (model/tetgen_mesh.h) simulated by btDeformableMultiBodyDynamicsWorld with a
 // Neo-Hookean elastic force, so its coefficients are the ones an engineer knows: Young's
 // modulus, Poisson's ratio and a strain-rate damping. No artificial rebound force: a bounce

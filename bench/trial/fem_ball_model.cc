@@ -1,4 +1,4 @@
-#include "model/fem_ball_model.h"
+#include "bench/trial/fem_ball_model.h"
 
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
