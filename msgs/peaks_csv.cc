@@ -41,17 +41,19 @@ PeaksCsvRow PeaksCsvRowOf(const bounce_peak_t& m, int64_t t0) {
   return r;
 }
 
+std::string PeaksCsvLine(const PeaksCsvRow& r) {
+  return fmt::format("{},{},{},{},{},{},{},{},{}\n", r.bounce, CsvCell(r.t_s, 6), CsvCell(r.height_m, 5),
+                     CsvCell(r.height_px, 3), CsvCell(r.flight_height_m, 5), CsvCell(r.emitted_t_s, 6), r.heard,
+                     CsvCell(r.fused_height_m, 5), CsvCell(r.refit_height_m, 5));
+}
+
 void WritePeaksCsv(const std::filesystem::path& path, const std::vector<PeaksCsvRow>& rows) {
   const std::string tmp = path.string() + ".tmp";
   {
     std::ofstream f(tmp, std::ios::trunc);
     if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
     f << kHeader << '\n';
-    for (const PeaksCsvRow& r : rows)
-      f << r.bounce << ',' << CsvCell(r.t_s, 6) << ',' << CsvCell(r.height_m, 5) << ','
-        << CsvCell(r.height_px, 3) << ',' << CsvCell(r.flight_height_m, 5) << ','
-        << CsvCell(r.emitted_t_s, 6) << ',' << r.heard << ',' << CsvCell(r.fused_height_m, 5) << ','
-        << CsvCell(r.refit_height_m, 5) << '\n';
+    for (const PeaksCsvRow& r : rows) f << PeaksCsvLine(r);
     if (!f) throw std::runtime_error("cannot write '" + tmp + "'");
   }
   std::filesystem::rename(tmp, path);

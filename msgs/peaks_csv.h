@@ -29,6 +29,9 @@ struct PeaksCsvRow {
 // A final row (revision 3) of BOUNCE_PEAK as a peaks.csv row; t0: the stream's first frame.
 PeaksCsvRow PeaksCsvRowOf(const bounce_peak_t& m, int64_t t0_utime);
 
+// One row as a line of peaks.csv, its newline included (unknown cells empty).
+std::string PeaksCsvLine(const PeaksCsvRow& row);
+
 // Writes the rows through a temporary file renamed over `path` (a reader never sees half).
 // Throws std::runtime_error naming the file when it cannot be written.
 void WritePeaksCsv(const std::filesystem::path& path, const std::vector<PeaksCsvRow>& rows);

@@ -8,7 +8,6 @@
 #include <stdexcept>
 
 #include "detect/node/detect_node.h"
-#include "msgs/csv_cell.h"
 #include "msgs/lcm_bus.h"
 #include "msgs/node_clock.h"
 #include "msgs/msg_json.h"
@@ -130,10 +129,7 @@ void DetectStage::EmitPeak(bounce_peak_t m) {
   if (m.bounce == 0 && release_utime_ == 0) release_utime_ = m.apex_utime;
   if (peaks_csv_) {
     // The live row as it is emitted: whatever happens later, it is on disk.
-    const PeaksCsvRow r = PeaksCsvRowOf(m, t0_);
-    *peaks_csv_ << fmt::format("{},{:.6f},{},{},{},{:.6f},,,\n", r.bounce, r.t_s, CsvCell(r.height_m, 5),
-                               CsvCell(r.height_px, 3), CsvCell(r.flight_height_m, 5), r.emitted_t_s)
-                << std::flush;
+    *peaks_csv_ << PeaksCsvLine(PeaksCsvRowOf(m, t0_)) << std::flush;
   }
 }
 
@@ -218,9 +214,7 @@ void DetectStage::Finish() {
   std::vector<double> seen;
   for (const auto& d : summaries)
     for (const auto& i : d.impacts) seen.push_back(SecondsSince(i.utime, t0_));
-  const std::string no_sound = start_.sound.empty() || start_.sound.rfind("no ", 0) == 0 || start_.sound.rfind("off", 0) == 0
-                                   ? (start_.sound.empty() ? std::string("no sound") : start_.sound)
-                                   : std::string();
+  const std::string no_sound = start_.listening ? std::string() : start_.sound.empty() ? "no sound" : start_.sound;
   const double end_s = SecondsSince(have_end_ ? end_.utime : now_, t0_);
   notice_("sound: " + sound_->Finish(seen, end_s, no_sound).verdict);
   // What each emitted bounce became when its drop ended.
