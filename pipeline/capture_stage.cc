@@ -77,6 +77,7 @@ CaptureStage::CaptureStage(CaptureStageConfig config, LcmBus& bus, NoticeFn noti
     start_.container_tag = clock.tag;
   }
   start_.sound = config_.no_audio && is_file ? "off (--no-audio)" : sound_->Describe();
+  start_.listening = sound_->enabled();
 
   if (!config_.out_dir.empty()) {
     track_csv_ = std::make_unique<std::ofstream>(config_.out_dir / "track.csv", std::ios::trunc);
