@@ -169,7 +169,10 @@ void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
         if (c.fading_sum / hold_blocks_ < c.faded_level) Decide(c, out);
       }
     } else if (level < faded) {
-      c.fading_blocks = 1, c.fading_sum = 0, c.faded_level = faded;
+      // Half the decay under its peak on average: a ringing tail fluctuates about where it
+      // faded to; a plateau that dipped returns near the peak.
+      c.fading_blocks = 1, c.fading_sum = 0;
+      c.faded_level = std::max(faded, c.peak_level * std::pow(10.0, -config_.decay_db / 20));
     } else if (static_cast<double>(block - c.peak_block) * block_s > config_.max_click_s) {
       in_click_ = false;  // a sustained sound, not a click
     }
@@ -242,7 +245,21 @@ bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
   }
   // A click reaches its peak within a cycle or two of its onset; sound above the threshold
   // for longer before the peak is a ramp ahead of it (an encoder's pre-echo).
-  if (peak - onset > static_cast<int64_t>(0.001 * rate_)) onset = SteepestRise(onset, peak, history_start);
+  if (peak - onset > static_cast<int64_t>(0.001 * rate_)) {
+    onset = SteepestRise(onset, peak, history_start);
+  } else if (threshold > config_.onset_fraction * peak_abs) {
+    // A soft click, its first cycles within the noise: where the energy above the noise
+    // starts to accumulate (a Page-Hinkley change point: the minimum of the running sum
+    // of y^2 less four times the noise's power, from 2 ms before the peak).
+    const double drift = 4 * c.floor_energy;
+    double sum = 0, lowest = 0;
+    const int64_t back = std::max(history_start, peak - static_cast<int64_t>(0.002 * rate_));
+    for (int64_t s = back; s <= peak; ++s) {
+      const double y = history_[s & history_mask_];
+      if (sum < lowest || s == back) lowest = sum, onset = s;
+      sum += y * y - drift;
+    }
+  }
   if (onset - last_onset_sample_ < config_.min_spacing_s * rate_) return false;
   last_onset_sample_ = onset;
   AudioImpact impact;

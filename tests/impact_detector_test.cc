@@ -118,7 +118,7 @@ TEST(ImpactDetector, AClickBehindAnEncodersPreEchoRampIsHeardOnceAtTheClick) {
   std::normal_distribution<double> n01(0, 1);
   const int ramp = 1024;  // one AAC frame at 44.1 kHz
   for (size_t k = 0; k < drop.times.size(); ++k) {
-    const double click = sc.click_per_mps * drop.speeds[k];
+    const double click = sc.click_at_1mps * std::pow(drop.speeds[k], sc.click_exponent);
     const auto at = static_cast<int64_t>(std::lround(drop.times[k] * sc.sample_rate));
     for (int i = 0; i < ramp; ++i) {
       const int64_t s = at - ramp + i;
