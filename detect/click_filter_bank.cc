@@ -46,4 +46,17 @@ ClickFilterBank::ClickFilterBank(double highpass_hz, double top_hz, double bands
   for (int b = 0; b < n; ++b) bands_.push_back(Biquad::BandPass(edges_[b], edges_[b + 1], rate));
 }
 
+void ClickFilterBank::AddBandEnergies(const double* y, int n, double* energy) {
+  for (size_t b = 0; b < bands_.size(); ++b) {
+    Biquad q = bands_[b];
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+      const double v = q.Step(y[i]);
+      sum += v * v;
+    }
+    bands_[b] = q;
+    energy[b] += sum;
+  }
+}
+
 }  // namespace bouncefit

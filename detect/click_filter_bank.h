@@ -34,16 +34,12 @@ class ClickFilterBank {
   double band_low_hz(int b) const { return edges_[b]; }
   double band_high_hz(int b) const { return edges_[b + 1]; }
 
-  // One sample: returns the high-passed sample and adds each band's squared output to
-  // energy[b] (energy holds bands() values).
-  double Step(double x, double* energy) {
-    const double y = highpass_.Step(x);
-    for (std::size_t b = 0; b < bands_.size(); ++b) {
-      const double v = bands_[b].Step(y);
-      energy[b] += v * v;
-    }
-    return y;
-  }
+  // One sample through the high-pass.
+  double HighPass(double x) { return highpass_.Step(x); }
+  // n high-passed samples through every band: adds each band's sum of squares to
+  // energy[b] (energy holds bands() values). Band by band, so each filter's state stays
+  // in registers.
+  void AddBandEnergies(const double* y, int n, double* energy);
 
  private:
   Biquad highpass_;

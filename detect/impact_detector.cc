@@ -77,6 +77,7 @@ ImpactDetector::ImpactDetector(ImpactDetectorConfig config, int sample_rate)
     min_band_floor_.push_back(config_.min_floor * config_.min_floor * share);
   }
   block_acc_.assign(bands_, 0.0);
+  block_samples_.assign(block_len_, 0.0);
   block_energy_.assign(static_cast<size_t>(bands_) * window_blocks_, 0.0);
   window_.assign(static_cast<size_t>(bands_) * rise_blocks_, 0.0);
   energy_.assign(bands_, 0.0);
@@ -98,13 +99,16 @@ std::vector<AudioImpact> ImpactDetector::Push(double t0_s, const float* samples,
     const double expected = t_origin_s_ + static_cast<double>(next_sample_) / rate_;
     if (std::abs(t0_s - expected) > 2.0 / rate_) t_origin_s_ = t0_s - static_cast<double>(next_sample_) / rate_;
   }
-  double* acc = block_acc_.data();
   for (size_t i = 0; i < count; ++i) {
-    const double y = bank_.Step(samples[i], acc);
+    const double y = bank_.HighPass(samples[i]);
     history_[next_sample_ & history_mask_] = static_cast<float>(y);
     ++next_sample_;
     wide_acc_ += y * y;
-    if (++block_fill_ == block_len_) ProcessBlock(&out);
+    block_samples_[block_fill_] = y;
+    if (++block_fill_ == block_len_) {
+      bank_.AddBandEnergies(block_samples_.data(), block_len_, block_acc_.data());
+      ProcessBlock(&out);
+    }
   }
   return out;
 }
@@ -129,11 +133,10 @@ void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
   wide_acc_ = 0;
   block_fill_ = 0;
 
-  // Each band's energy over the window ending with this block, its floor, and the
-  // reference a click rises from: the louder of the floor and the band's loudest window in
-  // the rise window (leaving out the latest, which a click starting late in a block
-  // reaches).
-  double level = 0, base = 0;  // energy and reference over floor, bands averaged
+  // Each band's energy over the window ending with this block, and its floor.
+  double level = 0;  // energy over floor, bands averaged
+  int loud = 0;      // bands band_rise_db over their floor
+  const double rise_ratio = std::pow(10.0, config_.band_rise_db / 10);
   for (int b = 0; b < bands_; ++b) {
     double* ring = &block_energy_[static_cast<size_t>(b) * window_blocks_];
     ring[slot] = block_acc_[b] / block_len_;
@@ -142,19 +145,27 @@ void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
     for (int k = 0; k < window_blocks_; ++k) sum += ring[k];
     energy_[b] = sum / window_blocks_;
     floor_[b] = std::max(floors_[b].size() > 0 ? floors_[b].Value() : 0.0, min_band_floor_[b]);
-    const double* past = &window_[static_cast<size_t>(b) * rise_blocks_];
-    double before = 0;
-    for (int64_t j = block - rise_blocks_; j < block - skip_blocks_; ++j)
-      if (j >= 0) before = std::max(before, past[j % rise_blocks_]);
-    reference_[b] = std::max(before, floor_[b]);
     level += energy_[b] / floor_[b];
-    base += reference_[b] / floor_[b];
+    loud += energy_[b] >= rise_ratio * floor_[b];
   }
   level /= bands_;
-  base /= bands_;
 
+  // The onset's score, when enough bands stand over their floors to start a click: each
+  // band's rise over the louder of its floor and its loudest window in the rise window
+  // (leaving out the latest, which a click starting late in a block reaches).
   int rising = 0;
-  const double score = block >= std::max(20, rise_blocks_) ? Score(energy_.data(), reference_.data(), &rising) : 0;
+  double score = 0;
+  if (!in_click_ && 2 * loud >= min_bands_ && block >= std::max(20, rise_blocks_)) {
+    for (int b = 0; b < bands_; ++b) {
+      // The ring holds windows block - rise_blocks_ .. block - 1 from rise_slot on.
+      const double* past = &window_[static_cast<size_t>(b) * rise_blocks_];
+      double before = floor_[b];
+      for (int i = 0, at = rise_slot; i < rise_blocks_ - skip_blocks_; ++i, at = at + 1 == rise_blocks_ ? 0 : at + 1)
+        before = std::max(before, past[at]);
+      reference_[b] = before;
+    }
+    score = Score(energy_.data(), reference_.data(), &rising);
+  }
   const double block_s = static_cast<double>(block_len_) / rate_;
   if (in_click_) {
     Candidate& c = candidate_;

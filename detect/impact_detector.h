@@ -118,6 +118,7 @@ class ImpactDetector {
   std::vector<float> history_;
   int64_t history_mask_ = 0;
 
+  std::vector<double> block_samples_;  // this block's high-passed samples
   std::vector<double> block_acc_;   // per band, this block's sum of squares
   double wide_acc_ = 0;             // the high-passed signal's
   int block_fill_ = 0;

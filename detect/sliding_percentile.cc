@@ -39,11 +39,11 @@ void SlidingPercentile::Settle() {
   const int k = static_cast<int>(percentile_ * (count_ - 1));
   while (bin_ > 0 && below_ > k) below_ -= hist_[--bin_];
   while (bin_ < kBins - 1 && below_ + hist_[bin_] <= k) below_ += hist_[bin_++];
+  if (bin_ != value_bin_) value_bin_ = bin_, value_ = std::pow(10.0, (kLowDb + bin_ / kBinsPerDb) / 10);
 }
 
 double SlidingPercentile::Value() const {
-  if (count_ == 0) return 0;
-  return std::pow(10.0, (kLowDb + bin_ / kBinsPerDb) / 10);
+  return count_ == 0 ? 0 : value_;
 }
 
 }  // namespace bouncefit

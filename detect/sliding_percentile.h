@@ -29,6 +29,8 @@ class SlidingPercentile {
   int head_ = 0, count_ = 0;
   int bin_ = 0;    // the bin holding the percentile
   int below_ = 0;  // values in bins below bin_
+  int value_bin_ = -1;  // the bin value_ (its energy) was computed for
+  double value_ = 0;
 };
 
 }  // namespace bouncefit
