@@ -25,7 +25,8 @@ std::string ImpactDetectorConfig::Validate() const {
   if (!(rise_window_s >= 4 * block_s)) return "rise window must be >= four blocks";
   if (!(attack_s >= block_s && attack_s <= 0.1)) return "attack must be one block to 100 ms";
   if (!(max_click_s > block_s)) return "max click length must be > one block";
-  if (!(max_rise_s >= block_s && max_rise_s < rise_window_s)) return "max rise must be one block to the rise window";
+  if (!(max_rise_s >= block_s && max_rise_s < rise_window_s))
+    return "max rise must be one block to the rise window";
   if (!(fade_hold_s >= block_s && fade_hold_s <= 0.05)) return "fade hold must be one block to 50 ms";
   if (!(min_spacing_s >= 0)) return "min spacing must be >= 0 s";
   if (!(onset_fraction > 0 && onset_fraction < 1)) return "onset fraction must be in (0, 1)";
@@ -160,8 +161,10 @@ void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
       // The ring holds windows block - rise_blocks_ .. block - 1 from rise_slot on.
       const double* past = &window_[static_cast<size_t>(b) * rise_blocks_];
       double before = floor_[b];
-      for (int i = 0, at = rise_slot; i < rise_blocks_ - skip_blocks_; ++i, at = at + 1 == rise_blocks_ ? 0 : at + 1)
+      for (int i = 0, at = rise_slot; i < rise_blocks_ - skip_blocks_; ++i) {
         before = std::max(before, past[at]);
+        at = at + 1 == rise_blocks_ ? 0 : at + 1;
+      }
       reference_[b] = before;
     }
     score = Score(energy_.data(), reference_.data(), &rising);
@@ -170,7 +173,8 @@ void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
   if (in_click_) {
     Candidate& c = candidate_;
     if (level > c.peak_level) Peak(block, level, &c), c.fading_blocks = 0;
-    const double faded = std::max({c.peak_level * std::pow(10.0, -config_.decay_db / 10), 2.0, 2 * c.base_level});
+    const double faded =
+        std::max({c.peak_level * std::pow(10.0, -config_.decay_db / 10), 2.0, 2 * c.base_level});
     if (c.fading_blocks > 0) {
       // Faded: it must stay down for fade_hold_s (a click's tail; a hissed consonant
       // that dipped after its first step comes back up).
@@ -208,7 +212,8 @@ void ImpactDetector::Peak(int64_t block, double level, Candidate* c) const {
   // window fills the next) over the loudest it was from rise_window_s to max_rise_s before
   // (an encoder's pre-echo ramp, rising to just under the click, is far lower that long
   // before it; a hissed consonant's plateau is not).
-  const int step = std::min(rise_blocks_ - 1, std::max(skip_blocks_, static_cast<int>(std::lround(config_.max_rise_s * rate_ / block_len_))));
+  const int step =
+      std::min(rise_blocks_ - 1, std::max(skip_blocks_, Blocks(config_.max_rise_s, block_len_, rate_)));
   double score = 0, base = 0;
   int rising = 0;
   for (int b = 0; b < bands_; ++b) {
@@ -230,8 +235,10 @@ void ImpactDetector::Peak(int64_t block, double level, Candidate* c) const {
 }
 
 bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
-  // A click: at its loudest, a step of the full score in enough bands.
-  if (c.score < config_.min_score_db || c.rising < min_bands_) return false;
+  // A click: at its loudest, soon after its start, a step of the full score in enough bands.
+  if (c.score < config_.min_score_db || c.rising < min_bands_ ||
+      static_cast<double>(c.peak_block - c.start_block) * block_len_ / rate_ > config_.attack_s)
+    return false;
   // The click's peak: the largest |y| from a window before the step to a block after its
   // loudest block.
   const int64_t history_start = std::max<int64_t>(0, next_sample_ - static_cast<int64_t>(history_.size()));

@@ -11,14 +11,18 @@
 // scored by how many bands rise above both and by how much (each band's rise in dB,
 // capped, summed): a ball's click is broadband and sudden, so a soft one rises a little in
 // most bands at once, while a voice or a whistle rises in a few and room noise in none
-// for long. A score of half the threshold starts a candidate; within attack_s its bands
-// must reach the full score (a click, or a click behind the ramp of quantisation noise a
-// phone's AAC encoder spreads up to a frame, ~23 ms, ahead of a loud transient), and it
-// must fade within max_click_s of its peak (a click, not a note or a vowel).
+// for long. A score of half the threshold starts a candidate. At its loudest, within
+// attack_s of the start, the bands must stand the full score over what they were
+// max_rise_s to rise_window_s before (a click, or a click behind the ramp of quantisation
+// noise a phone's AAC encoder spreads up to a frame, ~23 ms, ahead of a loud transient;
+// not a hissed consonant, whose first milliseconds rise steeply but which keeps rising).
+// It must fade within max_click_s of its peak and stay down for fade_hold_s (a click and
+// its ringing tail, not a note, a vowel or a consonant's plateau).
 // Its onset is the first sample, going back from the click's peak, where the high-passed
 // signal is still above a fraction of the peak's amplitude (a ramp's pre-echo stays below
-// it). Strength is the peak amplitude; confidence grows with how far the score stood
-// above the threshold.
+// it), or, for a click whose first cycles are within the noise, where its energy starts to
+// accumulate. Strength is the peak amplitude; confidence grows with how far the score
+// stood above the threshold.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -48,7 +52,7 @@ struct ImpactDetectorConfig {
   double band_cap_db = 15;       // one band's share of the score at most
   double min_score_db = 30;      // summed rises of the bands to be a click (half starts one)
   double min_band_fraction = 0.5;  // ... with at least this fraction of the bands rising
-  double attack_s = 0.025;       // the full score is reached within this of the start
+  double attack_s = 0.025;       // the click is loudest within this of the start
   double max_rise_s = 0.006;     // its step: the loudest over what was this long before
   double max_click_s = 0.03;     // the click's energy falls below decay_db of its peak within
   double decay_db = 12;          //  this long after the peak (sustained sounds are not impacts)

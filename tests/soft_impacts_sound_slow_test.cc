@@ -14,30 +14,26 @@
 namespace bouncefit {
 namespace {
 
-using testing::BouncefitExe;
-using testing::ReadCsv;
-using testing::RunCommand;
-using testing::ScratchDir;
-
 struct Tally {
   int fast = 0, heard = 0, invented = 0;
 };
 
 void RunAndScore(const std::string& name, const std::string& ball, double drop_m, double seconds,
                  const std::string& sound, int seed, Tally* tally) {
-  const auto dir = ScratchDir(name);
+  const auto dir = testing::ScratchDir(name);
   const auto clip = dir / "clip.avi";
   std::string out;
-  ASSERT_EQ(RunCommand(BouncefitExe() + " synth -q --fps 60 --size 320x240 --ball " + ball +
-                           " --drop-height " + std::to_string(drop_m) + " --duration " +
-                           std::to_string(seconds) + " --seed " + std::to_string(seed) +
-                           " --sound " + sound + " --out " + clip.string(), &out), 0) << out;
+  const std::string synth = testing::BouncefitExe() + " synth -q --fps 60 --size 320x240 --ball " +
+                            ball + " --drop-height " + std::to_string(drop_m) + " --duration " +
+                            std::to_string(seconds) + " --seed " + std::to_string(seed) +
+                            " --sound " + sound + " --out " + clip.string();
+  ASSERT_EQ(testing::RunCommand(synth, &out), 0) << out;
   const SynthTruth t = LoadSynthTruth(SynthTruthPathFor(clip));
-  ASSERT_EQ(RunCommand(BouncefitExe() + " run " + clip.string() + " --ball " + ball +
-                           " --no-fit --speed 0 -q --lcm-url memq:// --out " + (dir / "run").string(), &out), 0)
-      << out;
+  const std::string run = testing::BouncefitExe() + " run " + clip.string() + " --ball " + ball +
+                          " --no-fit --speed 0 -q --lcm-url memq:// --out " + (dir / "run").string();
+  ASSERT_EQ(testing::RunCommand(run, &out), 0) << out;
   std::vector<double> heard;
-  for (const auto& r : ReadCsv(dir / "run" / "impacts.csv"))
+  for (const auto& r : testing::ReadCsv(dir / "run" / "impacts.csv"))
     if (r.at("source") != "video") heard.push_back(std::stod(r.at("t_s")));
   const auto near = [](double a, double b) { return std::abs(a - b) <= 0.02; };
   for (size_t k = 0; k < t.impact_times_s.size(); ++k) {
