@@ -183,6 +183,16 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--room-noise", o->audio.noise_rms, "Room noise RMS, full scale 1")
       ->capture_default_str();
+  cmd->add_option("--chatter-level", o->audio.chatter_rms, "The voices' RMS with --chatter, full scale 1")
+      ->capture_default_str();
+  cmd->add_option("--hum-level", o->audio.hum_rms, "The hum's RMS with --hum, full scale 1")
+      ->capture_default_str();
+  cmd->add_option("--click-level", o->audio.click_at_1mps,
+                  "A click's peak amplitude at an impact of 1 m/s, full scale 1")
+      ->capture_default_str();
+  cmd->add_option("--click-exponent", o->audio.click_exponent,
+                  "A click's amplitude grows as the impact speed (m/s) to this power")
+      ->capture_default_str();
   cmd->add_flag("--quiet,-q", o->quiet, "Print only the final summary line");
   cmd->footer("Example:\n  bouncefit synth --ball softball --drop-height 1.6 --roll 1 --out soft.avi");
   cmd->callback([o] { Run(*o); });

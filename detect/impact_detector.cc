@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <numbers>
 #include <stdexcept>
 
 namespace bouncefit {
@@ -15,63 +13,81 @@ double Db(double ratio) { return 10 * std::log10(std::max(ratio, 1e-30)); }
 
 std::string ImpactDetectorConfig::Validate() const {
   if (!(highpass_hz >= 0)) return "high-pass must be >= 0 Hz";
+  if (!(top_hz > highpass_hz)) return "the bands' top must be above the high-pass";
+  if (!(bands_per_octave > 0 && bands_per_octave <= 12)) return "bands per octave must be in (0, 12]";
   if (!(block_s > 0 && block_s <= 0.01)) return "block must be in (0, 10] ms";
+  if (!(window_s >= block_s && window_s <= 8 * block_s)) return "window must be 1 to 8 blocks";
   if (!(floor_window_s >= 20 * block_s)) return "noise-floor window must hold >= 20 blocks";
   if (!(floor_percentile > 0 && floor_percentile < 1)) return "floor percentile must be in (0, 1)";
-  if (!(min_snr_db > 0) || !(min_rise_db > 0) || !(decay_db > 0)) return "dB thresholds must be > 0";
-  if (!(rise_window_s >= block_s)) return "rise window must be >= one block";
+  if (!(band_rise_db > 0) || !(band_cap_db >= band_rise_db) || !(min_score_db > 0) || !(decay_db > 0))
+    return "dB thresholds must be > 0 (and the cap >= the band rise)";
+  if (!(min_band_fraction > 0 && min_band_fraction <= 1)) return "band fraction must be in (0, 1]";
+  if (!(rise_window_s >= 4 * block_s)) return "rise window must be >= four blocks";
   if (!(attack_s >= block_s && attack_s <= 0.1)) return "attack must be one block to 100 ms";
   if (!(max_click_s > block_s)) return "max click length must be > one block";
+  if (!(max_rise_s >= block_s && max_rise_s < rise_window_s))
+    return "max rise must be one block to the rise window";
+  if (!(fade_hold_s >= block_s && fade_hold_s <= 0.05)) return "fade hold must be one block to 50 ms";
   if (!(min_spacing_s >= 0)) return "min spacing must be >= 0 s";
   if (!(onset_fraction > 0 && onset_fraction < 1)) return "onset fraction must be in (0, 1)";
   if (!(min_floor > 0)) return "min floor must be > 0";
   return "";
 }
 
-ImpactDetector::ImpactDetector(ImpactDetectorConfig config, int sample_rate)
-    : config_(config), rate_(sample_rate) {
-  if (const std::string e = config_.Validate(); !e.empty())
+namespace {
+
+const ImpactDetectorConfig& Checked(const ImpactDetectorConfig& c, int rate) {
+  if (const std::string e = c.Validate(); !e.empty())
     throw std::invalid_argument("impact detector: " + e);
-  if (sample_rate < 4000 || sample_rate > 384000)
+  if (rate < 4000 || rate > 384000)
     throw std::invalid_argument("impact detector: sample rate must be 4-384 kHz, got " +
-                                std::to_string(sample_rate) + " Hz");
-  block_len_ = std::max(1, static_cast<int>(std::lround(config_.block_s * rate_)));
+                                std::to_string(rate) + " Hz");
+  return c;
+}
+
+int Blocks(double s, int block_len, int rate) {
+  return std::max(1, static_cast<int>(std::lround(s * rate / block_len)));
+}
+
+}  // namespace
+
+ImpactDetector::ImpactDetector(ImpactDetectorConfig config, int sample_rate)
+    : config_(Checked(config, sample_rate)),
+      rate_(sample_rate),
+      block_len_(std::max(1, static_cast<int>(std::lround(config_.block_s * rate_)))),
+      window_blocks_(Blocks(config_.window_s, block_len_, rate_)),
+      rise_blocks_(Blocks(config_.rise_window_s, block_len_, rate_)),
+      skip_blocks_(std::max(1, static_cast<int>(std::ceil(0.001 * rate_ / block_len_)))),
+      bank_(config_.highpass_hz, config_.top_hz, config_.bands_per_octave, rate_),
+      bands_(bank_.bands()),
+      min_bands_(std::max(1, static_cast<int>(std::ceil(config_.min_band_fraction * bands_ - 1e-9)))),
+      wide_floor_(Blocks(config_.floor_window_s, block_len_, rate_), config_.floor_percentile),
+      hold_blocks_(Blocks(config_.fade_hold_s, block_len_, rate_)) {
   const auto keep = static_cast<int64_t>(
       (config_.attack_s + config_.max_click_s + config_.rise_window_s + 0.01) * rate_ + 4 * block_len_);
   int64_t ring = 1;
   while (ring < keep) ring *= 2;
   history_.assign(static_cast<size_t>(ring), 0.0f);
   history_mask_ = ring - 1;
-  const double fc = std::min(config_.highpass_hz, 0.45 * rate_);
-  if (fc > 0) {  // RBJ cookbook high-pass, Q = 1/sqrt(2)
-    const double w = 2 * std::numbers::pi * fc / rate_;
-    const double alpha = std::sin(w) / std::numbers::sqrt2;
-    const double cw = std::cos(w);
-    const double a0 = 1 + alpha;
-    b0_ = (1 + cw) / 2 / a0;
-    b1_ = -(1 + cw) / a0;
-    b2_ = (1 + cw) / 2 / a0;
-    a1_ = -2 * cw / a0;
-    a2_ = (1 - alpha) / a0;
-  } else {
-    b0_ = 1;
+  rise_blocks_ = std::max(rise_blocks_, skip_blocks_ + 2);
+  const int floor_blocks = Blocks(config_.floor_window_s, block_len_, rate_);
+  for (int b = 0; b < bands_; ++b) {
+    floors_.emplace_back(floor_blocks, config_.floor_percentile);
+    // Digital silence: min_floor's RMS spread evenly over the band's share of the spectrum.
+    const double share = (bank_.band_high_hz(b) - bank_.band_low_hz(b)) / (0.5 * rate_);
+    min_band_floor_.push_back(config_.min_floor * config_.min_floor * share);
   }
+  block_acc_.assign(bands_, 0.0);
+  block_samples_.assign(block_len_, 0.0);
+  block_energy_.assign(static_cast<size_t>(bands_) * window_blocks_, 0.0);
+  window_.assign(static_cast<size_t>(bands_) * rise_blocks_, 0.0);
+  energy_.assign(bands_, 0.0);
+  floor_.assign(bands_, 0.0);
+  reference_.assign(bands_, 0.0);
 }
 
-int ImpactDetector::FloorBin(double energy) {
-  const double db = Db(energy);
-  return std::clamp(static_cast<int>(std::lround((db - kFloorLowDb) * kFloorBinsPerDb)), 0,
-                    kFloorBins - 1);
-}
-
-double ImpactDetector::Floor() {
-  if (block_energies_.empty()) return config_.min_floor * config_.min_floor;
-  const auto k = static_cast<int64_t>(config_.floor_percentile * (block_energies_.size() - 1));
-  int bin = 0;
-  for (int64_t seen = 0; bin < kFloorBins; ++bin)
-    if ((seen += floor_hist_[bin]) > k) break;
-  const double db = kFloorLowDb + static_cast<double>(bin) / kFloorBinsPerDb;
-  return std::max(std::pow(10.0, db / 10), config_.min_floor * config_.min_floor);
+double ImpactDetector::noise_floor_rms() const {
+  return std::sqrt(std::max(wide_floor_.Value(), config_.min_floor * config_.min_floor));
 }
 
 std::vector<AudioImpact> ImpactDetector::Push(double t0_s, const float* samples, size_t count) {
@@ -85,92 +101,149 @@ std::vector<AudioImpact> ImpactDetector::Push(double t0_s, const float* samples,
     if (std::abs(t0_s - expected) > 2.0 / rate_) t_origin_s_ = t0_s - static_cast<double>(next_sample_) / rate_;
   }
   for (size_t i = 0; i < count; ++i) {
-    const double x = samples[i];
-    const double y = b0_ * x + b1_ * x1_ + b2_ * x2_ - a1_ * y1_ - a2_ * y2_;
-    x2_ = x1_, x1_ = x, y2_ = y1_, y1_ = y;
+    const double y = bank_.HighPass(samples[i]);
     history_[next_sample_ & history_mask_] = static_cast<float>(y);
     ++next_sample_;
-    block_energy_acc_ += y * y;
-    if (++block_fill_ == block_len_) ProcessBlock(&out);
+    wide_acc_ += y * y;
+    block_samples_[block_fill_] = y;
+    if (++block_fill_ == block_len_) {
+      bank_.AddBandEnergies(block_samples_.data(), block_len_, block_acc_.data());
+      ProcessBlock(&out);
+    }
   }
   return out;
 }
 
+double ImpactDetector::Score(const double* energy, const double* reference, int* rising) const {
+  double score = 0;
+  *rising = 0;
+  for (int b = 0; b < bands_; ++b) {
+    const double rise = Db(energy[b] / reference[b]);
+    if (rise >= config_.band_rise_db) ++*rising;
+    score += std::clamp(rise, 0.0, config_.band_cap_db);
+  }
+  return score;
+}
+
 void ImpactDetector::ProcessBlock(std::vector<AudioImpact>* out) {
-  const double e = block_energy_acc_ / block_len_;
-  block_energy_acc_ = 0;
-  block_fill_ = 0;
   const int64_t block = block_index_++;
   const int64_t block_start = next_sample_ - block_len_;
+  const int slot = static_cast<int>(block % window_blocks_);
+  const int rise_slot = static_cast<int>(block % rise_blocks_);
+  const double wide = wide_acc_ / block_len_;
+  wide_acc_ = 0;
+  block_fill_ = 0;
 
-  if (block % 8 == 0 || block_energies_.size() < 40) floor_rms_ = std::sqrt(Floor());
-  const double floor_e = floor_rms_ * floor_rms_;
-
-  if (in_click_ && Db(e / candidate_.peak_energy) >= config_.min_rise_db) {
-    // Far louder than what triggered: a new click on top of a weaker sound; start over.
-    candidate_.before_energy = candidate_.peak_energy;
-    candidate_.early_energy = e;
-    candidate_.block = block;
-    candidate_.peak_energy = e;
-    candidate_.peak_block = block;
+  // Each band's energy over the window ending with this block, and its floor.
+  double level = 0;  // energy over floor, bands averaged
+  int loud = 0;      // bands band_rise_db over their floor
+  const double rise_ratio = std::pow(10.0, config_.band_rise_db / 10);
+  for (int b = 0; b < bands_; ++b) {
+    double* ring = &block_energy_[static_cast<size_t>(b) * window_blocks_];
+    ring[slot] = block_acc_[b] / block_len_;
+    block_acc_[b] = 0;
+    double sum = 0;
+    for (int k = 0; k < window_blocks_; ++k) sum += ring[k];
+    energy_[b] = sum / window_blocks_;
+    floor_[b] = std::max(floors_[b].size() > 0 ? floors_[b].Value() : 0.0, min_band_floor_[b]);
+    level += energy_[b] / floor_[b];
+    loud += energy_[b] >= rise_ratio * floor_[b];
   }
+  level /= bands_;
+
+  // The onset's score, when enough bands stand over their floors to start a click: each
+  // band's rise over the louder of its floor and its loudest window in the rise window
+  // (leaving out the latest, which a click starting late in a block reaches).
+  int rising = 0;
+  double score = 0;
+  if (!in_click_ && 2 * loud >= min_bands_ && block >= std::max(20, rise_blocks_)) {
+    for (int b = 0; b < bands_; ++b) {
+      // The ring holds windows block - rise_blocks_ .. block - 1 from rise_slot on.
+      const double* past = &window_[static_cast<size_t>(b) * rise_blocks_];
+      double before = floor_[b];
+      for (int i = 0, at = rise_slot; i < rise_blocks_ - skip_blocks_; ++i) {
+        before = std::max(before, past[at]);
+        at = at + 1 == rise_blocks_ ? 0 : at + 1;
+      }
+      reference_[b] = before;
+    }
+    score = Score(energy_.data(), reference_.data(), &rising);
+  }
+  const double block_s = static_cast<double>(block_len_) / rate_;
   if (in_click_) {
-    if (e > candidate_.peak_energy) candidate_.peak_energy = e, candidate_.peak_block = block;
-    const double age_s = static_cast<double>(block - candidate_.block) * block_len_ / rate_;
-    if (age_s <= config_.attack_s) candidate_.early_energy = std::max(candidate_.early_energy, e);
-    const double faded = candidate_.peak_energy * std::pow(10.0, -config_.decay_db / 10);
-    const double since_peak_s =
-        static_cast<double>(block - candidate_.peak_block) * block_len_ / rate_;
-    if (e < faded || e < 2 * floor_e) {
-      in_click_ = false;
-      Decide(candidate_, out);
-    } else if (since_peak_s > config_.max_click_s ||
-               age_s > config_.attack_s + config_.max_click_s) {
+    Candidate& c = candidate_;
+    if (level > c.peak_level) Peak(block, level, &c), c.fading_blocks = 0;
+    const double faded =
+        std::max({c.peak_level * std::pow(10.0, -config_.decay_db / 10), 2.0, 2 * c.base_level});
+    if (c.fading_blocks > 0) {
+      // Faded: it must stay down for fade_hold_s (a click's tail; a hissed consonant
+      // that dipped after its first step comes back up).
+      c.fading_sum += level;
+      if (++c.fading_blocks > hold_blocks_) {
+        in_click_ = false;
+        if (c.fading_sum / hold_blocks_ < c.faded_level) Decide(c, out);
+      }
+    } else if (level < faded) {
+      // Half the decay under its peak on average: a ringing tail fluctuates about where it
+      // faded to; a plateau that dipped returns near the peak.
+      c.fading_blocks = 1, c.fading_sum = 0;
+      c.faded_level = std::max(faded, c.peak_level * std::pow(10.0, -config_.decay_db / 20));
+    } else if (static_cast<double>(block - c.peak_block) * block_s > config_.max_click_s) {
       in_click_ = false;  // a sustained sound, not a click
     }
-  } else if (block_energies_.size() >= 20) {
-    // The loudest block of the rise window before it, skipping the last millisecond (a
-    // click that starts late in a block puts part of itself there). A voice's pitch pulses
-    // or a drum roll repeat within the window; an impact stands alone.
-    const size_t n = std::min(block_energies_.size(),
-                              static_cast<size_t>(std::ceil(config_.rise_window_s * rate_ / block_len_)));
-    const size_t skip = std::min(n - 1, static_cast<size_t>(std::ceil(0.001 * rate_ / block_len_)));
-    double before = 0;
-    for (size_t k = block_energies_.size() - n; k < block_energies_.size() - skip; ++k)
-      before = std::max(before, block_energies_[k]);
-    const double snr = Db(e / floor_e);
-    const double rise = Db(e / std::max(before, floor_e));
-    const bool spaced =
-        block_start - last_onset_sample_ >= config_.min_spacing_s * rate_;
-    // Triggered at half the rise in dB; the click's attack must reach the full rise.
-    if (snr >= config_.min_snr_db && rise >= config_.min_rise_db / 2 && spaced) {
-      in_click_ = true;
-      candidate_ = Candidate{};
-      candidate_.block = block;
-      candidate_.peak_energy = e;
-      candidate_.peak_block = block;
-      candidate_.early_energy = e;
-      candidate_.before_energy = std::max(before, floor_e);
-      candidate_.floor_energy = floor_e;
-    }
+  } else if (score >= config_.min_score_db / 2 && 2 * rising >= min_bands_ &&
+             block_start - last_onset_sample_ >= config_.min_spacing_s * rate_) {
+    // Started at half the score; Decide asks for the full score at its loudest.
+    in_click_ = true;
+    candidate_.start_block = block;
+    candidate_.fading_blocks = 0;
+    candidate_.floor_energy = std::max(wide_floor_.Value(), config_.min_floor * config_.min_floor);
+    Peak(block, level, &candidate_);
   }
-  block_energies_.push_back(e);
-  ++floor_hist_[FloorBin(e)];
-  const size_t window = static_cast<size_t>(config_.floor_window_s * rate_ / block_len_);
-  while (block_energies_.size() > window) {
-    --floor_hist_[FloorBin(block_energies_.front())];
-    block_energies_.pop_front();
+  for (int b = 0; b < bands_; ++b) {
+    window_[static_cast<size_t>(b) * rise_blocks_ + rise_slot] = energy_[b];
+    floors_[b].Push(energy_[b]);
   }
+  wide_floor_.Push(wide);
+}
+
+void ImpactDetector::Peak(int64_t block, double level, Candidate* c) const {
+  // The click's step: each band's energy now (or a window ago: a click starting late in a
+  // window fills the next) over the loudest it was from rise_window_s to max_rise_s before
+  // (an encoder's pre-echo ramp, rising to just under the click, is far lower that long
+  // before it; a hissed consonant's plateau is not).
+  const int step =
+      std::min(rise_blocks_ - 1, std::max(skip_blocks_, Blocks(config_.max_rise_s, block_len_, rate_)));
+  double score = 0, base = 0;
+  int rising = 0;
+  for (int b = 0; b < bands_; ++b) {
+    const double* past = &window_[static_cast<size_t>(b) * rise_blocks_];
+    const double top = std::max(energy_[b], block >= 1 ? past[(block - 1) % rise_blocks_] : 0.0);
+    double before = floor_[b];
+    for (int64_t j = block - rise_blocks_; j <= block - step; ++j)
+      if (j >= 0) before = std::max(before, past[j % rise_blocks_]);
+    const double rise = Db(top / before);
+    if (rise >= config_.band_rise_db) ++rising;
+    score += std::clamp(rise, 0.0, config_.band_cap_db);
+    base += before / floor_[b];
+  }
+  c->peak_block = block;
+  c->peak_level = level;
+  c->score = score;
+  c->rising = rising;
+  c->base_level = base / bands_;
 }
 
 bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
-  const double rise_db = Db(c.early_energy / c.before_energy);
-  if (rise_db < config_.min_rise_db) return false;
-  // The click's peak: the largest |y| from a block before the trigger to a block after its
+  // A click: at its loudest, soon after its start, a step of the full score in enough bands.
+  if (c.score < config_.min_score_db || c.rising < min_bands_ ||
+      static_cast<double>(c.peak_block - c.start_block) * block_len_ / rate_ > config_.attack_s)
+    return false;
+  // The click's peak: the largest |y| from a window before the step to a block after its
   // loudest block.
   const int64_t history_start = std::max<int64_t>(0, next_sample_ - static_cast<int64_t>(history_.size()));
-  const int64_t trigger = c.block * block_len_;
-  const int64_t from = std::max(history_start, trigger - block_len_);
+  const int64_t start = c.start_block * block_len_;
+  const int64_t from = std::max(history_start, start - window_blocks_ * block_len_);
   const int64_t to = std::min<int64_t>(next_sample_ - 1, (c.peak_block + 2) * block_len_);
   int64_t peak = from;
   double peak_abs = 0;
@@ -190,17 +263,29 @@ bool ImpactDetector::Decide(const Candidate& c, std::vector<AudioImpact>* out) {
   }
   // A click reaches its peak within a cycle or two of its onset; sound above the threshold
   // for longer before the peak is a ramp ahead of it (an encoder's pre-echo).
-  if (peak - onset > static_cast<int64_t>(0.001 * rate_)) onset = SteepestRise(onset, peak, history_start);
+  if (peak - onset > static_cast<int64_t>(0.001 * rate_)) {
+    onset = SteepestRise(onset, peak, history_start);
+  } else if (threshold > config_.onset_fraction * peak_abs) {
+    // A soft click, its first cycles within the noise: where the energy above the noise
+    // starts to accumulate (a Page-Hinkley change point: the minimum of the running sum
+    // of y^2 less four times the noise's power, from 2 ms before the peak).
+    const double drift = 4 * c.floor_energy;
+    double sum = 0, lowest = 0;
+    const int64_t back = std::max(history_start, peak - static_cast<int64_t>(0.002 * rate_));
+    for (int64_t s = back; s <= peak; ++s) {
+      const double y = history_[s & history_mask_];
+      if (sum < lowest || s == back) lowest = sum, onset = s;
+      sum += y * y - drift;
+    }
+  }
   if (onset - last_onset_sample_ < config_.min_spacing_s * rate_) return false;
   last_onset_sample_ = onset;
   AudioImpact impact;
   impact.t_s = t_origin_s_ + static_cast<double>(onset) / rate_;
   impact.strength = peak_abs;
-  impact.snr_db = Db(c.peak_energy / c.floor_energy);
-  // Confidence: how far above the thresholds the click stood (10 dB margin each = certain).
-  const double snr_margin = (impact.snr_db - config_.min_snr_db) / 10;
-  const double rise_margin = (rise_db - config_.min_rise_db) / 10;
-  impact.confidence = std::clamp(0.5 + 0.5 * std::min(snr_margin, rise_margin), 0.0, 1.0);
+  impact.snr_db = Db(c.peak_level);
+  // Confidence: how far above the threshold the score stood (twice the threshold = certain).
+  impact.confidence = std::clamp(0.5 + 0.5 * (c.score - config_.min_score_db) / config_.min_score_db, 0.0, 1.0);
   out->push_back(impact);
   return true;
 }

@@ -81,7 +81,8 @@ void AddChatter(std::vector<float>* out, int rate, double rms, std::mt19937_64& 
 std::string SynthAudioConfig::Validate() const {
   if (sample_rate < 8000 || sample_rate > 192000) return "sound sample rate must be 8-192 kHz";
   if (!std::isfinite(offset_s) || std::abs(offset_s) > 5) return "sound offset must be within +-5 s";
-  if (!(click_per_mps > 0 && click_per_mps <= 1)) return "click level must be in (0, 1] per m/s";
+  if (!(click_at_1mps > 0 && click_at_1mps <= 1)) return "click level must be in (0, 1] at 1 m/s";
+  if (!(click_exponent >= 0.5 && click_exponent <= 3)) return "click exponent must be in [0.5, 3]";
   if (!(click_decay_s > 0 && click_decay_s <= 0.05)) return "click decay must be in (0, 50] ms";
   if (!(noise_rms >= 0 && noise_rms < 0.5)) return "room noise must be in [0, 0.5) full scale";
   if (!(chatter_rms >= 0 && chatter_rms < 0.5)) return "chatter level must be in [0, 0.5)";
@@ -111,7 +112,8 @@ std::vector<float> RenderSynthAudio(const SynthAudioConfig& c, double duration_s
   }
   if (c.chatter) AddChatter(&out, c.sample_rate, c.chatter_rms, rng);
   for (size_t k = 0; k < impact_times_s.size(); ++k) {
-    const double amp = std::min(0.9, c.click_per_mps * std::abs(impact_speeds_mps[k]));
+    const double amp =
+        std::min(0.9, c.click_at_1mps * std::pow(std::abs(impact_speeds_mps[k]), c.click_exponent));
     AddClick(&out, c.sample_rate, impact_times_s[k] + c.offset_s, amp, c.click_decay_s, rng);
   }
   for (auto& s : out) s = std::clamp(s, -1.0f, 1.0f);

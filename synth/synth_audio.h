@@ -12,7 +12,10 @@ namespace bouncefit {
 struct SynthAudioConfig {
   int sample_rate = 44100;
   double offset_s = 0;          // the sound lags the picture by this (negative: leads), s
-  double click_per_mps = 0.08;  // click peak amplitude per m/s of impact speed (full scale 1)
+  // Click peak amplitude (full scale 1) at 1 m/s, growing as the impact speed to
+  // click_exponent: the shared real clips' clicks grow as speed^1.1 to speed^1.8.
+  double click_at_1mps = 0.08;
+  double click_exponent = 1.3;
   double click_decay_s = 0.0015;
   double noise_rms = 0.002;     // room noise (about -54 dBFS)
   bool chatter = false;         // voices in the room: voiced syllables and hissed consonants

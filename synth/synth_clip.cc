@@ -136,6 +136,11 @@ void AddClipSound(const SynthClipConfig& c, const SynthTrajectory& traj, SynthTr
   truth->sound_offset_s = c.sound->offset_s;
   truth->sound_chatter = c.sound->chatter;
   truth->sound_hum = c.sound->hum;
+  truth->sound_noise_rms = c.sound->noise_rms;
+  truth->sound_chatter_rms = c.sound->chatter_rms;
+  truth->sound_hum_rms = c.sound->hum_rms;
+  truth->sound_click_at_1mps = c.sound->click_at_1mps;
+  truth->sound_click_exponent = c.sound->click_exponent;
 }
 
 }  // namespace

@@ -64,6 +64,11 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
                   {"offset_s", t.sound_offset_s},
                   {"chatter", t.sound_chatter},
                   {"hum", t.sound_hum},
+                  {"room_noise_rms", t.sound_noise_rms},
+                  {"chatter_rms", t.sound_chatter ? t.sound_chatter_rms : 0.0},
+                  {"hum_rms", t.sound_hum ? t.sound_hum_rms : 0.0},
+                  {"click_at_1mps", t.sound_click_at_1mps},
+                  {"click_exponent", t.sound_click_exponent},
                   {"impact_speeds_mps", t.impact_speeds_mps}};
   ojson frames = ojson::array();
   for (const auto& f : t.frames) {
@@ -193,6 +198,13 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
     t.sound_offset_s = Get<double>(sound, "offset_s", where + " sound");
     t.sound_chatter = Get<bool>(sound, "chatter", where + " sound");
     t.sound_hum = Get<bool>(sound, "hum", where + " sound");
+    if (sound.contains("room_noise_rms")) {  // files written before the levels lack them
+      t.sound_noise_rms = Get<double>(sound, "room_noise_rms", where + " sound");
+      t.sound_chatter_rms = Get<double>(sound, "chatter_rms", where + " sound");
+      t.sound_hum_rms = Get<double>(sound, "hum_rms", where + " sound");
+      t.sound_click_at_1mps = Get<double>(sound, "click_at_1mps", where + " sound");
+      t.sound_click_exponent = Get<double>(sound, "click_exponent", where + " sound");
+    }
     t.impact_speeds_mps = Get<std::vector<double>>(sound, "impact_speeds_mps", where + " sound");
   }
 

@@ -66,6 +66,10 @@ struct SynthTruth {
   int sound_sample_rate = 0;
   double sound_offset_s = 0;               // the sound lags the picture by this, s
   bool sound_chatter = false, sound_hum = false;
+  // Levels, full scale 1: the room noise's, the voices' and the hum's RMS (when mixed in),
+  // a click's peak at 1 m/s and the power of the speed it grows with.
+  double sound_noise_rms = 0, sound_chatter_rms = 0, sound_hum_rms = 0;
+  double sound_click_at_1mps = 0, sound_click_exponent = 1;
   std::vector<double> impact_speeds_mps;   // one per impact time
   std::vector<SynthTruthFrame> frames;
 };
