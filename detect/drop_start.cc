@@ -210,6 +210,12 @@ std::optional<DropStartFound> DropStart::ArcFromUnseenStart() {
   // The bend must show: the parabola's sag over the run beyond the gate.
   if (!(c(2, 0) * span * span / 4 > scene_.Gate())) return std::nullopt;
   if (std::abs(c(2, 1)) > 0.35 * c(2, 0)) return std::nullopt;
+  // The lock waits for the ball seen falling from the highest it rose, by more than the gate
+  // twice: a hand's lift slows into a hold as a rising throw slows into its vertex, but only
+  // a flight falls on from there.
+  double top = Down(run.front());
+  for (const DetectorSample& q : run) top = std::min(top, Down(q));
+  if (!(Down(run.back()) - top > 2 * scene_.Gate())) return std::nullopt;
   // A hand moves the ball along gentle curves too: with the ball's size known, the bend must
   // be free flight's on some clock the file may have (SlowdownOfBend).
   const double slowdown = scene_.SlowdownOfBend(2 * c(2, 0));
