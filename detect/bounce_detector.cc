@@ -45,6 +45,8 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
     return fail("off-arc radius share must be >= 0");
   if (max_late_drops < 0) return fail("max late drops must be >= 0");
   if (impact_confirm_samples < 1) return fail("impact confirmation needs >= 1 sample");
+  if (!(impact_time_sigma_frames > 0)) return fail("impact time sigma must be > 0 frames");
+  if (!(flight_check_sigmas >= 0)) return fail("flight check sigmas must be >= 0");
   if (bounce0_rising_samples < 1) return fail("bounce 0 needs >= 1 rising sample");
   return true;
 }

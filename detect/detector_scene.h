@@ -37,6 +37,9 @@ struct DetectorArc {
   bool entered = false;  // the first arc of a drop, not from rest: thrown, or already
                          // in flight when first seen
   bool apex_emitted = false;
+  // Its apex disagreed with the flight time since the impact before it: it waits for the
+  // impact after it, then both sides of the flight judge it (detect/apex_flight_check.h).
+  bool apex_held = false;
   int late_drops = 0;  // first samples dropped later than straddle_frames after the impact
   bool fit_ok = false;
   FlightArcParams fit;
