@@ -80,6 +80,7 @@ void ValidateSynthClipConfig(const SynthClipConfig& c) {
     Require(std::isfinite(d) && d >= 0.2 && d <= 50, "drop distances must be in 0.2-50 m");
   for (double h : c.drop_heights_m)
     Require(std::isfinite(h) && h > 0 && h <= 20, "drop heights must be in (0, 20] m");
+  Require(std::isfinite(c.approach_mps) && std::abs(c.approach_mps) <= 5, "approach must be within +-5 m/s");
   Require(c.roll_s > 0 && c.roll_s <= 30 && c.lift_s > 0 && c.lift_s <= 30,
           "roll and lift times must be in (0, 30] s");
 }

@@ -61,6 +61,9 @@ struct SynthClipConfig {
   // and is lifted for lift_s by an unseen hand, then held for hold_s.
   std::vector<double> drop_distances_m, drop_heights_m;
   double roll_s = 1.0, lift_s = 0.6;
+  // ... and while each of those drops bounces, the ball moves towards the camera at this
+  // speed, m/s (negative: away): its scale and floor line change from bounce to bounce.
+  double approach_mps = 0;
   int quality = 95;             // MJPEG quality, 1-100
   std::filesystem::path out = "synth.avi";  // .avi (MJPEG) or .mp4
   std::optional<SynthAudioConfig> sound;    // a sound track with the impacts' clicks (not .mp4)

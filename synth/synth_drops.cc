@@ -78,13 +78,15 @@ WorldBall BallAt(const std::vector<PlannedDrop>& drops, const SynthClipConfig& c
   for (size_t k = 0; k < drops.size(); ++k) {
     const PlannedDrop& d = drops[k];
     const bool last = k + 1 == drops.size();
-    if (last || t < d.roll_t) return {d.distance_m, d.x_m, d.sim->At(t - d.release_t).height_m};
+    // Coming towards the camera while it bounces, until it rests.
+    const double moved = c.approach_mps * (std::min(t, d.rest_t) - d.release_t);
+    if (last || t < d.roll_t) return {d.distance_m - moved, d.x_m, d.sim->At(t - d.release_t).height_m};
     const PlannedDrop& next = drops[k + 1];
     if (t < next.release_t) {
+      const double from = d.distance_m - moved;
       const double roll = Smooth((t - d.roll_t) / c.roll_s);
       const double lift = Smooth((t - d.lift_t) / c.lift_s);
-      return {d.distance_m + (next.distance_m - d.distance_m) * roll, d.x_m + (next.x_m - d.x_m) * roll,
-              next.height_m * lift};
+      return {from + (next.distance_m - from) * roll, d.x_m + (next.x_m - d.x_m) * roll, next.height_m * lift};
     }
   }
   return {first.distance_m, first.x_m, 0};  // not reached
@@ -119,6 +121,9 @@ SynthClipResult RenderSynthDropsClip(const SynthClipConfig& c, const SynthProgre
   if (c.sound) throw std::invalid_argument("a clip of several drops has no sound track");
   if (c.launch_up_mps != 0 || c.launch_right_mps != 0 || c.start_after_release_s != 0)
     throw std::invalid_argument("several drops are dropped from rest: no throw, no late start");
+  for (const PlannedDrop& d : PlanDrops(c, FitSynthPinhole(c)))
+    if (d.distance_m - c.approach_mps * d.sim->rest_time_s < 0.2)
+      throw std::invalid_argument("the ball would come within 0.2 m of the camera: less --approach");
   const auto wall_start = std::chrono::steady_clock::now();
   const double cpu_start = SynthCpuSeconds();
   const SynthPinhole cam = FitSynthPinhole(c);
@@ -151,6 +156,7 @@ SynthClipResult RenderSynthDropsClip(const SynthClipConfig& c, const SynthProgre
   for (const PlannedDrop& d : drops) {
     SynthTruthDrop td;
     td.distance_m = d.distance_m;
+    td.approach_mps = c.approach_mps;
     td.px_per_m = cam.focal_px / d.distance_m;
     td.radius_px = r * td.px_per_m;
     const cv::Point2d fp = scene.ToImage({cx, floor_y(d.distance_m)});

@@ -70,6 +70,7 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
     ojson drops = ojson::array();
     for (const SynthTruthDrop& d : t.drops)
       drops.push_back({{"distance_m", d.distance_m},
+                       {"approach_mps", d.approach_mps},
                        {"px_per_m", d.px_per_m},
                        {"radius_px", d.radius_px},
                        {"floor_offset_px", d.floor_offset_px},
@@ -222,6 +223,7 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
       const std::string dw = where + " drops[" + std::to_string(i) + "]";
       SynthTruthDrop d;
       d.distance_m = Get<double>(drops[i], "distance_m", dw);
+      d.approach_mps = drops[i].value("approach_mps", 0.0);
       d.px_per_m = Get<double>(drops[i], "px_per_m", dw);
       d.radius_px = Get<double>(drops[i], "radius_px", dw);
       d.floor_offset_px = Get<double>(drops[i], "floor_offset_px", dw);

@@ -22,10 +22,11 @@ struct SynthTruthFrame {
 
 // One drop of a clip with several (synth/synth_drops.h), in clip time.
 struct SynthTruthDrop {
-  double distance_m = 0;      // from the camera
-  double px_per_m = 0;        // the image scale at that distance
+  double distance_m = 0;      // from the camera at the release (then nearer by approach_mps a second)
+  double approach_mps = 0;    // towards the camera while it bounces
+  double px_per_m = 0;        // the image scale at the release's distance
   double radius_px = 0;       // the ball's radius in the picture there
-  double floor_offset_px = 0; // its floor line: image points p on it have p . down = this
+  double floor_offset_px = 0; // its floor line there: image points p on it have p . down = this
   double drop_height_m = 0;
   double release_t_s = 0;
   std::vector<double> impact_times_s;

@@ -1,6 +1,6 @@
 #pragma once
 // A `bouncefit run` of a rendered clip scored against its truth (test-only): every apex of
-// min_height_m or more matched by time to a peaks.csv row within max(2 mm, 2%), rows that
+// min_height_m or more, the ball in view, matched by time to a peaks.csv row within max(2 mm, 2%), rows that
 // match no apex counted as false, and each drop's scale (summary.json) against the truth's.
 #include <algorithm>
 #include <cmath>
@@ -56,7 +56,11 @@ inline SynthRunScore ScoreSynthRun(const SynthTruth& truth, const std::filesyste
         if (std::abs(rows[j].t_s - t) < 0.06 && (best < 0 || std::abs(rows[j].t_s - t) < std::abs(rows[best].t_s - t)))
           best = static_cast<int>(j);
       if (best >= 0) used[static_cast<size_t>(best)] = true, s.run_drop[k] = rows[static_cast<size_t>(best)].drop;
-      if (h < min_height_m) continue;
+      // An apex out of the picture (a throw gone out of view) is no one's to see.
+      const auto at = std::min_element(truth.frames.begin(), truth.frames.end(), [&](const auto& x, const auto& y) {
+        return std::abs(x.t_s - t) < std::abs(y.t_s - t);
+      });
+      if (h < min_height_m || (at != truth.frames.end() && !at->fully_in_view)) continue;
       ++s.wanted;
       if (best < 0) {
         ++s.missed;
