@@ -81,8 +81,9 @@ struct SceneConfig {
   // A later drop whose ball is this much larger or smaller in the picture (its first arc's
   // median radius against the one the calibration used) is at another distance from the
   // camera (the ball rolled towards or away from it between drops): the earlier drop's scale
-  // and floor line do not hold there, and the drop calibrates itself as a first one does.
-  double moved_size_tolerance = 0.06;
+  // and floor line do not hold there, and the drop calibrates itself as a first one does. A
+  // change of s in size moves the floor line by about s times the camera's height.
+  double moved_size_tolerance = 0.03;
 };
 
 class DetectorScene {

@@ -248,17 +248,7 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
 
   if (c.sound) AddClipSound(c, traj, &truth);
 
-  SynthClipResult result;
-  result.clip_path = c.out;
-  result.truth_path = SynthTruthPathFor(c.out);
-  WriteSynthTruth(truth, result.truth_path);
-  result.truth = std::move(truth);
-  result.scene_s = times.scene_s;
-  result.noise_s = times.noise_s;
-  result.encode_s = times.encode_s;
-  result.render_wall_s = Seconds(Clock::now() - start);
-  result.render_cpu_s = SynthCpuSeconds() - cpu_start;
-  return result;
+  return FinishSynthClip(c, std::move(truth), times, Seconds(Clock::now() - start), cpu_start);
 }
 
 }  // namespace bouncefit

@@ -176,17 +176,8 @@ SynthClipResult RenderSynthDropsClip(const SynthClipConfig& c, const SynthProgre
   truth.rest_t_s = drops.back().rest_t;
 
   const SynthFrameTimes times = RenderSynthFrames(c, scene, ball_at, &truth, progress);
-  SynthClipResult result;
-  result.clip_path = c.out;
-  result.truth_path = SynthTruthPathFor(c.out);
-  WriteSynthTruth(truth, result.truth_path);
-  result.truth = std::move(truth);
-  result.scene_s = times.scene_s;
-  result.noise_s = times.noise_s;
-  result.encode_s = times.encode_s;
-  result.render_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  result.render_cpu_s = SynthCpuSeconds() - cpu_start;
-  return result;
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return FinishSynthClip(c, std::move(truth), times, wall_s, cpu_start);
 }
 
 }  // namespace bouncefit

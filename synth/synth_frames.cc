@@ -97,6 +97,21 @@ SynthTruth SynthTruthHeader(const SynthClipConfig& c, const SynthScene& scene, d
   return truth;
 }
 
+SynthClipResult FinishSynthClip(const SynthClipConfig& c, SynthTruth truth, const SynthFrameTimes& times,
+                                double wall_s, double cpu_start_s) {
+  SynthClipResult result;
+  result.clip_path = c.out;
+  result.truth_path = SynthTruthPathFor(c.out);
+  WriteSynthTruth(truth, result.truth_path);
+  result.truth = std::move(truth);
+  result.scene_s = times.scene_s;
+  result.noise_s = times.noise_s;
+  result.encode_s = times.encode_s;
+  result.render_wall_s = wall_s;
+  result.render_cpu_s = SynthCpuSeconds() - cpu_start_s;
+  return result;
+}
+
 double SynthCpuSeconds() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);

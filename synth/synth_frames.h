@@ -37,6 +37,11 @@ SynthFrameTimes RenderSynthFrames(const SynthClipConfig& c, const SynthScene& sc
                                   const std::function<SynthBallAt(double)>& ball_at,
                                   SynthTruth* truth, const SynthProgress& progress);
 
+// Writes the truth next to the clip and gathers what the render cost: wall_s of wall time,
+// process CPU time since cpu_start_s (SynthCpuSeconds), times per phase.
+SynthClipResult FinishSynthClip(const SynthClipConfig& c, SynthTruth truth, const SynthFrameTimes& times,
+                                double wall_s, double cpu_start_s);
+
 // Process CPU time (encoder threads included), s: on a shared machine the phases' wall
 // times mostly measure the neighbours.
 double SynthCpuSeconds();

@@ -62,7 +62,10 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(Clip{"near_far_nearer_60fps", "--color 40,60,210 --drops 3 --drop-distances 1.6,2.6,1.1 "
                                                     "--drop-heights 0.8,0.7,0.6 --size 360x640 --fps 60 --exposure 0.004"},
                       Clip{"default_distances_30fps_long_exposure",
-                           "--color 40,60,210 --drops 3 --size 540x960 --fps 30 --exposure 0.016"}),
+                           "--color 40,60,210 --drops 3 --size 540x960 --fps 30 --exposure 0.016"},
+                      // 5% apart in size: the floor line 2 cm elsewhere, the fall another gravity.
+                      Clip{"nearly_the_same_distance_60fps", "--color 40,60,210 --drops 3 --drop-distances "
+                                                             "1.5,1.58,1.5 --size 360x640 --fps 60 --exposure 0.004"}),
     [](const ::testing::TestParamInfo<Clip>& info) { return std::string(info.param.name); });
 
 }  // namespace
