@@ -201,9 +201,7 @@ void ApexLedger::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& e
     return;
   }
   p.height_m = p.height_px / cal.px_per_m;
-  const double rel = cal.px_per_m_sigma / cal.px_per_m;
-  p.height_sigma_m = std::hypot(std::hypot(arc.u_sigma, cal.floor_sigma_px) / cal.px_per_m,
-                                p.height_m * rel);
+  p.height_sigma_m = PictureSigmaM(arc, p.height_m);
   if (j >= 1 && config_.flight_check_sigmas > 0) {
     const ApexFlightResult f = CheckApexAgainstFlight(FlightInputFor(j, t_top, p));
     if (f.verdict == ApexVerdict::kHold) {
@@ -256,8 +254,17 @@ void ApexLedger::CloseDrop(const std::string& reason, std::vector<DetectorEvent>
     impact_t.push_back(fit.impacts[j].ok ? fit.impacts[j].t : nan);
   for (size_t j = 0; j < arcs.size(); ++j) {
     const double top = FlightTopU(fit.flight.globals, arcs[j].fit, arcs[j].held);
-    sum.final_height_m.push_back(
-        metres && arcs[j].fit_ok ? (FloorUnderArcPx(j, true) - top) / cal.px_per_m : nan);
+    double final_m = metres && arcs[j].fit_ok ? (FloorUnderArcPx(j, true) - top) / cal.px_per_m : nan;
+    // Checked against its flight as the live apex was (both sides known now, or none).
+    if (j >= 1 && std::isfinite(final_m) && config_.flight_check_sigmas > 0) {
+      BouncePeak refit;
+      refit.height_m = final_m;
+      refit.height_sigma_m = PictureSigmaM(arcs[j], final_m);
+      const ApexFlightResult f = CheckApexAgainstFlight(FlightInputFor(j, FlightTopT(arcs[j].fit, arcs[j].held), refit));
+      if (f.verdict == ApexVerdict::kFlightHeight) final_m = f.flight_m;
+      if (f.verdict == ApexVerdict::kWithhold) final_m = nan;
+    }
+    sum.final_height_m.push_back(final_m);
     double fh = nan;
     if (j >= 1 && j < impact_t.size()) {
       const double dt = impact_t[j] - impact_t[j - 1];
@@ -302,6 +309,12 @@ BounceImpact ApexLedger::ToBounceImpact(const FlightImpact& imp, int index) cons
   bi.speed_out_mps = imp.speed_out / scene_.calibration().calibration.px_per_m;
   bi.restitution = imp.speed_in > 0 ? imp.speed_out / imp.speed_in : 0;
   return bi;
+}
+
+double ApexLedger::PictureSigmaM(const DetectorArc& arc, double height_m) const {
+  const Calibration& cal = scene_.calibration().calibration;
+  const double rel = cal.px_per_m_sigma / cal.px_per_m;
+  return std::hypot(std::hypot(arc.u_sigma, cal.floor_sigma_px) / cal.px_per_m, height_m * rel);
 }
 
 ApexFlightInput ApexLedger::FlightInputFor(size_t j, double t_apex, const BouncePeak& p) const {

@@ -86,6 +86,9 @@ class ApexLedger {
   const ApexConfig& config() const { return config_; }
 
  private:
+  // The uncertainty of arc's apex measured height_m over the floor in the picture, m (the
+  // arc's fit, the floor line, the scale).
+  double PictureSigmaM(const DetectorArc& arc, double height_m) const;
   // What the flight times around arc j say of its apex at t_apex, measured as p.
   ApexFlightInput FlightInputFor(size_t j, double t_apex, const BouncePeak& p) const;
   // The drop's first arc, entered mid-flight: its apex lies within its samples.
