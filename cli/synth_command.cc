@@ -25,7 +25,16 @@ struct SynthOptions {
   std::string out = "synth.avi";
   bool sound = false;
   SynthAudioConfig audio;
+  int drops = 0;
 };
+
+// Several drops with no distances given: towards and away from the camera in turn, m.
+std::vector<double> DefaultDropDistances(int drops) {
+  const double pattern[] = {1.6, 2.6, 1.1, 2.1, 1.3};
+  std::vector<double> d;
+  for (int k = 0; k < drops; ++k) d.push_back(pattern[k % 5]);
+  return d;
+}
 
 Bgr ParseColor(const std::string& text, const char* what) {
   Bgr c{};
@@ -68,6 +77,12 @@ void Run(SynthOptions o) {
   o.clip.wall_pattern = ParseWallPattern(o.wall_pattern);
   if (!o.floor_color.empty()) o.clip.floor_bgr = ParseColor(o.floor_color, "--floor-color");
   o.clip.drag = !o.no_drag;
+  if (o.drops < 0 || o.drops > 20) throw std::invalid_argument("--drops must be in 0-20");
+  if (o.drops > 0 && o.clip.drop_distances_m.empty()) o.clip.drop_distances_m = DefaultDropDistances(o.drops);
+  if (o.drops > 0 && static_cast<int>(o.clip.drop_distances_m.size()) != o.drops)
+    throw std::invalid_argument("--drops and --drop-distances name different numbers of drops");
+  if (!o.clip.drop_heights_m.empty() && o.clip.drop_distances_m.empty())
+    o.clip.drop_distances_m = DefaultDropDistances(static_cast<int>(o.clip.drop_heights_m.size()));
   o.clip.out = o.out;
   if (o.sound || o.audio.chatter || o.audio.hum || o.audio.offset_s != 0) {
     o.audio.seed = o.clip.seed;
@@ -124,6 +139,25 @@ void AddSynthCommand(CLI::App& app) {
   cmd->add_option("--start-after-release", c.start_after_release_s,
                   "Start the clip this long after the release, s (mid-bounce; no hold shown)")
       ->capture_default_str();
+  cmd->add_option("--drops", o->drops,
+                  "Several drops in one clip, each at its own distance from a level pinhole camera "
+                  "(1.6, 2.6, 1.1, 2.1, 1.3 m in turn unless --drop-distances): the ball bounces to "
+                  "rest, rolls to the next distance, is lifted by an unseen hand and dropped again");
+  cmd->add_option("--drop-distances", c.drop_distances_m,
+                  "Several drops: each drop's distance from the camera, metres, comma-separated")
+      ->delimiter(',');
+  cmd->add_option("--drop-heights", c.drop_heights_m,
+                  "Several drops: each drop's release height, metres, comma-separated (default: "
+                  "--drop-height for each)")
+      ->delimiter(',');
+  cmd->add_option("--approach", c.approach_mps,
+                  "Several drops (or --drops 1): the ball moves towards the camera at this speed while "
+                  "it bounces, m/s (negative: away)")
+      ->capture_default_str();
+  cmd->add_option("--roll-time", c.roll_s, "Several drops: the roll from one drop's place to the next, seconds")
+      ->capture_default_str();
+  cmd->add_option("--lift-time", c.lift_s, "Several drops: the hand's lift to the next release, seconds")
+      ->capture_default_str();
   cmd->add_option("--g", c.g_mps2, "Gravitational acceleration, m/s^2")->capture_default_str();
   cmd->add_flag("--no-drag", o->no_drag, "Switch air drag off (vacuum)");
   cmd->add_option("--restitution", o->restitution,
@@ -135,7 +169,7 @@ void AddSynthCommand(CLI::App& app) {
       ->check(NonNegative());
   cmd->add_option("--fps", c.fps, "Frame rate, frames per second")->capture_default_str();
   cmd->add_option("--size", o->size, "Frame size WxH, pixels")->capture_default_str();
-  cmd->add_option("--duration", c.duration_s, "Clip length, seconds")->capture_default_str();
+  cmd->add_option("--duration", c.duration_s, "Clip length, seconds (several drops: until the last rests)")->capture_default_str();
   cmd->add_option("--px-per-m", c.px_per_m,
                   "Image scale, pixels per metre (0 = fit the drop into the frame)")
       ->capture_default_str();

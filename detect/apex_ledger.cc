@@ -2,6 +2,7 @@
 #include "detect/apex_ledger.h"
 #include "detect/detector_stats.h"
 
+#include "detect/apex_flight_check.h"
 #include "model/arc_apex.h"
 
 #include <algorithm>
@@ -84,7 +85,7 @@ void ApexLedger::TryEmitApex(double t, int64_t utime, bool have_sample,
   if (follower_.arcs().size() < 2 || !scene_.calibrated()) return;
   const size_t idx = follower_.arcs().size() - 1;
   DetectorArc& arc = follower_.arcs()[idx];
-  if (arc.apex_emitted || !arc.fit_ok) return;
+  if (arc.apex_emitted || arc.apex_held || !arc.fit_ok) return;
   if (arc.samples.size() < (have_sample ? 3u : 5u)) return;
   const double margin = config_.emit_after_apex_frames * scene_.frame_dt();
   if (t < arc.fit.t_apex + margin) return;
@@ -172,7 +173,7 @@ void ApexLedger::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& e
   p.sequence = sequence_;
   p.bounce = static_cast<int>(j) + first_bounce_;
   const FlightGlobals& g = scene_.calibration().flight.globals;
-  p.apex_utime = scene_.ToUtime(FlightTopT(arc.fit, arc.held));
+  double t_top = FlightTopT(arc.fit, arc.held);
   const double floor_px = FloorUnderArcPx(j, false);
   p.height_px = floor_px - FlightTopU(g, arc.fit, arc.held);
   // The release arc's apex is its fitted vertex (seen held, or extrapolated from the fall).
@@ -189,9 +190,10 @@ void ApexLedger::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& e
     const ArcApex a = FitArcApex(ts, hs);
     if (a.ok && ts.size() >= 5 && std::abs(a.t - arc.fit.t_apex) < scene_.frame_dt()) {
       p.height_px = a.height;
-      p.apex_utime = scene_.ToUtime(a.t);
+      t_top = a.t;
     }
   }
+  p.apex_utime = scene_.ToUtime(t_top);
   // An apex at or below the floor is no bounce (the arc was not free flight).
   if (p.height_px < scene_.MinApexPx()) {
     if (j == 0) bounce0_emitted_ = true;
@@ -199,9 +201,24 @@ void ApexLedger::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& e
     return;
   }
   p.height_m = p.height_px / cal.px_per_m;
-  const double rel = cal.px_per_m_sigma / cal.px_per_m;
-  p.height_sigma_m = std::hypot(std::hypot(arc.u_sigma, cal.floor_sigma_px) / cal.px_per_m,
-                                p.height_m * rel);
+  p.height_sigma_m = PictureSigmaM(arc, p.height_m);
+  if (j >= 1 && config_.flight_check_sigmas > 0) {
+    const ApexFlightResult f = CheckApexAgainstFlight(FlightInputFor(j, t_top, p));
+    if (f.verdict == ApexVerdict::kHold) {
+      arc.apex_held = true;
+      return;
+    }
+    if (f.verdict == ApexVerdict::kWithhold) {
+      arc.apex_held = false;
+      arc.apex_emitted = true;
+      return;
+    }
+    if (f.verdict == ApexVerdict::kFlightHeight) {
+      p.height_m = f.flight_m;
+      p.height_sigma_m = f.flight_sigma_m;
+      p.height_px = f.flight_m * cal.px_per_m;
+    }
+  }
   for (const auto& imp : impacts_)
     if (imp.index == p.bounce) p.impact_before_utime = imp.utime;
   p.emitted_utime = utime;
@@ -237,8 +254,17 @@ void ApexLedger::CloseDrop(const std::string& reason, std::vector<DetectorEvent>
     impact_t.push_back(fit.impacts[j].ok ? fit.impacts[j].t : nan);
   for (size_t j = 0; j < arcs.size(); ++j) {
     const double top = FlightTopU(fit.flight.globals, arcs[j].fit, arcs[j].held);
-    sum.final_height_m.push_back(
-        metres && arcs[j].fit_ok ? (FloorUnderArcPx(j, true) - top) / cal.px_per_m : nan);
+    double final_m = metres && arcs[j].fit_ok ? (FloorUnderArcPx(j, true) - top) / cal.px_per_m : nan;
+    // Checked against its flight as the live apex was (both sides known now, or none).
+    if (j >= 1 && std::isfinite(final_m) && config_.flight_check_sigmas > 0) {
+      BouncePeak refit;
+      refit.height_m = final_m;
+      refit.height_sigma_m = PictureSigmaM(arcs[j], final_m);
+      const ApexFlightResult f = CheckApexAgainstFlight(FlightInputFor(j, FlightTopT(arcs[j].fit, arcs[j].held), refit));
+      if (f.verdict == ApexVerdict::kFlightHeight) final_m = f.flight_m;
+      if (f.verdict == ApexVerdict::kWithhold) final_m = nan;
+    }
+    sum.final_height_m.push_back(final_m);
     double fh = nan;
     if (j >= 1 && j < impact_t.size()) {
       const double dt = impact_t[j] - impact_t[j - 1];
@@ -283,6 +309,28 @@ BounceImpact ApexLedger::ToBounceImpact(const FlightImpact& imp, int index) cons
   bi.speed_out_mps = imp.speed_out / scene_.calibration().calibration.px_per_m;
   bi.restitution = imp.speed_in > 0 ? imp.speed_out / imp.speed_in : 0;
   return bi;
+}
+
+double ApexLedger::PictureSigmaM(const DetectorArc& arc, double height_m) const {
+  const Calibration& cal = scene_.calibration().calibration;
+  const double rel = cal.px_per_m_sigma / cal.px_per_m;
+  return std::hypot(std::hypot(arc.u_sigma, cal.floor_sigma_px) / cal.px_per_m, height_m * rel);
+}
+
+ApexFlightInput ApexLedger::FlightInputFor(size_t j, double t_apex, const BouncePeak& p) const {
+  const CalibrationResult& cr = scene_.calibration();
+  const auto& imps = cr.impacts;
+  ApexFlightInput in;
+  in.picture_m = p.height_m;
+  in.picture_sigma_m = p.height_sigma_m;
+  // imps[i] lies between arcs i and i + 1: arc j flies from imps[j - 1] to imps[j].
+  if (j >= 1 && j - 1 < imps.size() && imps[j - 1].ok) in.rise_s = t_apex - imps[j - 1].t;
+  if (j < imps.size() && j + 1 < follower_.arcs().size() && imps[j].ok) in.fall_s = imps[j].t - t_apex;
+  in.time_sigma_s = config_.impact_time_sigma_frames * scene_.frame_dt();
+  in.g_mps2 = scene_.calibrator().config().g_mps2;
+  in.drag_per_m = cr.flight.globals.drag_per_px * cr.calibration.px_per_m;
+  in.sigmas = config_.flight_check_sigmas;
+  return in;
 }
 
 bool ApexLedger::EnteredApexSeen() const {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "detect/apex_flight_check.h"
 #include "detect/detector_events.h"
 #include "detect/detector_scene.h"
 #include "detect/flight_follower.h"
@@ -31,6 +32,12 @@ struct ApexConfig {
   // within 0.1 mm RMS of each other on the synth presets (docs/ACCURACY.md).
   bool use_arc_apex = true;
   double arc_apex_window_s = 0.15;
+  // A rebound's apex is checked against the flight times around it before it goes out
+  // (detect/apex_flight_check.h): each impact's time is taken as known to this many frame
+  // periods, and a disagreement beyond flight_check_sigmas combined sigmas holds, replaces or
+  // withholds the apex (0 sigmas: no check).
+  double impact_time_sigma_frames = 0.3;
+  double flight_check_sigmas = 3;
 };
 
 class ApexLedger {
@@ -79,6 +86,11 @@ class ApexLedger {
   const ApexConfig& config() const { return config_; }
 
  private:
+  // The uncertainty of arc's apex measured height_m over the floor in the picture, m (the
+  // arc's fit, the floor line, the scale).
+  double PictureSigmaM(const DetectorArc& arc, double height_m) const;
+  // What the flight times around arc j say of its apex at t_apex, measured as p.
+  ApexFlightInput FlightInputFor(size_t j, double t_apex, const BouncePeak& p) const;
   // The drop's first arc, entered mid-flight: its apex lies within its samples.
   bool EnteredApexSeen() const;
 

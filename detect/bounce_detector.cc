@@ -35,6 +35,8 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
     return fail("preset size error must be >= 1 + clock tolerance");
   for (double k : untagged_slowdowns)
     if (!(k > 1) || !std::isfinite(k)) return fail("untagged slow-downs must be > 1");
+  if (!(moved_size_tolerance > 0) || !std::isfinite(moved_size_tolerance))
+    return fail("moved size tolerance must be > 0");
   if (fall_start_samples < 4) return fail("a fall start needs >= 4 samples");
   if (arc_start_samples < 4) return fail("an arc start needs >= 4 samples");
   if (!(straddle_frames >= 0) || !std::isfinite(straddle_frames))
@@ -43,6 +45,8 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
     return fail("off-arc radius share must be >= 0");
   if (max_late_drops < 0) return fail("max late drops must be >= 0");
   if (impact_confirm_samples < 1) return fail("impact confirmation needs >= 1 sample");
+  if (!(impact_time_sigma_frames > 0)) return fail("impact time sigma must be > 0 frames");
+  if (!(flight_check_sigmas >= 0)) return fail("flight check sigmas must be >= 0");
   if (bounce0_rising_samples < 1) return fail("bounce 0 needs >= 1 rising sample");
   return true;
 }
@@ -118,6 +122,9 @@ void BounceDetector::OnRest(const DetectorSample& s, std::vector<DetectorEvent>&
 void BounceDetector::StartSequence(DropStartFound start, const DetectorSample& s,
                                    std::vector<DetectorEvent>& ev) {
   start.arc.release = !start.arc.entered;
+  // The ball rolled towards or away from the camera since the last drop: that drop's scale
+  // and floor are not this one's.
+  scene_.StartDropAt(start.arc.samples);
   ledger_.StartDrop(start.first_bounce);
   follower_.Start(std::move(start.arc));
   phase_ = Phase::kFlight;
@@ -142,6 +149,7 @@ void BounceDetector::EndSequence(const std::string& reason, std::vector<Detector
     if (!ledger_.bounce0_emitted() && arcs.size() >= 2 && !arcs[0].held)
       ledger_.EmitPeak(0, scene_.last_utime(), ev);
     ledger_.CloseDrop(reason, ev);
+    if (ledger_.peaks().empty()) scene_.ForgetCalibrationOf(ledger_.sequence());
   }
   follower_.Reset();
   ledger_.ResetDrop();

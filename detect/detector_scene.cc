@@ -176,6 +176,33 @@ Eigen::Vector3d DetectorScene::DownParabola(const std::vector<DetectorSample>& r
   return c;
 }
 
+void DetectorScene::ForgetCalibrationOf(int sequence) {
+  if (!calibrated_ || calibration_sequence_ != sequence) return;
+  calibrated_ = calibrated_before_drop_;
+  calibration_sequence_ = calibration_sequence_before_drop_;
+  calibration_ = calibration_before_drop_;
+}
+
+bool DetectorScene::StartDropAt(const std::vector<DetectorSample>& first_arc) {
+  calibrated_before_drop_ = calibrated_;
+  calibration_sequence_before_drop_ = calibration_sequence_;
+  calibration_before_drop_ = calibration_;
+  std::vector<double> radii;
+  for (const DetectorSample& q : first_arc)
+    if (q.r > 0) radii.push_back(q.r);
+  if (radii.size() < 3) return false;
+  const double r = Median(radii);
+  const double tol = std::log1p(config_.moved_size_tolerance);
+  auto differs = [&](double r_known) { return r_known > 0 && std::abs(std::log(r / r_known)) > tol; };
+  // The ball's size is this drop's from now on, whatever became of the calibration.
+  if (differs(RadiusPx())) radii_ = radii;
+  if (!calibrated_ || !differs(calibration_.calibration.radius_px)) return false;
+  calibrated_ = calibrated_before_drop_ = false;
+  calibration_sequence_ = calibration_sequence_before_drop_ = -1;
+  calibration_ = calibration_before_drop_ = CalibrationResult{};
+  return true;
+}
+
 void DetectorScene::TakeHoldNoise(double rms_px) {
   if (!sigma_measured_) sigma_ = std::max(config_.noise_floor_px, rms_px);
 }

@@ -37,6 +37,9 @@ struct DetectorArc {
   bool entered = false;  // the first arc of a drop, not from rest: thrown, or already
                          // in flight when first seen
   bool apex_emitted = false;
+  // Its apex disagreed with the flight time since the impact before it: it waits for the
+  // impact after it, then both sides of the flight judge it (detect/apex_flight_check.h).
+  bool apex_held = false;
   int late_drops = 0;  // first samples dropped later than straddle_frames after the impact
   bool fit_ok = false;
   FlightArcParams fit;
@@ -75,6 +78,12 @@ struct SceneConfig {
   // 239 mm), a timeline slowed 4x disagrees 16x, 8x 64x (a slow-motion file re-encoded, its
   // capture rate lost).
   std::vector<double> untagged_slowdowns = {4, 8};
+  // A later drop whose ball is this much larger or smaller in the picture (its first arc's
+  // median radius against the one the calibration used) is at another distance from the
+  // camera (the ball rolled towards or away from it between drops): the earlier drop's scale
+  // and floor line do not hold there, and the drop calibrates itself as a first one does. A
+  // change of s in size moves the floor line by about s times the camera's height.
+  double moved_size_tolerance = 0.03;
 };
 
 class DetectorScene {
@@ -129,6 +138,14 @@ class DetectorScene {
   Eigen::Vector3d DownParabola(const std::vector<DetectorSample>& run,
                                double* rms = nullptr) const;
 
+  // A drop starts with these samples (its first arc): when the ball's size there says it is
+  // at another distance from the camera than the calibration's drop was
+  // (SceneConfig::moved_size_tolerance), the calibration is forgotten and the ball's size
+  // starts again from these samples. True when it was.
+  bool StartDropAt(const std::vector<DetectorSample>& first_arc);
+  // The drop `sequence` ended having emitted no apex: it was no drop (a hand's lift taken for
+  // an arc), and a calibration fitted to its arcs goes back to the one before it.
+  void ForgetCalibrationOf(int sequence);
   // A hold measured the noise before any fit did.
   void TakeHoldNoise(double rms_px);
   // Takes a calibration fitted to the drop `sequence`'s arcs: scale, floor and noise.
@@ -170,6 +187,10 @@ class DetectorScene {
   bool calibrated_ = false;
   int calibration_sequence_ = -1;  // the drop the current calibration comes from
   CalibrationResult calibration_;
+  // The calibration as it was when the current drop started (ForgetCalibrationOf).
+  bool calibrated_before_drop_ = false;
+  int calibration_sequence_before_drop_ = -1;
+  CalibrationResult calibration_before_drop_;
 };
 
 }  // namespace bouncefit

@@ -183,9 +183,15 @@ std::optional<DropStartFound> DropStart::ArcFromUnseenStart() {
   if (run.size() < static_cast<size_t>(config_.arc_start_samples)) return std::nullopt;
   m = run.size();
   // Still at first, moving down at last: a release from a hold, which ReleasedFromHold
-  // takes once the move is clear.
+  // takes once the move is clear; unless the ball rose into that first sample just before
+  // (the top of an arc is still for a few frames, a hold for longer).
+  auto rose_into_run = [&] {
+    for (size_t i = hold_.size() - m; i > 0 && run[0].t - hold_[i - 1].t <= 0.15; --i)
+      if (Down(hold_[i - 1]) > Down(run[0]) + 2 * thr) return true;
+    return false;
+  };
   if (std::hypot(run[1].x - run[0].x, run[1].y - run[0].y) < thr &&
-      Down(run[m - 1]) > Down(run[m - 2]))
+      Down(run[m - 1]) > Down(run[m - 2]) && !rose_into_run())
     return std::nullopt;
   double path = 0;
   for (size_t i = 1; i < m; ++i)
@@ -193,23 +199,34 @@ std::optional<DropStartFound> DropStart::ArcFromUnseenStart() {
   if (path < 3 * thr) return std::nullopt;
   // One parabola in both image axes, bending down (the roll is not known yet: gravity may
   // lean a little sideways, a hand's path bends any way).
-  const auto rows = static_cast<Eigen::Index>(m);
-  Eigen::MatrixXd a(rows, 3);
-  Eigen::MatrixXd b(rows, 2);
-  for (Eigen::Index i = 0; i < rows; ++i) {
-    const DetectorSample& q = run[static_cast<size_t>(i)];
-    const double dt = q.t - run.back().t;
-    a(i, 0) = 1;
-    a(i, 1) = dt;
-    a(i, 2) = dt * dt;
-    b(i, 0) = Down(q);
-    b(i, 1) = Floor(q);
-  }
-  const Eigen::MatrixXd c = a.colPivHouseholderQr().solve(b);
+  Eigen::MatrixXd a, b;
+  // Down and Floor of the run's samples as parabolas in dt from its last sample (one column each).
+  auto fit = [&]() -> Eigen::MatrixXd {
+    const auto rows = static_cast<Eigen::Index>(run.size());
+    a.resize(rows, 3);
+    b.resize(rows, 2);
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      const DetectorSample& q = run[static_cast<size_t>(i)];
+      const double dt = q.t - run.back().t;
+      a(i, 0) = 1;
+      a(i, 1) = dt;
+      a(i, 2) = dt * dt;
+      b(i, 0) = Down(q);
+      b(i, 1) = Floor(q);
+    }
+    return a.colPivHouseholderQr().solve(b);
+  };
+  Eigen::MatrixXd c = fit();
   const double span = run.back().t - run.front().t;
   // The bend must show: the parabola's sag over the run beyond the gate.
   if (!(c(2, 0) * span * span / 4 > scene_.Gate())) return std::nullopt;
   if (std::abs(c(2, 1)) > 0.35 * c(2, 0)) return std::nullopt;
+  // The lock waits for the ball seen falling from the highest it rose, by more than the gate
+  // twice: a hand's lift slows into a hold as a rising throw slows into its vertex, but only
+  // a flight falls on from there.
+  double top = Down(run.front());
+  for (const DetectorSample& q : run) top = std::min(top, Down(q));
+  if (!(Down(run.back()) - top > 2 * scene_.Gate())) return std::nullopt;
   // A hand moves the ball along gentle curves too: with the ball's size known, the bend must
   // be free flight's on some clock the file may have (SlowdownOfBend).
   const double slowdown = scene_.SlowdownOfBend(2 * c(2, 0));
@@ -234,9 +251,14 @@ std::optional<DropStartFound> DropStart::ArcFromUnseenStart() {
 
   // Samples just before the run on its parabola are the arc's own (a rebound's rise near its
   // apex, left out as barely moving): where the arc was first seen decides how it began.
-  const size_t seen = OnArcBefore(hold_.size() - m, c.col(0), c.col(1), run.back().t, thr);
-  run.insert(run.begin(), hold_.end() - static_cast<long>(m + seen), hold_.end() - static_cast<long>(m));
-  m = run.size();
+  // A lock that waited for the fall reaches back along the arc, refitted as it grows (its fall
+  // alone extrapolates its rise poorly).
+  for (size_t seen = 1; seen > 0;) {
+    seen = OnArcBefore(hold_.size() - m, c.col(0), c.col(1), run.back().t, thr);
+    run.insert(run.begin(), hold_.end() - static_cast<long>(m + seen), hold_.end() - static_cast<long>(m));
+    m = run.size();
+    if (seen > 0) c = fit();
+  }
   DetectorArc arc;
   arc.samples = run;
   // A fall that starts at its vertex is a release out of sight (bounce 0 is its vertex), if

@@ -302,7 +302,7 @@ void FlightFollower::OnFlight(const DetectorSample& s, std::vector<DetectorEvent
   // may be what is off (a first fall's gravity from a few smeared frames, 12% high on a clip
   // of a ball dropped on a table). Emitting the apex refits the scale with this arc's samples;
   // then the sample is judged again.
-  if (!rejudging_ && scene_.calibrated() && cur.fit_ok && !cur.apex_emitted && arcs_.size() >= 2 &&
+  if (!rejudging_ && scene_.calibrated() && cur.fit_ok && !cur.apex_emitted && !cur.apex_held && arcs_.size() >= 2 &&
       host_.ApexDue(cur, s.t)) {
     const double scale_before = scene_.scale();
     const int sequence_before = host_.Sequence();

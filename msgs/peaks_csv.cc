@@ -14,7 +14,7 @@ namespace bouncefit {
 namespace {
 
 constexpr const char* kHeader =
-    "bounce,t_s,height_m,height_px,flight_height_m,emitted_t_s,heard,fused_height_m,refit_height_m";
+    "bounce,t_s,height_m,height_px,flight_height_m,emitted_t_s,heard,fused_height_m,refit_height_m,drop";
 
 std::vector<std::string> Split(const std::string& line) {
   std::vector<std::string> cells;
@@ -38,13 +38,14 @@ PeaksCsvRow PeaksCsvRowOf(const bounce_peak_t& m, int64_t t0) {
   r.heard = m.heard;
   r.fused_height_m = m.fused_height_m;
   r.refit_height_m = m.refit_height_m;
+  r.drop = m.sequence;
   return r;
 }
 
 std::string PeaksCsvLine(const PeaksCsvRow& r) {
-  return fmt::format("{},{},{},{},{},{},{},{},{}\n", r.bounce, CsvCell(r.t_s, 6), CsvCell(r.height_m, 5),
+  return fmt::format("{},{},{},{},{},{},{},{},{},{}\n", r.bounce, CsvCell(r.t_s, 6), CsvCell(r.height_m, 5),
                      CsvCell(r.height_px, 3), CsvCell(r.flight_height_m, 5), CsvCell(r.emitted_t_s, 6), r.heard,
-                     CsvCell(r.fused_height_m, 5), CsvCell(r.refit_height_m, 5));
+                     CsvCell(r.fused_height_m, 5), CsvCell(r.refit_height_m, 5), r.drop);
 }
 
 void WritePeaksCsv(const std::filesystem::path& path, const std::vector<PeaksCsvRow>& rows) {
@@ -106,6 +107,8 @@ std::vector<PeaksCsvRow> ReadPeaksCsv(const std::filesystem::path& path) {
     r.heard = text("heard");
     r.fused_height_m = number("fused_height_m");
     r.refit_height_m = number("refit_height_m");
+    const double drop = number("drop");
+    r.drop = std::isfinite(drop) && drop >= 0 ? static_cast<int>(drop) : 0;
     rows.push_back(r);
   }
   return rows;

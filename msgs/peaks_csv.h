@@ -22,6 +22,7 @@ struct PeaksCsvRow {
   std::string heard;                   // "both", "heard only" or ""
   double fused_height_m = kUnknown;    // the height to quote (and the one the fit takes)
   double refit_height_m = kUnknown;    // refitted with every arc of its drop
+  int drop = 0;                        // the drop of the stream it belongs to, from 0 (its own scale)
   // The height to quote: fused, else the live one (a file without the column).
   double HeightToUse() const { return std::isfinite(fused_height_m) ? fused_height_m : height_m; }
 };

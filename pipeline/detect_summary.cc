@@ -65,8 +65,13 @@ void DetectStage::WriteSummary(const std::vector<bounce_peak_t>& rows) {
     nlohmann::json final_h = nlohmann::json::array(), flight_h = nlohmann::json::array();
     for (double h : d.final_height_m) final_h.push_back(FiniteOrNull(h));
     for (double h : d.flight_height_m) flight_h.push_back(FiniteOrNull(h));
+    // Each drop's own scale: a ball rolled towards or away from the camera between drops
+    // is seen at another px/m in each.
     drops.push_back({{"sequence", d.sequence},
                      {"end", d.end_reason},
+                     {"px_per_m", FiniteOrNull(d.calibration.px_per_m)},
+                     {"scale_method", d.calibration.method},
+                     {"ball_radius_px", FiniteOrNull(d.calibration.radius_px)},
                      {"first_bounce", d.first_bounce},
                      {"final_height_m", final_h},
                      {"flight_height_m", flight_h},

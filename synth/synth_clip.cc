@@ -13,11 +13,14 @@
 
 #include "model/point_mass_drop.h"
 #include "synth/synth_audio_mux.h"
-#include "synth/synth_noise.h"
-#include "synth/synth_video.h"
+#include "synth/synth_drops.h"
+#include "synth/synth_frames.h"
 
 namespace bouncefit {
 namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
 void Require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument(message);
@@ -34,7 +37,9 @@ void ValidateColor(const Bgr& c, const char* what) {
     Require(v >= 0 && v <= 255, std::string(what) + " colour channels must be in 0-255");
 }
 
-void Validate(const SynthClipConfig& c) {
+}  // namespace
+
+void ValidateSynthClipConfig(const SynthClipConfig& c) {
   Require(std::isfinite(c.drop_height_m) && c.drop_height_m >= 0,
           "drop height must be >= 0 m (got " + Num(c.drop_height_m) + ")");
   Require(c.ball.diameter_m > 0, "ball diameter must be > 0 m");
@@ -69,50 +74,18 @@ void Validate(const SynthClipConfig& c) {
   if (c.ball_bgr) ValidateColor(*c.ball_bgr, "ball");
   ValidateColor(c.wall_bgr, "wall");
   ValidateColor(c.floor_bgr, "floor");
+  Require(c.drop_heights_m.empty() || c.drop_heights_m.size() == c.drop_distances_m.size(),
+          "give as many drop heights as drop distances");
+  for (double d : c.drop_distances_m)
+    Require(std::isfinite(d) && d >= 0.2 && d <= 50, "drop distances must be in 0.2-50 m");
+  for (double h : c.drop_heights_m)
+    Require(std::isfinite(h) && h > 0 && h <= 20, "drop heights must be in (0, 20] m");
+  Require(std::isfinite(c.approach_mps) && std::abs(c.approach_mps) <= 5, "approach must be within +-5 m/s");
+  Require(c.roll_s > 0 && c.roll_s <= 30 && c.lift_s > 0 && c.lift_s <= 30,
+          "roll and lift times must be in (0, 30] s");
 }
 
-// A hand's jitter (uniform, fresh each frame, from the seed) and sway (0.7 Hz), less where
-// they put the first frame.
-class HeldCamera {
- public:
-  explicit HeldCamera(const SynthClipConfig& c) : c_(c) {
-    std::mt19937_64 rng(c.seed * 0x9E3779B97F4A7C15ull + 17);
-    std::uniform_real_distribution<double> u(-1, 1);
-    const int n = std::max(1, static_cast<int>(std::lround(c.duration_s * c.fps)));
-    for (int i = 0; i < n; ++i) jitter_.emplace_back(u(rng), u(rng));
-  }
-  cv::Point2d At(int i) const {
-    if (c_.camera_jitter_px == 0 && c_.camera_sway_px == 0) return {0, 0};
-    return Raw(i) - Raw(0);
-  }
-
- private:
-  cv::Point2d Raw(int i) const {
-    const double w = 2 * std::numbers::pi * 0.7 * i / c_.fps;
-    const cv::Point2d j = jitter_[static_cast<size_t>(i) % jitter_.size()];
-    return {c_.camera_jitter_px * j.x + c_.camera_sway_px * std::sin(w),
-            c_.camera_jitter_px * j.y + c_.camera_sway_px * std::cos(w)};
-  }
-  const SynthClipConfig& c_;
-  std::vector<cv::Point2d> jitter_;
-};
-
-using Clock = std::chrono::steady_clock;
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
-// CPU time of the whole process (encoder threads included), s: on a shared machine the
-// phases' wall times mostly measure the neighbours.
-double CpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-// Ball state (scene px and metres) at clip time t.
-struct BallAt {
-  BallShape shape;
-  double bottom_m;
-};
+namespace {
 
 // Impact speed from the trajectory itself (any model): the fall over the last 0.1 ms.
 double ImpactSpeed(const SynthTrajectory& traj, double t_since_release, double g) {
@@ -205,16 +178,17 @@ SynthTrajectory SynthTrajectoryFromSimulation(const SimulationResult& result,
 }
 
 SynthClipResult RenderSynthClip(const SynthClipConfig& config, const SynthProgress& progress) {
-  Validate(config);
+  ValidateSynthClipConfig(config);
+  if (!config.drop_distances_m.empty()) return RenderSynthDropsClip(config, progress);
   return RenderSynthTrajectoryClip(config, PointMassSynthTrajectory(config), progress);
 }
 
 SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthTrajectory& traj,
                                           const SynthProgress& progress) {
-  Validate(c);
+  ValidateSynthClipConfig(c);
   if (!traj.at) throw std::invalid_argument("trajectory has no sampling function");
   const auto start = Clock::now();
-  const double cpu_start = CpuSeconds();
+  const double cpu_start = SynthCpuSeconds();
 
   const double r_m = c.ball.radius_m();
   const double floor_px = c.floor_y * (c.height - 1);
@@ -227,21 +201,7 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   const double ball_x_px = c.ball_x * (c.width - 1);
   const int frame_count = std::max(1, static_cast<int>(std::lround(c.duration_s * c.fps)));
 
-  SynthSceneConfig sc;
-  sc.width = c.width;
-  sc.height = c.height;
-  sc.roll_deg = c.roll_deg;
-  sc.floor_y_px = floor_px;
-  sc.wall_bgr = c.wall_bgr;
-  sc.wall_pattern = c.wall_pattern;
-  sc.floor_bgr = c.floor_bgr;
-  const Bgr preset_bgr = {c.ball.color_bgr[0], c.ball.color_bgr[1], c.ball.color_bgr[2]};
-  sc.ball_bgr = c.ball_bgr.value_or(preset_bgr);
-  sc.distractor = c.distractor;
-  sc.distractor_radius_px = std::max(3.0, 1.3 * r_m * scale);
-  // Opposite side of the image from the ball, resting on the floor.
-  sc.distractor_x_px = (c.ball_x <= 0.5 ? 0.8 : 0.2) * (c.width - 1);
-  const SynthScene scene(sc);
+  const SynthScene scene(SynthSceneConfigOf(c, floor_px, r_m * scale));
 
   // Trajectory time (since release) = clip time + offset.
   const double offset = c.start_after_release_s > 0 ? c.start_after_release_s : -c.hold_s;
@@ -251,7 +211,7 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
     double half_h = s.center_height_m - s.bottom_height_m;
     if (!(half_h > 0)) half_h = r_m;
     const double ratio = s.width_height_ratio > 0 ? s.width_height_ratio : 1.0;
-    BallAt b;
+    SynthBallAt b;
     b.bottom_m = s.bottom_height_m;
     b.shape.x = ball_x_px + c.launch_right_mps * t_flight * scale;
     b.shape.y = floor_px - (s.bottom_height_m + half_h) * scale;
@@ -260,45 +220,10 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
     return b;
   };
 
-  cv::VideoWriter writer = OpenSynthVideo(c.out, c.fps, {c.width, c.height}, c.quality);
-  SynthNoise noise(c.noise_sigma, c.seed);
-
-  SynthTruth truth;
-  truth.clip = c.out.filename().string();
-  truth.fps = c.fps;
-  truth.width = c.width;
-  truth.height = c.height;
+  SynthTruth truth = SynthTruthHeader(c, scene, scale, floor_px);
   truth.frame_count = frame_count;
-  truth.px_per_m = scale;
-  truth.roll_deg = c.roll_deg;
-  const double th = c.roll_deg * std::numbers::pi / 180;
-  truth.down_x = std::sin(th);
-  truth.down_y = std::cos(th);
-  truth.center_x = (c.width - 1) / 2.0;
-  truth.center_y = (c.height - 1) / 2.0;
-  truth.floor_y_unrolled_px = floor_px;
-  const cv::Point2d fp = scene.ToImage({truth.center_x, floor_px});
-  truth.floor_point_x = fp.x;
-  truth.floor_point_y = fp.y;
-  truth.floor_offset_px = fp.x * truth.down_x + fp.y * truth.down_y;
-  truth.floor_dir_x = std::cos(th);
-  truth.floor_dir_y = -std::sin(th);
-  truth.ball = c.ball.name;
-  truth.radius_m = r_m;
-  truth.radius_px = r_m * scale;
-  truth.mass_kg = c.ball.mass_kg;
-  truth.restitution = c.ball.restitution;
-  truth.restitution_per_mps = c.ball.restitution_per_mps;
-  truth.drag_coefficient = c.drag ? c.ball.drag_coefficient : 0.0;
-  for (int i = 0; i < 3; ++i) truth.ball_color_bgr[i] = sc.ball_bgr[i];
-  truth.g_mps2 = c.g_mps2;
   truth.drop_height_m = c.drop_height_m;
   truth.trajectory = traj.name;
-  truth.exposure_s = c.exposure_s;
-  truth.blur_samples = c.exposure_s > 0 ? c.blur_samples : 1;
-  truth.noise_sigma = c.noise_sigma;
-  truth.seed = c.seed;
-  truth.distractor = c.distractor;
   truth.launch_up_mps = c.launch_up_mps;
   truth.launch_right_mps = c.launch_right_mps;
   truth.release_t_s = -offset;  // negative: released before the clip began
@@ -324,84 +249,11 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   truth.comes_to_rest = traj.comes_to_rest && in_clip(traj.rest_time_s);
   truth.rest_t_s = truth.comes_to_rest ? traj.rest_time_s - offset : 0;
 
-  // Where a hand holds the camera in frame i, relative to the first frame: the picture moves by it.
-  const HeldCamera held(c);
-  truth.camera_jitter_px = c.camera_jitter_px;
-  truth.camera_sway_px = c.camera_sway_px;
-  cv::Mat frame, moved;
-  double scene_s = 0, noise_s = 0, encode_s = 0;
-  std::vector<BallShape> subs;
-  truth.frames.reserve(frame_count);
-  for (int i = 0; i < frame_count; ++i) {
-    const double t = i / c.fps;
-    int n = 1;
-    if (c.exposure_s > 0) {
-      n = c.blur_samples;
-      if (n == 0) {  // enough sub-exposures that the ball moves <= 0.5 px between them
-        double len = 0;
-        BallShape prev;
-        for (int k = 0; k <= 8; ++k) {
-          const BallShape b = ball_at(t - c.exposure_s / 2 + c.exposure_s * k / 8).shape;
-          if (k) len += std::hypot(b.x - prev.x, b.y - prev.y) + std::abs(b.b - prev.b);
-          prev = b;
-        }
-        n = std::clamp(static_cast<int>(std::ceil(len / 0.5)), 1, 64);
-      }
-    }
-    subs.clear();
-    SynthTruthFrame f;
-    f.index = i;
-    f.t_s = t;
-    f.fully_in_view = true;
-    for (int k = 0; k < n; ++k) {
-      const double ts = n == 1 ? t : t - c.exposure_s / 2 + c.exposure_s * (k + 0.5) / n;
-      const BallAt b = ball_at(ts);
-      subs.push_back(b.shape);
-      const cv::Point2d p = scene.ToImage({b.shape.x, b.shape.y});
-      f.cx += p.x / n;
-      f.cy += p.y / n;
-      f.height_m += b.bottom_m / n;
-      f.fully_in_view = f.fully_in_view && scene.FullyInView(b.shape);
-    }
-    const cv::Point2d camera = held.At(i);
-    f.cx += camera.x, f.cy += camera.y;
-    f.camera_dx = camera.x, f.camera_dy = camera.y;
-    truth.frames.push_back(f);
-    const double t0 = CpuSeconds();
-    scene.Render(subs, &frame);
-    if (camera != cv::Point2d(0, 0)) {
-      // What the scene showed at p, the sensor shows at p + camera (the edges mirrored in).
-      const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, camera.x, 0, 1, camera.y);
-      cv::warpAffine(frame, moved, m, frame.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
-      std::swap(frame, moved);
-    }
-    const double t1 = CpuSeconds();
-    noise.Add(&frame);
-    const double t2 = CpuSeconds();
-    writer.write(frame);
-    const double t3 = CpuSeconds();
-    scene_s += t1 - t0;
-    noise_s += t2 - t1;
-    encode_s += t3 - t2;
-    if (progress) progress(i + 1, frame_count);
-  }
-  const double t_release = CpuSeconds();
-  writer.release();
-  encode_s += CpuSeconds() - t_release;
+  const SynthFrameTimes times = RenderSynthFrames(c, scene, ball_at, &truth, progress);
 
   if (c.sound) AddClipSound(c, traj, &truth);
 
-  SynthClipResult result;
-  result.clip_path = c.out;
-  result.truth_path = SynthTruthPathFor(c.out);
-  WriteSynthTruth(truth, result.truth_path);
-  result.truth = std::move(truth);
-  result.scene_s = scene_s;
-  result.noise_s = noise_s;
-  result.encode_s = encode_s;
-  result.render_wall_s = Seconds(Clock::now() - start);
-  result.render_cpu_s = CpuSeconds() - cpu_start;
-  return result;
+  return FinishSynthClip(c, std::move(truth), times, Seconds(Clock::now() - start), cpu_start);
 }
 
 }  // namespace bouncefit

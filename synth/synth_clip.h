@@ -55,6 +55,15 @@ struct SynthClipConfig {
   WallPattern wall_pattern = WallPattern::kPlain;
   Bgr floor_bgr = {112, 118, 124};
   bool distractor = false;      // a static sphere of similar hue on the floor
+  // Several drops in one clip (synth/synth_drops.h): each drop's distance from the camera, m,
+  // and its release height, m (empty: drop_height_m for each). Empty distances: one drop at
+  // the scale px_per_m. Between drops the ball rests, rolls for roll_s to the next distance
+  // and is lifted for lift_s by an unseen hand, then held for hold_s.
+  std::vector<double> drop_distances_m, drop_heights_m;
+  double roll_s = 1.0, lift_s = 0.6;
+  // ... and while each of those drops bounces, the ball moves towards the camera at this
+  // speed, m/s (negative: away): its scale and floor line change from bounce to bounce.
+  double approach_mps = 0;
   int quality = 95;             // MJPEG quality, 1-100
   std::filesystem::path out = "synth.avi";  // .avi (MJPEG) or .mp4
   std::optional<SynthAudioConfig> sound;    // a sound track with the impacts' clicks (not .mp4)
@@ -92,7 +101,11 @@ struct SynthClipResult {
 // Called after each frame written: (frames done, frame count).
 using SynthProgress = std::function<void(int, int)>;
 
+// Throws std::invalid_argument (one line) for a config no clip can be rendered from.
+void ValidateSynthClipConfig(const SynthClipConfig& config);
+
 // Validates the config (std::invalid_argument, one line), renders and writes clip + truth
+// (several drops: synth/synth_drops.h)
 // (std::runtime_error, one line, on I/O failures).
 SynthClipResult RenderSynthClip(const SynthClipConfig& config,
                                 const SynthProgress& progress = {});

@@ -188,11 +188,11 @@ void SynthScene::Render(const std::vector<BallShape>& subs, cv::Mat* out) const 
 }
 
 void SynthScene::RenderShadow(const std::vector<BallShape>& subs, cv::Mat* out) const {
-  const double fy = config_.floor_y_px;
   std::vector<ShadowShape> shadows;
   Box box{0, 0, -1, -1};
   std::vector<Box> boxes;
   for (const auto& b : subs) {
+    const double fy = std::isnan(b.floor_y) ? config_.floor_y_px : b.floor_y;
     const ShadowShape s = ShadowOf(b, fy);
     // Scene rectangle x +- 3 sx, y in [floor - 1, y + 3 sy], as an image box.
     double xmin = 1e300, ymin = 1e300, xmax = -1e300, ymax = -1e300;
@@ -217,7 +217,7 @@ void SynthScene::RenderShadow(const std::vector<BallShape>& subs, cv::Mat* out) 
       float* drow = &dark[static_cast<size_t>(y - box.y0) * box.w()];
       for (int x = b.x0; x <= b.x1; ++x) {
         const cv::Point2d q = ToScene({static_cast<double>(x), static_cast<double>(y)});
-        const double floor_cover = Clamp01(q.y - fy + 0.5);
+        const double floor_cover = Clamp01(q.y - config_.floor_y_px + 0.5);
         if (floor_cover <= 0) continue;
         const double u = (q.x - s.x) / s.sx, v = (q.y - s.y) / s.sy;
         const double e = u * u + v * v;

@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct SynthSceneConfig {
 struct BallShape {
   double x = 0, y = 0;        // centre
   double a = 10, b = 10;      // horizontal and vertical semi-axes (a = b: round ball)
+  // Scene y of the floor line under the ball, where its shadow falls (NaN: the scene's
+  // floor_y_px; a ball nearer the camera than the wall stands on a lower line).
+  double floor_y = std::numeric_limits<double>::quiet_NaN();
 };
 
 class SynthScene {

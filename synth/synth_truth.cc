@@ -70,6 +70,23 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
                   {"click_at_1mps", t.sound_click_at_1mps},
                   {"click_exponent", t.sound_click_exponent},
                   {"impact_speeds_mps", t.impact_speeds_mps}};
+  if (!t.drops.empty()) {
+    j["camera"] = {{"focal_px", t.camera_focal_px}, {"height_m", t.camera_height_m}};
+    ojson drops = ojson::array();
+    for (const SynthTruthDrop& d : t.drops)
+      drops.push_back({{"distance_m", d.distance_m},
+                       {"approach_mps", d.approach_mps},
+                       {"px_per_m", d.px_per_m},
+                       {"radius_px", d.radius_px},
+                       {"floor_offset_px", d.floor_offset_px},
+                       {"drop_height_m", d.drop_height_m},
+                       {"release_t_s", d.release_t_s},
+                       {"impact_times_s", d.impact_times_s},
+                       {"apex_times_s", d.apex_times_s},
+                       {"apex_heights_m", d.apex_heights_m},
+                       {"rest_t_s", d.rest_t_s}});
+    j["drops"] = drops;
+  }
   ojson frames = ojson::array();
   for (const auto& f : t.frames) {
     frames.push_back({{"i", f.index},
@@ -208,6 +225,29 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
     t.impact_speeds_mps = Get<std::vector<double>>(sound, "impact_speeds_mps", where + " sound");
   }
 
+  if (j.contains("drops")) {
+    const json camera = Get<json>(j, "camera", where);
+    t.camera_focal_px = Get<double>(camera, "focal_px", where + " camera");
+    t.camera_height_m = Get<double>(camera, "height_m", where + " camera");
+    const json drops = Get<json>(j, "drops", where);
+    if (!drops.is_array()) throw std::runtime_error(where + ": 'drops' is not an array");
+    for (size_t i = 0; i < drops.size(); ++i) {
+      const std::string dw = where + " drops[" + std::to_string(i) + "]";
+      SynthTruthDrop d;
+      d.distance_m = Get<double>(drops[i], "distance_m", dw);
+      d.approach_mps = drops[i].value("approach_mps", 0.0);
+      d.px_per_m = Get<double>(drops[i], "px_per_m", dw);
+      d.radius_px = Get<double>(drops[i], "radius_px", dw);
+      d.floor_offset_px = Get<double>(drops[i], "floor_offset_px", dw);
+      d.drop_height_m = Get<double>(drops[i], "drop_height_m", dw);
+      d.release_t_s = Get<double>(drops[i], "release_t_s", dw);
+      d.impact_times_s = Get<std::vector<double>>(drops[i], "impact_times_s", dw);
+      d.apex_times_s = Get<std::vector<double>>(drops[i], "apex_times_s", dw);
+      d.apex_heights_m = Get<std::vector<double>>(drops[i], "apex_heights_m", dw);
+      d.rest_t_s = Get<double>(drops[i], "rest_t_s", dw);
+      t.drops.push_back(std::move(d));
+    }
+  }
   const json frames = Get<json>(j, "per_frame", where);
   if (!frames.is_array()) throw std::runtime_error(where + ": 'per_frame' is not an array");
   t.frames.reserve(frames.size());

@@ -20,6 +20,21 @@ struct SynthTruthFrame {
   double camera_dx = 0, camera_dy = 0;
 };
 
+// One drop of a clip with several (synth/synth_drops.h), in clip time.
+struct SynthTruthDrop {
+  double distance_m = 0;      // from the camera at the release (then nearer by approach_mps a second)
+  double approach_mps = 0;    // towards the camera while it bounces
+  double px_per_m = 0;        // the image scale at the release's distance
+  double radius_px = 0;       // the ball's radius in the picture there
+  double floor_offset_px = 0; // its floor line there: image points p on it have p . down = this
+  double drop_height_m = 0;
+  double release_t_s = 0;
+  std::vector<double> impact_times_s;
+  std::vector<double> apex_times_s;    // [0] = the release
+  std::vector<double> apex_heights_m;  // [0] = drop height
+  double rest_t_s = 0;        // the ball lies still from then until it rolls on
+};
+
 struct SynthTruth {
   int version = 1;
   std::string clip;          // file name of the clip (no directory)
@@ -71,6 +86,10 @@ struct SynthTruth {
   double sound_noise_rms = 0, sound_chatter_rms = 0, sound_hum_rms = 0;
   double sound_click_at_1mps = 0, sound_click_exponent = 1;
   std::vector<double> impact_speeds_mps;   // one per impact time
+  // Several drops in one clip: each drop (the fields above hold all of their apexes and
+  // impacts, and the first drop's scale and floor); the pinhole camera that saw them.
+  std::vector<SynthTruthDrop> drops;
+  double camera_focal_px = 0, camera_height_m = 0;
   std::vector<SynthTruthFrame> frames;
 };
 

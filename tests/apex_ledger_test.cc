@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "detect/bounce_detector.h"
 #include "detect_sim.h"
 #include "detector_parts.h"
 
@@ -47,6 +48,44 @@ TEST(ApexLedger, TheDropsSummaryRevisesEveryApexWithTheWholeDrop) {
   }
   EXPECT_GE(s.impacts.size(), 5u);
   EXPECT_TRUE(std::isfinite(s.restitution_intercept));
+}
+
+// A scale 20% off (a user's wrong --px-per-m): every rebound the picture measures 20% high
+// disagrees with the flight times around it. Held until the impact after it, it goes out with
+// the flight's height, which needs the clock only.
+TEST(ApexLedger, ARebound20PercentOffItsFlightGoesOutWithTheFlightsHeight) {
+  testing::SimOptions o;  // ping-pong, 1 m, 120 fps, 300 px/m
+  const auto clip = testing::MakeSimClip(o);
+  std::vector<SequenceSummary> summaries;
+  auto run = [&](double sigmas) {
+    BounceDetectorConfig c;
+    c.calibration.px_per_m = 0.8 * o.px_per_m;
+    c.flight_check_sigmas = sigmas;
+    BounceDetector d{c};
+    const auto peaks = testing::RunDetector(d, clip.obs);
+    summaries = d.Summaries();
+    return peaks;
+  };
+  int rebounds = 0;
+  for (const BouncePeak& p : run(3)) {
+    const auto b = static_cast<size_t>(p.bounce);
+    if (b < 1 || b >= clip.truth.apex_heights_m.size() || clip.truth.apex_heights_m[b] < 0.05) continue;
+    ++rebounds;
+    EXPECT_NEAR(p.height_m, clip.truth.apex_heights_m[b], 0.02 * clip.truth.apex_heights_m[b]) << "bounce " << b;
+    // Out once the impact that ends its flight was seen.
+    EXPECT_GT(p.utime * 1e-6, clip.truth.impact_times_s[b]) << "bounce " << b;
+    // Revised with the whole drop, the same.
+    ASSERT_FALSE(summaries.empty());
+    EXPECT_NEAR(summaries[0].FinalHeightOf(p.bounce), clip.truth.apex_heights_m[b], 0.02 * clip.truth.apex_heights_m[b])
+        << "bounce " << b;
+  }
+  EXPECT_GE(rebounds, 5);
+  // Unchecked, the picture's heights are the scale's: 25% high.
+  for (const BouncePeak& p : run(0)) {
+    const auto b = static_cast<size_t>(p.bounce);
+    if (b >= 1 && b < clip.truth.apex_heights_m.size() && clip.truth.apex_heights_m[b] >= 0.05)
+      EXPECT_GT(p.height_m, 1.2 * clip.truth.apex_heights_m[b]) << "bounce " << b;
+  }
 }
 
 }  // namespace

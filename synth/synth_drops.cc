@@ -1,0 +1,183 @@
+#include "synth/synth_drops.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include "model/point_mass_drop.h"
+#include "synth/synth_frames.h"
+
+namespace bouncefit {
+namespace {
+
+// 0 to 1 with zero speed at both ends: a hand's or a roll's start and stop.
+double Smooth(double u) {
+  u = std::clamp(u, 0.0, 1.0);
+  return u * u * (3 - 2 * u);
+}
+
+double HeightOf(const SynthClipConfig& c, size_t k) {
+  return c.drop_heights_m.empty() ? c.drop_height_m : c.drop_heights_m[k];
+}
+
+// One drop on the clip's clock.
+struct PlannedDrop {
+  double distance_m = 0, x_m = 0, height_m = 0;
+  double release_t = 0;   // the hand lets go
+  std::shared_ptr<PointMassDropResult> sim;  // its clock: 0 at the release
+  double rest_t = 0;      // lies still from here
+  double roll_t = 0;      // rolls on to the next drop's place from here (last drop: the clip ends)
+  double lift_t = 0;      // the next drop's lift begins (after the roll and a pause)
+};
+
+constexpr double kSettleS = 0.3;  // still on the floor before it rolls, and after
+
+std::vector<PlannedDrop> PlanDrops(const SynthClipConfig& c, const SynthPinhole& cam) {
+  std::vector<PlannedDrop> drops;
+  const double cx = (c.width - 1) / 2.0;
+  double t = c.hold_s;
+  for (size_t k = 0; k < c.drop_distances_m.size(); ++k) {
+    PlannedDrop d;
+    d.distance_m = c.drop_distances_m[k];
+    d.height_m = HeightOf(c, k);
+    // Left and right of where the first drop is, in turn, within the picture.
+    const double shift[3] = {0, 0.15, -0.15};
+    const double x_frac = std::clamp(c.ball_x + shift[k % 3], 0.15, 0.85);
+    d.x_m = (x_frac * (c.width - 1) - cx) * d.distance_m / cam.focal_px;
+    PointMassDropConfig pm;
+    pm.ball = c.ball;
+    pm.drop_height_m = d.height_m;
+    pm.g_mps2 = c.g_mps2;
+    pm.air_density_kgpm3 = c.air_density_kgpm3;
+    pm.drag = c.drag;
+    pm.end_time_s = 40;
+    d.sim = std::make_shared<PointMassDropResult>(SimulatePointMassDrop(pm));
+    if (!d.sim->comes_to_rest)
+      throw std::invalid_argument("drop " + std::to_string(k + 1) + " does not come to rest within 40 s");
+    d.release_t = t;
+    d.rest_t = t + d.sim->rest_time_s;
+    d.roll_t = d.rest_t + kSettleS;
+    d.lift_t = d.roll_t + c.roll_s + kSettleS;
+    t = d.lift_t + c.lift_s + c.hold_s;
+    drops.push_back(d);
+  }
+  return drops;
+}
+
+// Where the ball is at clip time t: its distance and lateral place (m) and its bottom's height.
+struct WorldBall {
+  double distance_m, x_m, bottom_m;
+};
+
+WorldBall BallAt(const std::vector<PlannedDrop>& drops, const SynthClipConfig& c, double t) {
+  const PlannedDrop& first = drops.front();
+  if (t < first.release_t) return {first.distance_m, first.x_m, first.height_m};
+  for (size_t k = 0; k < drops.size(); ++k) {
+    const PlannedDrop& d = drops[k];
+    const bool last = k + 1 == drops.size();
+    // Coming towards the camera while it bounces, until it rests.
+    const double moved = c.approach_mps * (std::min(t, d.rest_t) - d.release_t);
+    if (last || t < d.roll_t) return {d.distance_m - moved, d.x_m, d.sim->At(t - d.release_t).height_m};
+    const PlannedDrop& next = drops[k + 1];
+    if (t < next.release_t) {
+      const double from = d.distance_m - moved;
+      const double roll = Smooth((t - d.roll_t) / c.roll_s);
+      const double lift = Smooth((t - d.lift_t) / c.lift_s);
+      return {from + (next.distance_m - from) * roll, d.x_m + (next.x_m - d.x_m) * roll, next.height_m * lift};
+    }
+  }
+  return {first.distance_m, first.x_m, 0};  // not reached
+}
+
+}  // namespace
+
+SynthPinhole FitSynthPinhole(const SynthClipConfig& c) {
+  const double r = c.ball.radius_m();
+  const double cy = (c.height - 1) / 2.0;
+  double top = 0, far = 0;
+  for (size_t k = 0; k < c.drop_distances_m.size(); ++k) {
+    top = std::max(top, HeightOf(c, k) + 2 * r);
+    far = std::max(far, c.drop_distances_m[k]);
+  }
+  SynthPinhole cam;
+  cam.height_m = 0.5 * top;  // level with the middle of the highest drop
+  cam.focal_px = std::numeric_limits<double>::infinity();
+  const double room = cy - 0.05 * c.height;
+  for (size_t k = 0; k < c.drop_distances_m.size(); ++k) {
+    const double d = c.drop_distances_m[k];
+    const double above = HeightOf(c, k) + 2 * r - cam.height_m;
+    cam.focal_px = std::min(cam.focal_px, room * d / std::max(above, cam.height_m));
+  }
+  cam.wall_distance_m = 1.25 * far;
+  return cam;
+}
+
+SynthClipResult RenderSynthDropsClip(const SynthClipConfig& c, const SynthProgress& progress) {
+  ValidateSynthClipConfig(c);
+  if (c.drop_distances_m.empty()) throw std::invalid_argument("several drops need their distances");
+  if (c.sound) throw std::invalid_argument("a clip of several drops has no sound track");
+  if (c.launch_up_mps != 0 || c.launch_right_mps != 0 || c.start_after_release_s != 0)
+    throw std::invalid_argument("several drops are dropped from rest: no throw, no late start");
+  for (const PlannedDrop& d : PlanDrops(c, FitSynthPinhole(c)))
+    if (d.distance_m - c.approach_mps * d.sim->rest_time_s < 0.2)
+      throw std::invalid_argument("the ball would come within 0.2 m of the camera: less --approach");
+  const auto wall_start = std::chrono::steady_clock::now();
+  const double cpu_start = SynthCpuSeconds();
+  const SynthPinhole cam = FitSynthPinhole(c);
+  const std::vector<PlannedDrop> drops = PlanDrops(c, cam);
+  const double r = c.ball.radius_m();
+  const double cx = (c.width - 1) / 2.0, cy = (c.height - 1) / 2.0;
+  auto floor_y = [&](double distance) { return cy + cam.focal_px * cam.height_m / distance; };
+
+  const SynthScene scene(SynthSceneConfigOf(c, floor_y(cam.wall_distance_m), r * cam.focal_px / drops[0].distance_m));
+  auto ball_at = [&](double t) {
+    const WorldBall w = BallAt(drops, c, t);
+    const double scale = cam.focal_px / w.distance_m;
+    SynthBallAt b;
+    b.bottom_m = w.bottom_m;
+    b.shape.x = cx + w.x_m * scale;
+    b.shape.y = cy + (cam.height_m - w.bottom_m - r) * scale;
+    b.shape.a = b.shape.b = r * scale;
+    b.shape.floor_y = floor_y(w.distance_m);
+    return b;
+  };
+
+  SynthTruth truth = SynthTruthHeader(c, scene, cam.focal_px / drops[0].distance_m, floor_y(drops[0].distance_m));
+  truth.trajectory = "point-mass";
+  truth.drop_height_m = drops[0].height_m;
+  truth.release_t_s = drops[0].release_t;
+  truth.camera_focal_px = cam.focal_px;
+  truth.camera_height_m = cam.height_m;
+  const double end = drops.back().rest_t + 0.5;
+  truth.frame_count = std::max(1, static_cast<int>(std::lround(end * c.fps)));
+  for (const PlannedDrop& d : drops) {
+    SynthTruthDrop td;
+    td.distance_m = d.distance_m;
+    td.approach_mps = c.approach_mps;
+    td.px_per_m = cam.focal_px / d.distance_m;
+    td.radius_px = r * td.px_per_m;
+    const cv::Point2d fp = scene.ToImage({cx, floor_y(d.distance_m)});
+    td.floor_offset_px = fp.x * truth.down_x + fp.y * truth.down_y;
+    td.drop_height_m = d.height_m;
+    td.release_t_s = d.release_t;
+    for (double t : d.sim->impact_times_s) td.impact_times_s.push_back(d.release_t + t);
+    for (double t : d.sim->apex_times_s) td.apex_times_s.push_back(d.release_t + t);
+    td.apex_heights_m = d.sim->apex_heights_m;
+    td.rest_t_s = d.rest_t;
+    truth.impact_times_s.insert(truth.impact_times_s.end(), td.impact_times_s.begin(), td.impact_times_s.end());
+    truth.apex_times_s.insert(truth.apex_times_s.end(), td.apex_times_s.begin(), td.apex_times_s.end());
+    truth.apex_heights_m.insert(truth.apex_heights_m.end(), td.apex_heights_m.begin(), td.apex_heights_m.end());
+    truth.drops.push_back(std::move(td));
+  }
+  truth.comes_to_rest = true;
+  truth.rest_t_s = drops.back().rest_t;
+
+  const SynthFrameTimes times = RenderSynthFrames(c, scene, ball_at, &truth, progress);
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return FinishSynthClip(c, std::move(truth), times, wall_s, cpu_start);
+}
+
+}  // namespace bouncefit

@@ -1,0 +1,101 @@
+#pragma once
+// A `bouncefit run` of a rendered clip scored against its truth (test-only): every apex of
+// min_height_m or more, the ball in view, matched by time to a peaks.csv row within max(2 mm, 2%), rows that
+// match no apex counted as false, and each drop's scale (summary.json) against the truth's.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "msgs/peaks_csv.h"
+#include "synth/synth_truth.h"
+
+namespace bouncefit::testing {
+
+struct SynthRunScore {
+  int wanted = 0, found = 0, off = 0, missed = 0, false_rows = 0;
+  // Per truth drop (one for a clip of one drop): the scale the run measured over the truth's
+  // (0: no drop of the run matched it), and the run's drop number its rows carry (-1: none).
+  std::vector<double> scale_ratio;
+  std::vector<int> run_drop;
+  std::string table;  // one line per apex and per false row
+};
+
+inline SynthRunScore ScoreSynthRun(const SynthTruth& truth, const std::filesystem::path& out_dir,
+                                   double min_height_m = 0.02) {
+  SynthRunScore s;
+  const std::vector<PeaksCsvRow> rows = ReadPeaksCsv(out_dir / "peaks.csv");
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(out_dir / "summary.json"));
+  const double end_s = truth.frame_count / truth.fps;
+  std::vector<SynthTruthDrop> drops = truth.drops;
+  if (drops.empty()) {
+    SynthTruthDrop d;
+    d.px_per_m = truth.px_per_m;
+    d.release_t_s = truth.release_t_s;
+    d.apex_times_s = truth.apex_times_s;
+    d.apex_heights_m = truth.apex_heights_m;
+    d.impact_times_s = truth.impact_times_s;
+    d.rest_t_s = end_s;
+    drops.push_back(d);
+  }
+  std::vector<bool> used(rows.size(), false);
+  s.run_drop.assign(drops.size(), -1);
+  char line[160];
+  for (size_t k = 0; k < drops.size(); ++k) {
+    const SynthTruthDrop& d = drops[k];
+    for (size_t a = 0; a < d.apex_times_s.size(); ++a) {
+      const double t = d.apex_times_s[a], h = d.apex_heights_m[a];
+      if (t < 1.5 / truth.fps || t > end_s - 1.5 / truth.fps) continue;
+      int best = -1;
+      for (size_t j = 0; j < rows.size(); ++j)
+        if (std::abs(rows[j].t_s - t) < 0.06 && (best < 0 || std::abs(rows[j].t_s - t) < std::abs(rows[best].t_s - t)))
+          best = static_cast<int>(j);
+      if (best >= 0) used[static_cast<size_t>(best)] = true, s.run_drop[k] = rows[static_cast<size_t>(best)].drop;
+      // An apex out of the picture (a throw gone out of view) is no one's to see.
+      const auto at = std::min_element(truth.frames.begin(), truth.frames.end(), [&](const auto& x, const auto& y) {
+        return std::abs(x.t_s - t) < std::abs(y.t_s - t);
+      });
+      if (h < min_height_m || (at != truth.frames.end() && !at->fully_in_view)) continue;
+      ++s.wanted;
+      if (best < 0) {
+        ++s.missed;
+        std::snprintf(line, sizeof line, "  drop %zu apex %zu at %.3f s: %.4f m MISSED\n", k, a, t, h);
+      } else {
+        const double got = rows[static_cast<size_t>(best)].height_m;
+        const bool ok = std::abs(got - h) <= std::max(0.002, 0.02 * h);
+        ++(ok ? s.found : s.off);
+        std::snprintf(line, sizeof line, "  drop %zu apex %zu at %.3f s: %.4f m, run %.4f m (drop %d)%s\n", k, a, t,
+                      h, got, rows[static_cast<size_t>(best)].drop, ok ? "" : " OFF");
+      }
+      s.table += line;
+    }
+  }
+  for (size_t j = 0; j < rows.size(); ++j) {
+    if (used[j]) continue;
+    ++s.false_rows;
+    std::snprintf(line, sizeof line, "  FALSE row: bounce %d at %.3f s, %.4f m (drop %d)\n", rows[j].bounce,
+                  rows[j].t_s, rows[j].height_m, rows[j].drop);
+    s.table += line;
+  }
+  // Each truth drop's scale: the run's drop whose first impact falls within it.
+  s.scale_ratio.assign(drops.size(), 0);
+  for (const auto& rd : summary["drops"]) {
+    if (rd["impacts"].empty() || !rd["px_per_m"].is_number()) continue;
+    const double t = rd["impacts"][0]["t_s"].get<double>();
+    for (size_t k = 0; k < drops.size(); ++k)
+      if (t >= drops[k].release_t_s - 0.5 && t <= drops[k].rest_t_s + 0.1 && s.scale_ratio[k] == 0)
+        s.scale_ratio[k] = rd["px_per_m"].get<double>() / drops[k].px_per_m;
+  }
+  for (size_t k = 0; k < drops.size(); ++k) {
+    std::snprintf(line, sizeof line, "  drop %zu: scale %.4f of the truth's\n", k, s.scale_ratio[k]);
+    s.table += line;
+  }
+  return s;
+}
+
+}  // namespace bouncefit::testing
