@@ -14,6 +14,7 @@
 #include "model/point_mass_drop.h"
 #include "synth/synth_audio_mux.h"
 #include "synth/synth_noise.h"
+#include "synth/synth_stamped_video.h"
 #include "synth/synth_video.h"
 
 namespace bouncefit {
@@ -66,6 +67,9 @@ void Validate(const SynthClipConfig& c) {
     Require(e.empty(), e);
     Require(c.out.extension() == ".avi", "a clip with sound must be .avi (MJPEG + PCM)");
   }
+  const std::string timeline = c.timeline.Validate(c.fps);
+  Require(timeline.empty(), timeline);
+  Require(!(c.sound && c.timeline.Variable()), "a clip with sound has a constant frame rate");
   if (c.ball_bgr) ValidateColor(*c.ball_bgr, "ball");
   ValidateColor(c.wall_bgr, "wall");
   ValidateColor(c.floor_bgr, "floor");
@@ -136,6 +140,17 @@ void AddClipSound(const SynthClipConfig& c, const SynthTrajectory& traj, SynthTr
   truth->sound_offset_s = c.sound->offset_s;
   truth->sound_chatter = c.sound->chatter;
   truth->sound_hum = c.sound->hum;
+}
+
+// The file's time of real time t (s since the first frame), between the frames' stamps.
+double FileTimeAt(const std::vector<SynthFrameTime>& times, double t) {
+  auto it = std::upper_bound(times.begin(), times.end(), t,
+                             [](double v, const SynthFrameTime& f) { return v < f.real_s; });
+  if (it == times.begin()) return t - times.front().real_s + times.front().file_s;
+  if (it == times.end()) return t - times.back().real_s + times.back().file_s;
+  const SynthFrameTime& b = *it;
+  const SynthFrameTime& a = *(it - 1);
+  return a.file_s + (t - a.real_s) / (b.real_s - a.real_s) * (b.file_s - a.file_s);
 }
 
 }  // namespace
@@ -220,7 +235,8 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
     Require(scale > 0, "cannot fit the drop into the frame; give --px-per-m");
   }
   const double ball_x_px = c.ball_x * (c.width - 1);
-  const int frame_count = std::max(1, static_cast<int>(std::lround(c.duration_s * c.fps)));
+  const std::vector<SynthFrameTime> times = SynthFrameTimes(c.timeline, c.fps, c.duration_s, c.seed);
+  const int frame_count = static_cast<int>(times.size());
 
   SynthSceneConfig sc;
   sc.width = c.width;
@@ -255,7 +271,13 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
     return b;
   };
 
-  cv::VideoWriter writer = OpenSynthVideo(c.out, c.fps, {c.width, c.height}, c.quality);
+  // A constant rate through OpenCV; stamps of their own through FFmpeg's libraries.
+  cv::VideoWriter writer;
+  std::unique_ptr<StampedVideoWriter> stamped;
+  if (c.timeline.Variable())
+    stamped = std::make_unique<StampedVideoWriter>(c.out, cv::Size(c.width, c.height), c.quality);
+  else
+    writer = OpenSynthVideo(c.out, c.fps, {c.width, c.height}, c.quality);
   SynthNoise noise(c.noise_sigma, c.seed);
 
   SynthTruth truth;
@@ -316,6 +338,11 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
       truth.apex_heights_m.push_back(traj.apex_heights_m[k]);
     }
   }
+  truth.timeline = c.timeline;
+  if (c.timeline.Variable()) {
+    for (double t : truth.impact_times_s) truth.impact_file_times_s.push_back(FileTimeAt(times, t));
+    for (double t : truth.apex_times_s) truth.apex_file_times_s.push_back(FileTimeAt(times, t));
+  }
   truth.comes_to_rest = traj.comes_to_rest && in_clip(traj.rest_time_s);
   truth.rest_t_s = truth.comes_to_rest ? traj.rest_time_s - offset : 0;
 
@@ -328,7 +355,7 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   std::vector<BallShape> subs;
   truth.frames.reserve(frame_count);
   for (int i = 0; i < frame_count; ++i) {
-    const double t = i / c.fps;
+    const double t = times[static_cast<size_t>(i)].real_s;
     int n = 1;
     if (c.exposure_s > 0) {
       n = c.blur_samples;
@@ -347,6 +374,7 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
     SynthTruthFrame f;
     f.index = i;
     f.t_s = t;
+    f.file_t_s = times[static_cast<size_t>(i)].file_s;
     f.fully_in_view = true;
     for (int k = 0; k < n; ++k) {
       const double ts = n == 1 ? t : t - c.exposure_s / 2 + c.exposure_s * (k + 0.5) / n;
@@ -373,7 +401,10 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
     const double t1 = CpuSeconds();
     noise.Add(&frame);
     const double t2 = CpuSeconds();
-    writer.write(frame);
+    if (stamped)
+      stamped->Write(frame, f.file_t_s);
+    else
+      writer.write(frame);
     const double t3 = CpuSeconds();
     scene_s += t1 - t0;
     noise_s += t2 - t1;
@@ -381,7 +412,10 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
     if (progress) progress(i + 1, frame_count);
   }
   const double t_release = CpuSeconds();
-  writer.release();
+  if (stamped)
+    stamped->Close();
+  else
+    writer.release();
   encode_s += CpuSeconds() - t_release;
 
   if (c.sound) AddClipSound(c, traj, &truth);
