@@ -112,6 +112,12 @@ void DetectStage::OnBox(const ball_box_t& m) {
     retiming_said_ = true;
     notice_("clock: " + node_->retiming().verdict);
   }
+  if (const ClockChoice& choice = node_->clock_reader().choice(); choice.tested && !slow_motion_said_) {
+    slow_motion_said_ = true;
+    const CaptureClock& cc = node_->clock_reader().capture_clock();
+    notice_(fmt::format("clock: stamps up to {:.1f}x the {:.0f} fps capture period apart; {}", cc.max_slowdown(),
+                        1 / cc.capture_period_s(), choice.verdict));
+  }
   Handle(events);
 }
 

@@ -1,0 +1,52 @@
+#pragma once
+// The time each picture was taken, from the file's stamps, when the stamps say more than one
+// rate. A phone's slow motion captures at a constant high rate (120, 240 fps) and stamps the
+// pictures one capture period apart outside the slowed span and several inside it (1/30 s: 8x
+// slower), with ramps between, and no tag says so. Read as stamped, a ball falling through the
+// span's start slows to a crawl in mid-air and no parabola follows it.
+//
+// The capture period is the shortest step the stamps repeat (min_run steps alike), and only a
+// fast one (slow motion is filmed at 90 fps or more): a phone's ordinary video, whose rate
+// wanders between 26 and 30 fps, has none and is read as stamped. Every step at least
+// min_slowdown capture periods long is then a slowed one: one capture period of real time.
+// Steps are read as they come: each picture's time is known when its stamp arrives. Whether
+// the slowed stretches were slow motion at all is the arcs' to say (detect/frame_retiming.h
+// weighs their gravity against the ball's size on both readings). A core with no I/O.
+#include <cstdint>
+
+namespace bouncefit {
+
+struct CaptureClockConfig {
+  double max_capture_period_s = 1.0 / 90;  // slow motion is captured at 90 fps or faster
+  int min_run = 3;                 // steps alike in a row that show a capture period
+  double alike = 0.1;              // steps within this share of each other are alike
+  double min_slowdown = 1.8;       // a step this many capture periods long is slowed
+};
+
+class CaptureClock {
+ public:
+  explicit CaptureClock(CaptureClockConfig config = {}) : config_(config) {}
+  // The next picture's stamp, us (equal or earlier ones change nothing); returns the time it
+  // was taken on the capture clock, us (the first picture's stamp + the real steps).
+  int64_t Add(int64_t utime);
+  // The capture time of the last stamp added, us.
+  int64_t last_taken() const { return taken_; }
+  double capture_period_s() const { return period_us_ * 1e-6; }  // 0: none found
+  int64_t slowed_steps() const { return slowed_steps_; }
+  double max_slowdown() const { return max_slowdown_; }  // longest slowed step / capture period
+  // Seconds of stamps the slowed steps span, and the real seconds they were.
+  double slowed_stamp_s() const { return slowed_stamp_us_ * 1e-6; }
+  double slowed_real_s() const { return slowed_steps_ * capture_period_s(); }
+
+ private:
+  CaptureClockConfig config_;
+  bool started_ = false;
+  int64_t last_ = 0, taken_ = 0;
+  int64_t run_step_ = 0;
+  int run_ = 0;
+  double period_us_ = 0;
+  int64_t slowed_steps_ = 0, slowed_stamp_us_ = 0;
+  double max_slowdown_ = 1;
+};
+
+}  // namespace bouncefit

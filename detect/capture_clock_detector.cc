@@ -1,0 +1,100 @@
+#include "detect/capture_clock_detector.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace bouncefit {
+
+CaptureClockDetector::CaptureClockDetector(BounceDetectorConfig detector, FrameRetimingConfig retiming,
+                                           CaptureClockConfig capture)
+    : config_(std::move(detector)),
+      retiming_(retiming),
+      reader_(std::make_unique<RetimingDetector>(config_, retiming_, capture,
+                                                 retiming.mode == FrameTimes::kRetimed)) {}
+
+int CaptureClockDetector::Peaks(const std::vector<DetectorEvent>& ev) {
+  int n = 0;
+  for (const auto& e : ev) n += e.kind == DetectorEvent::Kind::kPeak;
+  return n;
+}
+
+std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs) {
+  if (decided_ && choice_.stamped) return stamped_->Push(obs);
+  const int64_t slowed_before = reader_->capture_clock().slowed_steps();
+  std::vector<DetectorEvent> out = reader_->Push(obs);
+  const CaptureClock& clock = reader_->capture_clock();
+  if (!testing_ && !decided_ && slowed_before == 0 && clock.slowed_steps() > 0 &&
+      retiming_.mode == FrameTimes::kRetimed) {
+    // The first slowed step: the stamps' reading of everything before it, then side by side.
+    testing_ = true;
+    test_from_taken_ = clock.last_taken();
+    test_from_stamp_ = obs.utime;
+    stamped_ = std::make_unique<RetimingDetector>(config_, retiming_, CaptureClockConfig{}, false);
+    for (const auto& o : history_) stamped_->Push(o);  // the reader emitted these already
+    history_.clear();
+  }
+  if (!testing_) {
+    if (!decided_) {
+      history_.push_back(obs);
+      if (history_.size() > kMaxHistory) history_.pop_front();
+    }
+    return out;
+  }
+  held_reader_.insert(held_reader_.end(), out.begin(), out.end());
+  auto more = stamped_->Push(obs);
+  held_stamped_.insert(held_stamped_.end(), more.begin(), more.end());
+  std::vector<DetectorEvent> released;
+  Choose(false, &released);
+  return released;
+}
+
+void CaptureClockDetector::Choose(bool forced, std::vector<DetectorEvent>* out) {
+  const double rel = config_.calibration.max_free_fall_rel_sigma;
+  auto measured = [&](const BounceDetector& d, int64_t from) {
+    return d.calibrated() && d.calibration().utime >= from && d.calibration().FreeFallMeasured(rel) &&
+                   d.calibration().gravity_over_size > 0
+               ? d.calibration().gravity_over_size
+               : 0.0;
+  };
+  const double qc = measured(reader_->detector(), test_from_taken_);
+  const double qs = measured(stamped_->detector(), test_from_stamp_);
+  const bool both = qc > 0 && qs > 0;
+  if (!both && !forced && Peaks(held_reader_) < max_held_peaks_) return;
+  // The stamps only when their gravity explains the ball's size by far better.
+  const double margin = std::log1p(config_.clock_tolerance);
+  const bool stamps = qs > 0 && (qc == 0 || std::abs(std::log(qs)) + margin < std::abs(std::log(qc)));
+  testing_ = false;
+  decided_ = true;
+  choice_.tested = true;
+  choice_.stamped = stamps;
+  choice_.capture_gravity_over_size = qc;
+  choice_.stamped_gravity_over_size = qs;
+  char line[320];
+  auto q = [](double v) { return v > 0 ? std::to_string(v).substr(0, 5) : std::string("unmeasured"); };
+  std::snprintf(line, sizeof line,
+                "%s: free fall over the ball's size %s on the capture clock, %s as stamped",
+                stamps ? "the stamps' long steps are real time" : "slow motion: read on the capture clock",
+                q(qc).c_str(), q(qs).c_str());
+  choice_.verdict = line;
+  auto& keep = stamps ? held_stamped_ : held_reader_;
+  out->insert(out->end(), keep.begin(), keep.end());
+  held_reader_.clear();
+  held_stamped_.clear();
+  if (!stamps) stamped_.reset();
+}
+
+std::vector<DetectorEvent> CaptureClockDetector::Finish() {
+  std::vector<DetectorEvent> out;
+  if (testing_) {
+    // Each side closes its drop before the clocks are weighed on everything.
+    auto a = reader_->Finish();
+    held_reader_.insert(held_reader_.end(), a.begin(), a.end());
+    auto b = stamped_->Finish();
+    held_stamped_.insert(held_stamped_.end(), b.begin(), b.end());
+    Choose(true, &out);
+    return out;
+  }
+  return choice_.stamped ? stamped_->Finish() : reader_->Finish();
+}
+
+}  // namespace bouncefit

@@ -1,0 +1,73 @@
+#pragma once
+// The bounce detector on the clock the pictures were taken on, when the stamps hold slow motion
+// that no tag announces (detect/capture_clock.h), checked against the stamps by gravity.
+//
+// Until the stamps show a slowed step the file is read as stamped (the two clocks are one). At
+// the first slowed step a second detector reads the same observations as stamped, from the
+// stream's start (kept for it), and the two run side by side, their events held back, until
+// each has refitted its scale on a free fall measured after that step. The arcs' own gravity
+// against the ball's size (Calibration::gravity_over_size: 1 on the right clock, 1/s^2 on a
+// timeline slowed s times and read as real, s^2 on a real one read as slowed) then chooses: the
+// stamps only when they explain the ball's size by far better (a file whose encoder left out
+// still pictures: its long steps were real time). Without that evidence by the third apex,
+// the capture clock stands, as a phone's slow motion asks. The chosen detector's held events
+// go out; from then on it alone reads. A core with no I/O.
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "detect/capture_clock.h"
+#include "detect/retiming_detector.h"
+
+namespace bouncefit {
+
+struct ClockChoice {
+  bool tested = false;        // the stamps held a slowed step and the two clocks were weighed
+  bool stamped = false;       // the stamps won: their slowed steps were real time
+  double capture_gravity_over_size = 0, stamped_gravity_over_size = 0;  // 0: not measured
+  std::string verdict;        // one line
+};
+
+class CaptureClockDetector {
+ public:
+  // Throws std::invalid_argument for an invalid detector config. kStamped frame times read
+  // every stamp as it is and test nothing.
+  CaptureClockDetector(BounceDetectorConfig detector, FrameRetimingConfig retiming,
+                       CaptureClockConfig capture = {});
+
+  std::vector<DetectorEvent> Push(const BallObservation& obs);
+  std::vector<DetectorEvent> Finish();
+
+  const BounceDetector& detector() const { return chosen().detector(); }
+  const Retiming& retiming() const { return chosen().retiming(); }
+  // The capture clock the stamps were read on; its slowed steps count only when the reading on
+  // it was chosen (choice().stamped false).
+  const CaptureClock& capture_clock() const { return reader_->capture_clock(); }
+  // The detector reads a slowed timeline on the capture clock.
+  bool on_capture_clock() const { return capture_clock().slowed_steps() > 0 && !choice_.stamped; }
+  const ClockChoice& choice() const { return choice_; }
+  int64_t rejected() const { return chosen().rejected(); }
+
+ private:
+  const RetimingDetector& chosen() const { return choice_.stamped && stamped_ ? *stamped_ : *reader_; }
+  // Weighs the two clocks once each has measured a free fall since the first slowed step (or,
+  // forced, on what there is).
+  void Choose(bool forced, std::vector<DetectorEvent>* out);
+  static int Peaks(const std::vector<DetectorEvent>& ev);
+
+  BounceDetectorConfig config_;
+  FrameRetimingConfig retiming_;
+  std::unique_ptr<RetimingDetector> reader_;   // on the capture clock
+  std::unique_ptr<RetimingDetector> stamped_;  // as stamped, while the clocks are weighed
+  std::deque<BallObservation> history_;        // what the reader read before any slowed step
+  static constexpr size_t kMaxHistory = 20000;
+  bool testing_ = false, decided_ = false;
+  int64_t test_from_taken_ = 0, test_from_stamp_ = 0;  // the first slowed step, on each clock
+  std::vector<DetectorEvent> held_reader_, held_stamped_;
+  ClockChoice choice_;
+  int max_held_peaks_ = 3;
+};
+
+}  // namespace bouncefit

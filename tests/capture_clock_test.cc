@@ -1,0 +1,69 @@
+#include "detect/capture_clock.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace bouncefit {
+namespace {
+
+// Stamps of a 240 fps capture on a 1/60000 s tick, frames [from, to) stamped `slow` periods apart.
+std::vector<int64_t> SlowMotionStamps(int frames, int from, int to, int slow) {
+  std::vector<int64_t> out;
+  int64_t ticks = 0;
+  for (int i = 0; i < frames; ++i) {
+    if (i > 0) ticks += (i - 1 >= from && i - 1 < to ? slow : 1) * 250;
+    out.push_back(ticks * 1000000 / 60000);
+  }
+  return out;
+}
+
+TEST(CaptureClock, SlowMotionIsReadOneCapturePeriodPerPicture) {
+  CaptureClock clock;
+  const auto stamps = SlowMotionStamps(600, 100, 400, 8);
+  for (size_t i = 0; i < stamps.size(); ++i) {
+    const int64_t taken = clock.Add(stamps[i]);
+    // Every picture at i / 240 s, to the microsecond the stamps were rounded to (and the
+    // capture period's rounding, 0.33 us a step).
+    EXPECT_NEAR(static_cast<double>(taken), i * 1e6 / 240, 2 + 0.4 * static_cast<double>(i)) << i;
+  }
+  EXPECT_NEAR(clock.capture_period_s(), 1.0 / 240, 1e-6);
+  EXPECT_EQ(clock.slowed_steps(), 300);
+  EXPECT_NEAR(clock.max_slowdown(), 8, 0.01);
+  EXPECT_NEAR(clock.slowed_real_s(), 300.0 / 240, 1e-3);
+  EXPECT_NEAR(clock.slowed_stamp_s(), 300.0 * 8 / 240, 1e-3);
+}
+
+TEST(CaptureClock, AWanderingOrdinaryRateIsReadAsStamped) {
+  CaptureClock clock;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> period(1 / 30.0, 1 / 26.0);
+  int64_t t = 1000;
+  for (int i = 0; i < 200; ++i) {
+    EXPECT_EQ(clock.Add(t), t);
+    t += std::llround(period(rng) * 1e6);
+    if (i == 50) t += 2 * 33333;  // two frames dropped: a longer step, still real time
+  }
+  EXPECT_EQ(clock.capture_period_s(), 0);
+  EXPECT_EQ(clock.slowed_steps(), 0);
+}
+
+TEST(CaptureClock, AConstantRateIsReadAsStamped) {
+  CaptureClock clock;
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(clock.Add(i * 4167), i * 4167);
+  EXPECT_NEAR(clock.capture_period_s(), 0.004167, 1e-6);
+  EXPECT_EQ(clock.slowed_steps(), 0);
+}
+
+TEST(CaptureClock, RepeatedOrEarlierStampsChangeNothing) {
+  CaptureClock clock;
+  clock.Add(0);
+  clock.Add(4167);
+  EXPECT_EQ(clock.Add(4167), 4167);
+  EXPECT_EQ(clock.Add(100), 4167);
+  EXPECT_EQ(clock.last_taken(), 4167);
+}
+
+}  // namespace
+}  // namespace bouncefit
