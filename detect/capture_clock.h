@@ -5,21 +5,25 @@
 // slower), with ramps between, and no tag says so. Read as stamped, a ball falling through the
 // span's start slows to a crawl in mid-air and no parabola follows it.
 //
-// The capture period is the shortest step the stamps repeat (min_run steps alike), and only a
-// fast one (slow motion is filmed at 90 fps or more): a phone's ordinary video, whose rate
+// The capture period is the shortest step the stamps repeat (min_run steps in a row alike
+// within a container's tick: a 1/240 s step on a 1/600 s tick alternates 3.3 and 5 ms), the
+// mean of every step of one period since, and only a fast one (slow motion is filmed at 90 fps
+// or more): a phone's ordinary video, whose rate
 // wanders between 26 and 30 fps, has none and is read as stamped. Every step at least
 // min_slowdown capture periods long is then a slowed one: one capture period of real time.
 // Steps are read as they come: each picture's time is known when its stamp arrives. Whether
 // the slowed stretches were slow motion at all is the arcs' to say (detect/frame_retiming.h
 // weighs their gravity against the ball's size on both readings). A core with no I/O.
+#include <cmath>
 #include <cstdint>
+#include <deque>
 
 namespace bouncefit {
 
 struct CaptureClockConfig {
   double max_capture_period_s = 1.0 / 90;  // slow motion is captured at 90 fps or faster
-  int min_run = 3;                 // steps alike in a row that show a capture period
-  double alike = 0.1;              // steps within this share of each other are alike
+  int min_run = 4;                 // steps alike in a row that show a capture period
+  double alike = 1.6;              // ... the longest at most this many times the shortest
   double min_slowdown = 1.8;       // a step this many capture periods long is slowed
 };
 
@@ -30,7 +34,7 @@ class CaptureClock {
   // was taken on the capture clock, us (the first picture's stamp + the real steps).
   int64_t Add(int64_t utime);
   // The capture time of the last stamp added, us.
-  int64_t last_taken() const { return taken_; }
+  int64_t last_taken() const { return std::llround(taken_us_); }
   double capture_period_s() const { return period_us_ * 1e-6; }  // 0: none found
   int64_t slowed_steps() const { return slowed_steps_; }
   double max_slowdown() const { return max_slowdown_; }  // longest slowed step / capture period
@@ -41,10 +45,12 @@ class CaptureClock {
  private:
   CaptureClockConfig config_;
   bool started_ = false;
-  int64_t last_ = 0, taken_ = 0;
-  int64_t run_step_ = 0;
-  int run_ = 0;
+  int64_t last_ = 0;
+  double taken_us_ = 0;
+  std::deque<int64_t> recent_;      // the last min_run steps
   double period_us_ = 0;
+  double period_sum_us_ = 0;        // the steps of one period since it was found
+  int64_t period_steps_ = 0;
   int64_t slowed_steps_ = 0, slowed_stamp_us_ = 0;
   double max_slowdown_ = 1;
 };

@@ -35,6 +35,20 @@ TEST(CaptureClock, SlowMotionIsReadOneCapturePeriodPerPicture) {
   EXPECT_NEAR(clock.slowed_stamp_s(), 300.0 * 8 / 240, 1e-3);
 }
 
+TEST(CaptureClock, AContainersCoarseTickStillShowsTheCapturePeriod) {
+  // 240 fps on a 1/600 s tick: steps of 3.3 and 5 ms in turn, 33.3 ms where slowed 8x.
+  CaptureClock clock;
+  double file_s = 0;
+  for (int i = 0; i < 500; ++i) {
+    if (i > 0) file_s += (i - 1 >= 100 && i - 1 < 300 ? 8.0 : 1.0) / 240;
+    const int64_t stamp = std::llround(std::round(file_s * 600) / 600 * 1e6);
+    const int64_t taken = clock.Add(stamp);
+    if (i > 20) EXPECT_NEAR(static_cast<double>(taken), i * 1e6 / 240, 2600) << i;
+  }
+  EXPECT_NEAR(clock.capture_period_s(), 1.0 / 240, 2e-5);
+  EXPECT_EQ(clock.slowed_steps(), 200);
+}
+
 TEST(CaptureClock, AWanderingOrdinaryRateIsReadAsStamped) {
   CaptureClock clock;
   std::mt19937_64 rng(3);
