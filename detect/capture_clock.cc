@@ -26,6 +26,7 @@ int64_t CaptureClock::Add(int64_t utime) {
     if (*hi <= config_.alike * *lo && mean <= config_.max_capture_period_s * 1e6 &&
         (period_us_ == 0 || mean < period_us_ / config_.alike)) {
       period_us_ = mean;
+      ++period_changes_;
       period_sum_us_ = 0;
       period_steps_ = 0;
     }

@@ -25,11 +25,13 @@ struct CaptureClockConfig {
   int min_run = 4;                 // steps alike in a row that show a capture period
   double alike = 1.6;              // ... the longest at most this many times the shortest
   double min_slowdown = 1.8;       // a step this many capture periods long is slowed
+  double known_period_s = 0;       // > 0: the capture period, known from the start
 };
 
 class CaptureClock {
  public:
-  explicit CaptureClock(CaptureClockConfig config = {}) : config_(config) {}
+  explicit CaptureClock(CaptureClockConfig config = {})
+      : config_(config), period_us_(config.known_period_s * 1e6) {}
   // The next picture's stamp, us (equal or earlier ones change nothing); returns the time it
   // was taken on the capture clock, us (the first picture's stamp + the real steps).
   int64_t Add(int64_t utime);
@@ -37,6 +39,9 @@ class CaptureClock {
   int64_t last_taken() const { return std::llround(taken_us_); }
   double capture_period_s() const { return period_us_ * 1e-6; }  // 0: none found
   int64_t slowed_steps() const { return slowed_steps_; }
+  // Times the capture period was found or found shorter (the steps before were read by the
+  // longer one, or as stamped).
+  int period_changes() const { return period_changes_; }
   double max_slowdown() const { return max_slowdown_; }  // longest slowed step / capture period
   // Seconds of stamps the slowed steps span, and the real seconds they were.
   double slowed_stamp_s() const { return slowed_stamp_us_ * 1e-6; }
@@ -51,6 +56,7 @@ class CaptureClock {
   double period_us_ = 0;
   double period_sum_us_ = 0;        // the steps of one period since it was found
   int64_t period_steps_ = 0;
+  int period_changes_ = 0;
   int64_t slowed_steps_ = 0, slowed_stamp_us_ = 0;
   double max_slowdown_ = 1;
 };

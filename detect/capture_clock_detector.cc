@@ -9,6 +9,7 @@ CaptureClockDetector::CaptureClockDetector(BounceDetectorConfig detector, FrameR
                                            CaptureClockConfig capture)
     : config_(std::move(detector)),
       retiming_(retiming),
+      capture_(capture),
       reader_(std::make_unique<RetimingDetector>(config_, retiming_, capture,
                                                  retiming.mode == FrameTimes::kRetimed)) {}
 
@@ -21,9 +22,13 @@ int CaptureClockDetector::Peaks(const std::vector<DetectorEvent>& ev) {
 std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs) {
   if (decided_ && choice_.stamped) return stamped_->Push(obs);
   const int64_t slowed_before = reader_->capture_clock().slowed_steps();
+  const int period_changes = reader_->capture_clock().period_changes();
   std::vector<DetectorEvent> out = reader_->Push(obs);
+  if (reader_->capture_clock().period_changes() > period_changes && !testing_ && !decided_ &&
+      retiming_.mode == FrameTimes::kRetimed)
+    ReadAgainIfBeganSlowed(obs);
   const CaptureClock& clock = reader_->capture_clock();
-  if (!testing_ && !decided_ && slowed_before == 0 && clock.slowed_steps() > 0 &&
+  if (!testing_ && !decided_ && (slowed_before == 0 || read_again_) && clock.slowed_steps() > 0 &&
       retiming_.mode == FrameTimes::kRetimed) {
     // The first slowed step: the stamps' reading of everything before it, then side by side.
     testing_ = true;
@@ -31,6 +36,7 @@ std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs
     test_from_stamp_ = obs.utime;
     stamped_ = std::make_unique<RetimingDetector>(config_, retiming_, CaptureClockConfig{}, false);
     for (const auto& o : history_) stamped_->Push(o);  // the reader emitted these already
+    if (read_again_) out.clear();  // the old reader's, on the stamps
     history_.clear();
   }
   if (!testing_) {
@@ -46,6 +52,23 @@ std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs
   std::vector<DetectorEvent> released;
   Choose(false, &released);
   return released;
+}
+
+void CaptureClockDetector::ReadAgainIfBeganSlowed(const BallObservation& obs) {
+  const double period_us = reader_->capture_clock().capture_period_s() * 1e6;
+  int slowed = 0;
+  for (size_t i = 1; i < history_.size(); ++i)
+    slowed += static_cast<double>(history_[i].utime - history_[i - 1].utime) >= capture_.min_slowdown * period_us;
+  if (slowed < capture_.min_run) return;
+  // The file began slowed: what the reader read so far stands as it emitted it; a reader on
+  // the capture clock, known from the start, reads it all again (its events on it were
+  // emitted, on the stamps), and the clocks are weighed from here.
+  CaptureClockConfig known = capture_;
+  known.known_period_s = period_us * 1e-6;
+  reader_ = std::make_unique<RetimingDetector>(config_, retiming_, known, true);
+  for (const auto& o : history_) reader_->Push(o);
+  reader_->Push(obs);
+  read_again_ = true;
 }
 
 void CaptureClockDetector::Choose(bool forced, std::vector<DetectorEvent>* out) {

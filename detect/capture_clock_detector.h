@@ -11,7 +11,10 @@
 // stamps only when they explain the ball's size by far better (a file whose encoder left out
 // still pictures: its long steps were real time). Without that evidence by the third apex,
 // the capture clock stands, as a phone's slow motion asks. The chosen detector's held events
-// go out; from then on it alone reads. A core with no I/O.
+// go out; from then on it alone reads. A file that begins slowed shows its capture period
+// only where real time starts: what was read until then stands as emitted (on the stamps, or
+// slowed by the gravity rule of detect/detector_scene.h), and a reader on the capture clock
+// reads the history again before the two clocks are weighed. A core with no I/O.
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -56,14 +59,18 @@ class CaptureClockDetector {
   // forced, on what there is).
   void Choose(bool forced, std::vector<DetectorEvent>* out);
   static int Peaks(const std::vector<DetectorEvent>& ev);
+  // The capture period was just found: when the history holds slowed steps (the file began
+  // slowed, read as stamped), a reader on the capture clock reads it all again.
+  void ReadAgainIfBeganSlowed(const BallObservation& obs);
 
   BounceDetectorConfig config_;
   FrameRetimingConfig retiming_;
+  CaptureClockConfig capture_;
   std::unique_ptr<RetimingDetector> reader_;   // on the capture clock
   std::unique_ptr<RetimingDetector> stamped_;  // as stamped, while the clocks are weighed
   std::deque<BallObservation> history_;        // what the reader read before any slowed step
   static constexpr size_t kMaxHistory = 20000;
-  bool testing_ = false, decided_ = false;
+  bool testing_ = false, decided_ = false, read_again_ = false;
   int64_t test_from_taken_ = 0, test_from_stamp_ = 0;  // the first slowed step, on each clock
   std::vector<DetectorEvent> held_reader_, held_stamped_;
   ClockChoice choice_;

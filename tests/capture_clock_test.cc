@@ -43,7 +43,9 @@ TEST(CaptureClock, AContainersCoarseTickStillShowsTheCapturePeriod) {
     if (i > 0) file_s += (i - 1 >= 100 && i - 1 < 300 ? 8.0 : 1.0) / 240;
     const int64_t stamp = std::llround(std::round(file_s * 600) / 600 * 1e6);
     const int64_t taken = clock.Add(stamp);
-    if (i > 20) EXPECT_NEAR(static_cast<double>(taken), i * 1e6 / 240, 2600) << i;
+    if (i > 20) {
+      EXPECT_NEAR(static_cast<double>(taken), i * 1e6 / 240, 2600) << i;
+    }
   }
   EXPECT_NEAR(clock.capture_period_s(), 1.0 / 240, 2e-5);
   EXPECT_EQ(clock.slowed_steps(), 200);
