@@ -145,6 +145,10 @@ void AddSynthCommand(CLI::App& app) {
   cmd->add_option("--slow-to", c.timeline.slow_to_s,
                   "End of the slowed span, real seconds from the first frame")
       ->capture_default_str();
+  cmd->add_option("--slow-ramp", c.timeline.slow_ramp_s,
+                  "The slow-down ramps from 1 to --slow-motion over this long at the slowed span's "
+                  "start and back at its end, real seconds")
+      ->capture_default_str();
   cmd->add_option("--vfr-min-fps", c.timeline.vfr_min_fps,
                   "A variable frame rate: each frame interval drawn between 1/--fps and 1/this, "
                   "frames per second, stamped as taken (0 = constant; .mp4, .mov or .mkv)")

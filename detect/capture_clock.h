@@ -8,15 +8,18 @@
 // The capture period is the shortest step the stamps repeat (min_run steps in a row alike
 // within a container's tick: a 1/240 s step on a 1/600 s tick alternates 3.3 and 5 ms), the
 // mean of every step of one period since, and only a fast one (slow motion is filmed at 90 fps
-// or more): a phone's ordinary video, whose rate
-// wanders between 26 and 30 fps, has none and is read as stamped. Every step at least
-// min_slowdown capture periods long is then a slowed one: one capture period of real time.
-// Steps are read as they come: each picture's time is known when its stamp arrives. Whether
-// the slowed stretches were slow motion at all is the arcs' to say (detect/frame_retiming.h
+// or more): a phone's ordinary video, whose rate wanders between 26 and 30 fps, has none and
+// is read as stamped. Every step at least min_slowdown capture periods long is then a slowed
+// one: one capture period of real time. Once a file is known to hold slow motion, a clock that
+// knows the period reads every step as one (constant_capture: the ramps between real time and
+// the slowed span, whose first steps are shorter than min_slowdown periods, included). Steps
+// are read as they come: each picture's time is known when its stamp arrives. Whether the
+// slowed steps were slow motion at all is the arcs' to say (detect/capture_clock_detector.h
 // weighs their gravity against the ball's size on both readings). A core with no I/O.
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <vector>
 
 namespace bouncefit {
 
@@ -24,14 +27,25 @@ struct CaptureClockConfig {
   double max_capture_period_s = 1.0 / 90;  // slow motion is captured at 90 fps or faster
   int min_run = 4;                 // steps alike in a row that show a capture period
   double alike = 1.6;              // ... the longest at most this many times the shortest
+  double one_period = 1.3;         // a step within this factor of the period is one (its mean)
   double min_slowdown = 1.8;       // a step this many capture periods long is slowed
   double known_period_s = 0;       // > 0: the capture period, known from the start
+  // With known_period_s: every step is one capture period (the file is known to hold slow
+  // motion, so it was captured at a constant rate: a ramp's steps of 1.2 or 2.5 periods too).
+  bool constant_capture = false;
 };
+
+// The capture period of consecutive stamps (us) to a fraction of a microsecond, given a rough
+// one: the median, over every 12 consecutive steps of one period (within one_period of the
+// rough one), of their mean. A container's tick rounds each step (a 1/240 s step on a 1 ms
+// tick: 4, 4, 4, 4, 4, 5 ms), a ramp into slow motion lengthens a few: neither moves a median
+// of means. The rough period when no 12 steps of one period follow each other.
+double CapturePeriodOfStamps(const std::vector<int64_t>& stamps, double rough_us, double one_period);
 
 class CaptureClock {
  public:
   explicit CaptureClock(CaptureClockConfig config = {})
-      : config_(config), period_us_(config.known_period_s * 1e6) {}
+      : config_(config), period_us_(config.known_period_s * 1e6), anchor_us_(period_us_) {}
   // The next picture's stamp, us (equal or earlier ones change nothing); returns the time it
   // was taken on the capture clock, us (the first picture's stamp + the real steps).
   int64_t Add(int64_t utime);
@@ -54,6 +68,7 @@ class CaptureClock {
   double taken_us_ = 0;
   std::deque<int64_t> recent_;      // the last min_run steps
   double period_us_ = 0;
+  double anchor_us_ = 0;            // the period as found (from min_run steps)
   double period_sum_us_ = 0;        // the steps of one period since it was found
   int64_t period_steps_ = 0;
   int period_changes_ = 0;

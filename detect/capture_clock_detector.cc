@@ -21,25 +21,33 @@ int CaptureClockDetector::Peaks(const std::vector<DetectorEvent>& ev) {
 
 std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs) {
   if (decided_ && choice_.stamped) return stamped_->Push(obs);
-  const int64_t slowed_before = reader_->capture_clock().slowed_steps();
-  const int period_changes = reader_->capture_clock().period_changes();
+  const CaptureClock& before = reader_->capture_clock();
+  const int64_t slowed_before = before.slowed_steps();
+  const int period_changes = before.period_changes();
   std::vector<DetectorEvent> out = reader_->Push(obs);
-  if (reader_->capture_clock().period_changes() > period_changes && !testing_ && !decided_ &&
-      retiming_.mode == FrameTimes::kRetimed)
-    ReadAgainIfBeganSlowed(obs);
   const CaptureClock& clock = reader_->capture_clock();
-  if (!testing_ && !decided_ && (slowed_before == 0 || read_again_) && clock.slowed_steps() > 0 &&
-      retiming_.mode == FrameTimes::kRetimed) {
-    // The first slowed step: the stamps' reading of everything before it, then side by side.
-    testing_ = true;
-    test_from_taken_ = clock.last_taken();
-    test_from_stamp_ = obs.utime;
+  if (!testing_ && !decided_ && retiming_.mode == FrameTimes::kRetimed &&
+      ((slowed_before == 0 && clock.slowed_steps() > 0) ||
+       (clock.period_changes() > period_changes && SlowedStepsIn(history_, clock) > 0))) {
+    // Slow motion: a reader on the capture clock, every step one period, reads everything again
+    // (what it had emitted stands: the same times up to a ramp's first steps, or, in a file that
+    // began slowed, the stamps'), and the stamps' reading runs beside it.
+    std::vector<int64_t> stamps;
+    for (const auto& o : history_) stamps.push_back(o.utime);
+    stamps.push_back(obs.utime);
+    CaptureClockConfig known = capture_;
+    known.known_period_s =
+        CapturePeriodOfStamps(stamps, clock.capture_period_s() * 1e6, capture_.one_period) * 1e-6;
+    known.constant_capture = true;
+    reader_ = std::make_unique<RetimingDetector>(config_, retiming_, known, true);
     stamped_ = std::make_unique<RetimingDetector>(config_, retiming_, CaptureClockConfig{}, false);
-    for (const auto& o : history_) stamped_->Push(o);  // the reader emitted these already
-    if (read_again_) out.clear();  // the old reader's, on the stamps
+    for (const auto& o : history_) reader_->Push(o), stamped_->Push(o);
     history_.clear();
-  }
-  if (!testing_) {
+    reader_->Push(obs);  // this observation's events: from the reader it replaced
+    testing_ = true;
+    test_from_taken_ = reader_->capture_clock().last_taken();
+    test_from_stamp_ = obs.utime;
+  } else if (!testing_) {
     if (!decided_) {
       history_.push_back(obs);
       if (history_.size() > kMaxHistory) history_.pop_front();
@@ -54,21 +62,13 @@ std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs
   return released;
 }
 
-void CaptureClockDetector::ReadAgainIfBeganSlowed(const BallObservation& obs) {
-  const double period_us = reader_->capture_clock().capture_period_s() * 1e6;
+int CaptureClockDetector::SlowedStepsIn(const std::deque<BallObservation>& history,
+                                        const CaptureClock& clock) const {
+  const double period_us = clock.capture_period_s() * 1e6;
   int slowed = 0;
-  for (size_t i = 1; i < history_.size(); ++i)
-    slowed += static_cast<double>(history_[i].utime - history_[i - 1].utime) >= capture_.min_slowdown * period_us;
-  if (slowed < capture_.min_run) return;
-  // The file began slowed: what the reader read so far stands as it emitted it; a reader on
-  // the capture clock, known from the start, reads it all again (its events on it were
-  // emitted, on the stamps), and the clocks are weighed from here.
-  CaptureClockConfig known = capture_;
-  known.known_period_s = period_us * 1e-6;
-  reader_ = std::make_unique<RetimingDetector>(config_, retiming_, known, true);
-  for (const auto& o : history_) reader_->Push(o);
-  reader_->Push(obs);
-  read_again_ = true;
+  for (size_t i = 1; i < history.size(); ++i)
+    slowed += static_cast<double>(history[i].utime - history[i - 1].utime) >= capture_.min_slowdown * period_us;
+  return slowed;
 }
 
 void CaptureClockDetector::Choose(bool forced, std::vector<DetectorEvent>* out) {

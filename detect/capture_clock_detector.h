@@ -3,18 +3,17 @@
 // that no tag announces (detect/capture_clock.h), checked against the stamps by gravity.
 //
 // Until the stamps show a slowed step the file is read as stamped (the two clocks are one). At
-// the first slowed step a second detector reads the same observations as stamped, from the
-// stream's start (kept for it), and the two run side by side, their events held back, until
-// each has refitted its scale on a free fall measured after that step. The arcs' own gravity
-// against the ball's size (Calibration::gravity_over_size: 1 on the right clock, 1/s^2 on a
-// timeline slowed s times and read as real, s^2 on a real one read as slowed) then chooses: the
-// stamps only when they explain the ball's size by far better (a file whose encoder left out
-// still pictures: its long steps were real time). Without that evidence by the third apex,
-// the capture clock stands, as a phone's slow motion asks. The chosen detector's held events
-// go out; from then on it alone reads. A file that begins slowed shows its capture period
-// only where real time starts: what was read until then stands as emitted (on the stamps, or
-// slowed by the gravity rule of detect/detector_scene.h), and a reader on the capture clock
-// reads the history again before the two clocks are weighed. A core with no I/O.
+// the first slowed step (or where the capture period is first found after slowed steps: a file
+// that began slowed), a reader on a clock that knows the period and reads every step as one
+// reads everything again (what was emitted stands), a second detector reads it all as stamped,
+// and the two run side by side, their events held back, until each has refitted its scale on
+// a free fall measured after that step. The arcs' own gravity against the ball's size
+// (Calibration::gravity_over_size: 1 on the right clock, 1/s^2 on a timeline slowed s times
+// and read as real, s^2 on a real one read as slowed) then chooses: the stamps only when they
+// explain the ball's size by far better (a file whose encoder kept one picture in eight for a
+// while: its long steps were real time). Without that evidence by the third apex, the capture
+// clock stands, as a phone's slow motion asks. The chosen detector's held events go out; from
+// then on it alone reads. A core with no I/O.
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -59,9 +58,8 @@ class CaptureClockDetector {
   // forced, on what there is).
   void Choose(bool forced, std::vector<DetectorEvent>* out);
   static int Peaks(const std::vector<DetectorEvent>& ev);
-  // The capture period was just found: when the history holds slowed steps (the file began
-  // slowed, read as stamped), a reader on the capture clock reads it all again.
-  void ReadAgainIfBeganSlowed(const BallObservation& obs);
+  // Steps of the history at least min_slowdown of the clock's capture periods long.
+  int SlowedStepsIn(const std::deque<BallObservation>& history, const CaptureClock& clock) const;
 
   BounceDetectorConfig config_;
   FrameRetimingConfig retiming_;
@@ -70,7 +68,7 @@ class CaptureClockDetector {
   std::unique_ptr<RetimingDetector> stamped_;  // as stamped, while the clocks are weighed
   std::deque<BallObservation> history_;        // what the reader read before any slowed step
   static constexpr size_t kMaxHistory = 20000;
-  bool testing_ = false, decided_ = false, read_again_ = false;
+  bool testing_ = false, decided_ = false;
   int64_t test_from_taken_ = 0, test_from_stamp_ = 0;  // the first slowed step, on each clock
   std::vector<DetectorEvent> held_reader_, held_stamped_;
   ClockChoice choice_;

@@ -1,5 +1,6 @@
 #include "synth/synth_frame_times.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -12,6 +13,8 @@ std::string SynthTimelineConfig::Validate(double fps) const {
   if (!(vfr_min_fps >= 0) || (vfr_min_fps > 0 && vfr_min_fps >= fps))
     return "the variable rate's lowest fps must be > 0 and below --fps";
   if (vfr_min_fps > 0 && slow_motion > 1) return "a variable rate and slow motion do not mix";
+  if (!(slow_ramp_s >= 0) || (slow_motion > 1 && 2 * slow_ramp_s > slow_to_s - slow_from_s))
+    return "the slow-motion ramps must be >= 0 s and fit twice into the slowed span";
   return {};
 }
 
@@ -32,8 +35,15 @@ std::vector<SynthFrameTime> SynthFrameTimes(const SynthTimelineConfig& c, double
     const double real = i / fps;
     if (i > 0) {
       const double before = (i - 1) / fps;
-      const bool slowed = before >= c.slow_from_s - 1e-9 && before < c.slow_to_s - 1e-9;
-      file += (slowed ? c.slow_motion : 1.0) / fps;
+      double k = 1;
+      if (before >= c.slow_from_s - 1e-9 && before < c.slow_to_s - 1e-9) {
+        // Inside the span: the slow-down ramps up from its start and down to its end.
+        const double edge = std::min(before - c.slow_from_s, c.slow_to_s - before);
+        k = c.slow_ramp_s > 0 && edge < c.slow_ramp_s
+                ? 1 + (c.slow_motion - 1) * std::max(0.0, edge) / c.slow_ramp_s
+                : c.slow_motion;
+      }
+      file += k / fps;
     }
     out.push_back({real, file});
   }

@@ -15,6 +15,8 @@ struct SynthTimelineConfig {
   double slow_motion = 1;    // frames in [slow_from_s, slow_to_s) of real time stamped this many
                              // capture periods apart (1: none)
   double slow_from_s = 0, slow_to_s = 0;  // real seconds since the clip's first frame
+  double slow_ramp_s = 0;    // the slow-down ramps from 1 to slow_motion over this long at
+                             // the span's start, and back at its end (inside the span), s
   double vfr_min_fps = 0;    // > 0: each frame interval drawn between 1/fps and 1/vfr_min_fps
   // One line naming what is wrong, or empty.
   std::string Validate(double fps) const;

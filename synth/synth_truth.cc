@@ -61,6 +61,7 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
     j["timeline"] = {{"slow_motion", t.timeline.slow_motion},
                      {"slow_from_s", t.timeline.slow_from_s},
                      {"slow_to_s", t.timeline.slow_to_s},
+                     {"slow_ramp_s", t.timeline.slow_ramp_s},
                      {"vfr_min_fps", t.timeline.vfr_min_fps},
                      {"impact_file_times_s", t.impact_file_times_s},
                      {"apex_file_times_s", t.apex_file_times_s}};
@@ -198,6 +199,7 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
     t.timeline.slow_motion = Get<double>(tl, "slow_motion", where + " timeline");
     t.timeline.slow_from_s = Get<double>(tl, "slow_from_s", where + " timeline");
     t.timeline.slow_to_s = Get<double>(tl, "slow_to_s", where + " timeline");
+    t.timeline.slow_ramp_s = tl.value("slow_ramp_s", 0.0);
     t.timeline.vfr_min_fps = Get<double>(tl, "vfr_min_fps", where + " timeline");
     t.impact_file_times_s = Get<std::vector<double>>(tl, "impact_file_times_s", where + " timeline");
     t.apex_file_times_s = Get<std::vector<double>>(tl, "apex_file_times_s", where + " timeline");

@@ -51,6 +51,19 @@ TEST(CaptureClock, AContainersCoarseTickStillShowsTheCapturePeriod) {
   EXPECT_EQ(clock.slowed_steps(), 200);
 }
 
+TEST(CaptureClock, ThePeriodOfStampsOnACoarseTickThroughARamp) {
+  // 240 fps on a 1 ms tick (4, 4, 4, 4, 4, 5 ms), then a ramp: steps 1.1, 1.2, 1.3 ... periods.
+  std::vector<int64_t> stamps;
+  double file_s = 0;
+  for (int i = 0; i < 200; ++i) {
+    if (i > 0) file_s += (i > 150 ? 1 + 0.1 * (i - 150) : 1.0) / 240;
+    stamps.push_back(std::llround(std::round(file_s * 1000) / 1000 * 1e6));
+  }
+  EXPECT_NEAR(CapturePeriodOfStamps(stamps, 4300, 1.3), 1e6 / 240, 1.0);
+  // Too few steps of one period in a row: the rough period.
+  EXPECT_EQ(CapturePeriodOfStamps({0, 4000, 9000, 13000}, 4300, 1.3), 4300);
+}
+
 TEST(CaptureClock, AWanderingOrdinaryRateIsReadAsStamped) {
   CaptureClock clock;
   std::mt19937_64 rng(3);

@@ -1,6 +1,6 @@
 // A variable frame rate, rendered with known truth and run with nothing but the ball: a
 // phone's slow motion without a tag (taken at 240 fps, a span holding several bounces stamped
-// 8x slowed, real time either side) and a phone's ordinary video whose rate wanders between
+// 4x or 8x slowed, real time either side, with or without ramps) and a phone's ordinary video whose rate wanders between
 // 26 and 30 fps. Every apex of 2 cm or more found within max(2 mm, 2%) of its real height, at
 // its real time, no row that is no apex, the scale within 2%. Read as stamped
 // (--keep-frame-times), the slow motion loses its bounces.
@@ -25,6 +25,7 @@ struct VariableClip {
   const char* synth_flags;
   const char* ball;
   bool slowed;  // the stamps hold slow motion
+  const char* container = ".mp4";
 };
 
 class VariableRate : public ::testing::TestWithParam<VariableClip> {};
@@ -79,7 +80,7 @@ Score ScoreRun(const SynthTruth& truth, const std::filesystem::path& out) {
 TEST_P(VariableRate, EveryApexInRealMetresAtItsRealTime) {
   const VariableClip c = GetParam();
   const auto dir = testing::ScratchDir(std::string("variable_rate_") + c.name);
-  const auto clip = dir / "clip.mp4";
+  const auto clip = dir / (std::string("clip") + c.container);
   std::string log;
   ASSERT_EQ(testing::RunCommand(testing::BouncefitExe() + " synth -q -o '" + clip.string() + "' --ball " + c.ball +
                                     " " + c.synth_flags,
@@ -173,6 +174,11 @@ INSTANTIATE_TEST_SUITE_P(
                      "--drop-height 0.6 --fps 240 --hold 0.3 --slow-motion 4 --slow-from 0.2 --slow-to 1.6 "
                      "--duration 2.2 --size 320x480",
                      "pingpong", true},
+        // Ramps from real time to 8x and back over 0.3 s, on a 1 ms tick (.mkv).
+        VariableClip{"pingpong_ramps_8x_mkv",
+                     "--drop-height 0.9 --fps 240 --hold 0.3 --slow-motion 8 --slow-from 0.2 --slow-to 2.0 "
+                     "--slow-ramp 0.3 --duration 2.6 --size 320x480",
+                     "pingpong", true, ".mkv"},
         // A phone's ordinary video in dim light: each frame 1/30 to 1/26 s after the last.
         VariableClip{"tennis_phone_26_30fps",
                      "--drop-height 1.0 --fps 30 --vfr-min-fps 26 --exposure 0.02 --hold 0.5 --duration 3.5 "
