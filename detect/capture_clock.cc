@@ -6,6 +6,19 @@
 
 namespace bouncefit {
 
+bool CaptureClock::CountSlowed(int64_t step) {
+  const double d = static_cast<double>(step);
+  if (!(period_us_ > 0) || d < config_.min_slowdown * period_us_) {
+    slowed_run_ = 0;
+    return false;
+  }
+  ++slowed_steps_;
+  slowed_stamp_us_ += step;
+  max_slowdown_ = std::max(max_slowdown_, d / period_us_);
+  longest_slowed_run_ = std::max(longest_slowed_run_, ++slowed_run_);
+  return true;
+}
+
 double CapturePeriodOfStamps(const std::vector<int64_t>& stamps, double rough_us, double one_period) {
   constexpr size_t kWindow = 12;
   std::vector<double> means;
@@ -34,11 +47,7 @@ int64_t CaptureClock::Add(int64_t utime) {
   const double d = static_cast<double>(step);
   if (config_.constant_capture && period_us_ > 0) {
     // Every picture one capture period after the one before, ramps and tick rounding alike.
-    if (d >= config_.min_slowdown * period_us_) {
-      ++slowed_steps_;
-      slowed_stamp_us_ += step;
-      max_slowdown_ = std::max(max_slowdown_, d / period_us_);
-    }
+    CountSlowed(step);
     taken_us_ += period_us_;
     return last_taken();
   }
@@ -57,13 +66,10 @@ int64_t CaptureClock::Add(int64_t utime) {
       period_steps_ = 0;
     }
   }
-  if (period_us_ > 0 && d >= config_.min_slowdown * period_us_) {
-    ++slowed_steps_;
-    slowed_stamp_us_ += step;
-    max_slowdown_ = std::max(max_slowdown_, d / period_us_);
-    taken_us_ += period_us_;
-  } else {
-    taken_us_ += d;
+  // Until the file is known to hold slow motion, every step as stamped: a lone long step is a
+  // picture dropped, and a run's first steps are read again once the run shows.
+  taken_us_ += d;
+  if (!CountSlowed(step)) {
     // The mean of the steps of one period: within a tick's rounding of it, not a ramp's
     // lengthening steps (which would lengthen the period and shrink every scale with it).
     // Judged against the period as found, not the mean: a mean pulled by the tick's rounding

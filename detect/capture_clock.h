@@ -8,14 +8,15 @@
 // The capture period is the shortest step the stamps repeat (min_run steps in a row alike
 // within a container's tick: a 1/240 s step on a 1/600 s tick alternates 3.3 and 5 ms), the
 // mean of every step of one period since, and only a fast one (slow motion is filmed at 90 fps
-// or more): a phone's ordinary video, whose rate wanders between 26 and 30 fps, has none and
-// is read as stamped. Every step at least min_slowdown capture periods long is then a slowed
-// one: one capture period of real time. Once a file is known to hold slow motion, a clock that
-// knows the period reads every step as one (constant_capture: the ramps between real time and
-// the slowed span, whose first steps are shorter than min_slowdown periods, included). Steps
-// are read as they come: each picture's time is known when its stamp arrives. Whether the
-// slowed steps were slow motion at all is the arcs' to say (detect/capture_clock_detector.h
-// weighs their gravity against the ball's size on both readings). A core with no I/O.
+// or more): a phone's ordinary video, whose rate wanders between 26 and 30 fps, has none. A
+// step at least min_slowdown periods long is a slowed one; min_run of them in a row show slow
+// motion (one alone is a picture dropped). Until then the stamps are read as they are. A clock
+// that knows the period from the start (constant_capture) reads every step as one period: the
+// slowed steps, a ramp's steps into the span (shorter than min_slowdown periods) and a tick's
+// rounding alike. Steps are read as they come: each picture's time is known when its stamp
+// arrives. Whether the slowed steps were slow motion at all is the arcs' to say
+// (detect/capture_clock_detector.h weighs their gravity against the ball's size on both
+// readings). A core with no I/O.
 #include <cmath>
 #include <cstdint>
 #include <deque>
@@ -53,6 +54,9 @@ class CaptureClock {
   int64_t last_taken() const { return std::llround(taken_us_); }
   double capture_period_s() const { return period_us_ * 1e-6; }  // 0: none found
   int64_t slowed_steps() const { return slowed_steps_; }
+  // The most slowed steps in a row: min_run of them show slow motion (fewer: pictures dropped).
+  int64_t longest_slowed_run() const { return longest_slowed_run_; }
+  bool shows_slow_motion() const { return longest_slowed_run_ >= config_.min_run; }
   // Times the capture period was found or found shorter (the steps before were read by the
   // longer one, or as stamped).
   int period_changes() const { return period_changes_; }
@@ -62,6 +66,9 @@ class CaptureClock {
   double slowed_real_s() const { return slowed_steps_ * capture_period_s(); }
 
  private:
+  // Counts a step at least min_slowdown periods long (true) or ends a run of them (false).
+  bool CountSlowed(int64_t step);
+
   CaptureClockConfig config_;
   bool started_ = false;
   int64_t last_ = 0;
@@ -73,6 +80,7 @@ class CaptureClock {
   int64_t period_steps_ = 0;
   int period_changes_ = 0;
   int64_t slowed_steps_ = 0, slowed_stamp_us_ = 0;
+  int64_t slowed_run_ = 0, longest_slowed_run_ = 0;
   double max_slowdown_ = 1;
 };
 

@@ -1,5 +1,6 @@
 #include "detect/capture_clock_detector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -22,13 +23,13 @@ int CaptureClockDetector::Peaks(const std::vector<DetectorEvent>& ev) {
 std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs) {
   if (decided_ && choice_.stamped) return stamped_->Push(obs);
   const CaptureClock& before = reader_->capture_clock();
-  const int64_t slowed_before = before.slowed_steps();
+  const bool shown_before = before.shows_slow_motion();
   const int period_changes = before.period_changes();
   std::vector<DetectorEvent> out = reader_->Push(obs);
   const CaptureClock& clock = reader_->capture_clock();
   if (!testing_ && !decided_ && retiming_.mode == FrameTimes::kRetimed &&
-      ((slowed_before == 0 && clock.slowed_steps() > 0) ||
-       (clock.period_changes() > period_changes && SlowedStepsIn(history_, clock) > 0))) {
+      ((!shown_before && clock.shows_slow_motion()) ||
+       (clock.period_changes() > period_changes && LongestSlowedRunIn(history_, clock) >= capture_.min_run))) {
     // Slow motion: a reader on the capture clock, every step one period, reads everything again
     // (what it had emitted stands: the same times up to a ramp's first steps, or, in a file that
     // began slowed, the stamps'), and the stamps' reading runs beside it.
@@ -62,13 +63,16 @@ std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs
   return released;
 }
 
-int CaptureClockDetector::SlowedStepsIn(const std::deque<BallObservation>& history,
-                                        const CaptureClock& clock) const {
+int CaptureClockDetector::LongestSlowedRunIn(const std::deque<BallObservation>& history,
+                                             const CaptureClock& clock) const {
   const double period_us = clock.capture_period_s() * 1e6;
-  int slowed = 0;
-  for (size_t i = 1; i < history.size(); ++i)
-    slowed += static_cast<double>(history[i].utime - history[i - 1].utime) >= capture_.min_slowdown * period_us;
-  return slowed;
+  int run = 0, longest = 0;
+  for (size_t i = 1; i < history.size(); ++i) {
+    const bool slowed = static_cast<double>(history[i].utime - history[i - 1].utime) >= capture_.min_slowdown * period_us;
+    run = slowed ? run + 1 : 0;
+    longest = std::max(longest, run);
+  }
+  return longest;
 }
 
 void CaptureClockDetector::Choose(bool forced, std::vector<DetectorEvent>* out) {

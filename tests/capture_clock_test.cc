@@ -19,20 +19,38 @@ std::vector<int64_t> SlowMotionStamps(int frames, int from, int to, int slow) {
   return out;
 }
 
-TEST(CaptureClock, SlowMotionIsReadOneCapturePeriodPerPicture) {
-  CaptureClock clock;
+TEST(CaptureClock, SlowMotionShowsInARunOfSlowedStepsAndIsReadOnePeriodAPicture) {
   const auto stamps = SlowMotionStamps(600, 100, 400, 8);
+  // Not known to be slow motion: the stamps as they are, the period and the run found.
+  CaptureClock first;
   for (size_t i = 0; i < stamps.size(); ++i) {
-    const int64_t taken = clock.Add(stamps[i]);
-    // Every picture at i / 240 s, to the microsecond the stamps were rounded to (and the
-    // capture period's rounding, 0.33 us a step).
-    EXPECT_NEAR(static_cast<double>(taken), i * 1e6 / 240, 2 + 0.4 * static_cast<double>(i)) << i;
+    EXPECT_EQ(first.Add(stamps[i]), stamps[i]);
+    EXPECT_EQ(first.shows_slow_motion(), i >= 104) << i;
   }
-  EXPECT_NEAR(clock.capture_period_s(), 1.0 / 240, 1e-6);
-  EXPECT_EQ(clock.slowed_steps(), 300);
+  EXPECT_NEAR(first.capture_period_s(), 1.0 / 240, 1e-6);
+  EXPECT_EQ(first.slowed_steps(), 300);
+  EXPECT_EQ(first.longest_slowed_run(), 300);
+  // Known from the start: every picture one period after the one before.
+  CaptureClockConfig known;
+  known.known_period_s = CapturePeriodOfStamps(stamps, 4300, 1.3) * 1e-6;
+  known.constant_capture = true;
+  CaptureClock clock(known);
+  for (size_t i = 0; i < stamps.size(); ++i)
+    EXPECT_NEAR(static_cast<double>(clock.Add(stamps[i])), i * 1e6 / 240, 1.0) << i;
   EXPECT_NEAR(clock.max_slowdown(), 8, 0.01);
   EXPECT_NEAR(clock.slowed_real_s(), 300.0 / 240, 1e-3);
   EXPECT_NEAR(clock.slowed_stamp_s(), 300.0 * 8 / 240, 1e-3);
+}
+
+TEST(CaptureClock, APictureDroppedNowAndThenIsNoSlowMotion) {
+  CaptureClock clock;
+  int64_t t = 0;
+  for (int i = 0; i < 300; ++i) {
+    EXPECT_EQ(clock.Add(t), t);
+    t += (i % 50 == 49 ? 2 : 1) * 4167;
+  }
+  EXPECT_EQ(clock.slowed_steps(), 5);
+  EXPECT_FALSE(clock.shows_slow_motion());
 }
 
 TEST(CaptureClock, AContainersCoarseTickStillShowsTheCapturePeriod) {
@@ -41,14 +59,11 @@ TEST(CaptureClock, AContainersCoarseTickStillShowsTheCapturePeriod) {
   double file_s = 0;
   for (int i = 0; i < 500; ++i) {
     if (i > 0) file_s += (i - 1 >= 100 && i - 1 < 300 ? 8.0 : 1.0) / 240;
-    const int64_t stamp = std::llround(std::round(file_s * 600) / 600 * 1e6);
-    const int64_t taken = clock.Add(stamp);
-    if (i > 20) {
-      EXPECT_NEAR(static_cast<double>(taken), i * 1e6 / 240, 2600) << i;
-    }
+    clock.Add(std::llround(std::round(file_s * 600) / 600 * 1e6));
   }
   EXPECT_NEAR(clock.capture_period_s(), 1.0 / 240, 2e-5);
   EXPECT_EQ(clock.slowed_steps(), 200);
+  EXPECT_TRUE(clock.shows_slow_motion());
 }
 
 TEST(CaptureClock, ThePeriodOfStampsOnACoarseTickThroughARamp) {
