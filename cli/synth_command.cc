@@ -154,7 +154,9 @@ void AddSynthCommand(CLI::App& app) {
                   "frames per second, stamped as taken (0 = constant; .mp4, .mov or .mkv)")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "Frame size WxH, pixels")->capture_default_str();
-  cmd->add_option("--duration", c.duration_s, "Clip length, seconds")->capture_default_str();
+  cmd->add_option("--duration", c.duration_s,
+                  "Clip length, seconds of real time (a slow-motion file plays longer)")
+      ->capture_default_str();
   cmd->add_option("--px-per-m", c.px_per_m,
                   "Image scale, pixels per metre (0 = fit the drop into the frame)")
       ->capture_default_str();

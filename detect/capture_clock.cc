@@ -6,9 +6,9 @@
 
 namespace bouncefit {
 
-bool CaptureClock::CountSlowed(int64_t step) {
-  const double d = static_cast<double>(step);
-  if (!(period_us_ > 0) || d < config_.min_slowdown * period_us_) {
+bool CaptureClock::CountSlowed(int64_t step, int64_t pictures) {
+  const double d = static_cast<double>(step) / static_cast<double>(pictures);
+  if (!(period_us_ > 0) || pictures > 1 || d < config_.min_slowdown * period_us_) {
     slowed_run_ = 0;
     return false;
   }
@@ -34,21 +34,31 @@ double CapturePeriodOfStamps(const std::vector<int64_t>& stamps, double rough_us
   return means[means.size() / 2];
 }
 
-int64_t CaptureClock::Add(int64_t utime) {
+int64_t CaptureClock::Add(int64_t utime, int64_t index) {
   if (!started_) {
     started_ = true;
     last_ = utime;
+    last_index_ = index;
     taken_us_ = static_cast<double>(utime);
     return utime;
   }
   if (utime <= last_) return last_taken();
   const int64_t step = utime - last_;
+  // Pictures this step spans (1 when the index is unknown or starts again).
+  const int64_t pictures = index >= 0 && last_index_ >= 0 && index > last_index_ ? index - last_index_ : 1;
   last_ = utime;
+  last_index_ = index;
   const double d = static_cast<double>(step);
   if (config_.constant_capture && period_us_ > 0) {
     // Every picture one capture period after the one before, ramps and tick rounding alike.
-    CountSlowed(step);
-    taken_us_ += period_us_;
+    CountSlowed(step, pictures);
+    taken_us_ += period_us_ * static_cast<double>(pictures);
+    return last_taken();
+  }
+  if (pictures > 1) {  // no step of one picture: neither a period nor slow motion
+    recent_.clear();
+    CountSlowed(step, pictures);
+    taken_us_ += d;
     return last_taken();
   }
   recent_.push_back(step);
@@ -69,7 +79,7 @@ int64_t CaptureClock::Add(int64_t utime) {
   // Until the file is known to hold slow motion, every step as stamped: a lone long step is a
   // picture dropped, and a run's first steps are read again once the run shows.
   taken_us_ += d;
-  if (!CountSlowed(step)) {
+  if (!CountSlowed(step, pictures)) {
     // The mean of the steps of one period: within a tick's rounding of it, not a ramp's
     // lengthening steps (which would lengthen the period and shrink every scale with it).
     // Judged against the period as found, not the mean: a mean pulled by the tick's rounding

@@ -47,9 +47,11 @@ class CaptureClock {
  public:
   explicit CaptureClock(CaptureClockConfig config = {})
       : config_(config), period_us_(config.known_period_s * 1e6), anchor_us_(period_us_) {}
-  // The next picture's stamp, us (equal or earlier ones change nothing); returns the time it
-  // was taken on the capture clock, us (the first picture's stamp + the real steps).
-  int64_t Add(int64_t utime);
+  // The next picture's stamp, us (equal or earlier ones change nothing), and its index in the
+  // stream (-1: not known); returns the time it was taken on the capture clock, us (the first
+  // picture's stamp + the real steps). Pictures the index skips (lost on the way, or repeats
+  // left out) were taken all the same: a step over n of them is n steps, never a slowed one.
+  int64_t Add(int64_t utime, int64_t index = -1);
   // The capture time of the last stamp added, us.
   int64_t last_taken() const { return std::llround(taken_us_); }
   double capture_period_s() const { return period_us_ * 1e-6; }  // 0: none found
@@ -66,12 +68,13 @@ class CaptureClock {
   double slowed_real_s() const { return slowed_steps_ * capture_period_s(); }
 
  private:
-  // Counts a step at least min_slowdown periods long (true) or ends a run of them (false).
-  bool CountSlowed(int64_t step);
+  // Counts a step over `pictures` pictures at least min_slowdown periods long a picture (true)
+  // or ends a run of them (false).
+  bool CountSlowed(int64_t step, int64_t pictures);
 
   CaptureClockConfig config_;
   bool started_ = false;
-  int64_t last_ = 0;
+  int64_t last_ = 0, last_index_ = -1;
   double taken_us_ = 0;
   std::deque<int64_t> recent_;      // the last min_run steps
   double period_us_ = 0;

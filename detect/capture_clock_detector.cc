@@ -68,7 +68,9 @@ int CaptureClockDetector::LongestSlowedRunIn(const std::deque<BallObservation>& 
   const double period_us = clock.capture_period_s() * 1e6;
   int run = 0, longest = 0;
   for (size_t i = 1; i < history.size(); ++i) {
-    const bool slowed = static_cast<double>(history[i].utime - history[i - 1].utime) >= capture_.min_slowdown * period_us;
+    const bool one_picture = history[i].frame == history[i - 1].frame + 1 || history[i].frame <= 0;
+    const bool slowed = one_picture && static_cast<double>(history[i].utime - history[i - 1].utime) >=
+                                           capture_.min_slowdown * period_us;
     run = slowed ? run + 1 : 0;
     longest = std::max(longest, run);
   }

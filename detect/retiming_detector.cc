@@ -35,7 +35,7 @@ std::vector<DetectorEvent> RetimingDetector::Push(const BallObservation& stamped
   // A stamp that goes back stays as it is: the detector refuses it.
   const bool forward = stamped.utime >= last_stamp_;
   last_stamp_ = std::max(last_stamp_, stamped.utime);
-  const int64_t taken = capture_.Add(stamped.utime);
+  const int64_t taken = capture_.Add(stamped.utime, stamped.frame);
   if (on_capture_clock_ && forward) obs.utime = taken;
   const bool was_decided = retimer_.retiming().decided;
   const auto released = retimer_.Push(obs);

@@ -124,6 +124,14 @@ void DetectStage::OnBox(const ball_box_t& m) {
 void DetectStage::OnImpact(const impact_t& m) {
   if (done_ || !fatal_.empty() || m.source != "audio" || m.fused) return;  // its own seen ones come back too
   if (!started_) StartStream(m.utime);
+  // A file whose stamps hold slow motion: the sound runs on the file's clock, the picture on the
+  // capture clock; a heard impact would meet no seen one, or the wrong one.
+  if (const CaptureClockDetector& reader = node_->clock_reader();
+      reader.capture_clock().shows_slow_motion() && !reader.choice().stamped) {
+    if (!sound_off_said_) notice_("sound: the stamps hold slow motion: impacts heard on the file's clock are not used");
+    sound_off_said_ = true;
+    return;
+  }
   sound_->OnHeard(m, t0_);
   PublishHeardPeaks();
 }

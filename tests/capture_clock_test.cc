@@ -53,6 +53,27 @@ TEST(CaptureClock, APictureDroppedNowAndThenIsNoSlowMotion) {
   EXPECT_FALSE(clock.shows_slow_motion());
 }
 
+TEST(CaptureClock, PicturesLostOnTheWayAreNoSlowMotion) {
+  // 120 fps boxes over a lossy network: runs of five lost, the index says so.
+  CaptureClock clock;
+  int64_t index = 0;
+  for (int i = 0; i < 300; ++i) {
+    const int64_t t = index * 8333;
+    EXPECT_EQ(clock.Add(t, index), t);
+    index += (i / 10) % 2 ? 6 : 1;
+  }
+  EXPECT_EQ(clock.slowed_steps(), 0);
+  EXPECT_FALSE(clock.shows_slow_motion());
+  // Known to be slow motion: the lost pictures are periods too.
+  CaptureClockConfig known;
+  known.known_period_s = 1.0 / 240;
+  known.constant_capture = true;
+  CaptureClock slowed(known);
+  slowed.Add(0, 0);
+  slowed.Add(33333, 1);
+  EXPECT_NEAR(static_cast<double>(slowed.Add(66667, 4)), 4 * 1e6 / 240, 1.0);
+}
+
 TEST(CaptureClock, AContainersCoarseTickStillShowsTheCapturePeriod) {
   // 240 fps on a 1/600 s tick: steps of 3.3 and 5 ms in turn, 33.3 ms where slowed 8x.
   CaptureClock clock;
