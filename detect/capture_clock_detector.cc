@@ -31,8 +31,9 @@ std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs
       ((!shown_before && clock.shows_slow_motion()) ||
        (clock.period_changes() > period_changes && LongestSlowedRunIn(history_, clock) >= capture_.min_run))) {
     // Slow motion: a reader on the capture clock, every step one period, reads everything again
-    // (what it had emitted stands: the same times up to a ramp's first steps, or, in a file that
-    // began slowed, the stamps'), and the stamps' reading runs beside it.
+    // (what was emitted stands: the same times up to a ramp's first steps, or, in a file that
+    // began slowed, the stamps'; what it finds anew waits with its events), and the stamps'
+    // reading runs beside it.
     std::vector<int64_t> stamps;
     for (const auto& o : history_) stamps.push_back(o.utime);
     stamps.push_back(obs.utime);
@@ -42,16 +43,25 @@ std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs
     known.constant_capture = true;
     reader_ = std::make_unique<RetimingDetector>(config_, retiming_, known, true);
     stamped_ = std::make_unique<RetimingDetector>(config_, retiming_, CaptureClockConfig{}, false);
-    for (const auto& o : history_) reader_->Push(o), stamped_->Push(o);
+    std::vector<DetectorEvent> again;
+    for (const auto& o : history_) {
+      auto ev = reader_->Push(o);
+      again.insert(again.end(), ev.begin(), ev.end());
+      stamped_->Push(o);  // as stamped: what was emitted
+    }
     history_.clear();
-    reader_->Push(obs);  // this observation's events: from the reader it replaced
+    auto ev = reader_->Push(obs);
+    again.insert(again.end(), ev.begin(), ev.end());
+    HoldNotEmitted(again);
     testing_ = true;
     test_from_taken_ = reader_->capture_clock().last_taken();
     test_from_stamp_ = obs.utime;
+    out.clear();  // the replaced reader's
   } else if (!testing_) {
     if (!decided_) {
       history_.push_back(obs);
       if (history_.size() > kMaxHistory) history_.pop_front();
+      Remember(out);
     }
     return out;
   }
@@ -61,6 +71,26 @@ std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs
   std::vector<DetectorEvent> released;
   Choose(false, &released);
   return released;
+}
+
+void CaptureClockDetector::Remember(const std::vector<DetectorEvent>& emitted) {
+  for (const auto& e : emitted) {
+    if (e.kind == DetectorEvent::Kind::kPeak) emitted_peaks_.insert({e.peak.sequence, e.peak.bounce});
+    if (e.kind == DetectorEvent::Kind::kImpact) emitted_impacts_.insert({e.impact.sequence, e.impact.index});
+  }
+}
+
+void CaptureClockDetector::HoldNotEmitted(const std::vector<DetectorEvent>& again) {
+  const DetectorEvent* calibration = nullptr;
+  for (const auto& e : again) {
+    if (e.kind == DetectorEvent::Kind::kCalibration) calibration = &e;
+    const bool emitted =
+        (e.kind == DetectorEvent::Kind::kPeak && emitted_peaks_.count({e.peak.sequence, e.peak.bounce})) ||
+        (e.kind == DetectorEvent::Kind::kImpact && emitted_impacts_.count({e.impact.sequence, e.impact.index}));
+    if ((e.kind == DetectorEvent::Kind::kPeak || e.kind == DetectorEvent::Kind::kImpact) && !emitted)
+      held_reader_.push_back(e);
+  }
+  if (calibration) held_reader_.push_back(*calibration);
 }
 
 int CaptureClockDetector::LongestSlowedRunIn(const std::deque<BallObservation>& history,

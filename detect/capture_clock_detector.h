@@ -5,7 +5,8 @@
 // Until the stamps show slow motion (a run of slowed steps) the file is read as stamped. Where
 // they first do (or where the capture period is first found after such a run: a file that
 // began slowed), a reader on a clock that knows the period and reads every step as one
-// reads everything again (what was emitted stands), a second detector reads it all as stamped,
+// reads everything again (what was emitted stands; the peaks and impacts it finds that were not
+// emitted wait with its events), a second detector reads it all as stamped,
 // and the two run side by side, their events held back, until each has refitted its scale on
 // a free fall measured after that point. The arcs' own gravity against the ball's size
 // (Calibration::gravity_over_size: 1 on the right clock, 1/s^2 on a timeline slowed s times
@@ -17,7 +18,9 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "detect/capture_clock.h"
@@ -58,6 +61,11 @@ class CaptureClockDetector {
   // forced, on what there is).
   void Choose(bool forced, std::vector<DetectorEvent>* out);
   static int Peaks(const std::vector<DetectorEvent>& ev);
+  // Peaks and impacts the reader emitted before slow motion showed.
+  void Remember(const std::vector<DetectorEvent>& emitted);
+  // Of what the reader on the capture clock found reading everything again, the peaks and
+  // impacts not emitted before (and its last calibration) wait with its events.
+  void HoldNotEmitted(const std::vector<DetectorEvent>& again);
   // The most steps in a row of the history at least min_slowdown of the clock's periods long.
   int LongestSlowedRunIn(const std::deque<BallObservation>& history, const CaptureClock& clock) const;
 
@@ -71,6 +79,7 @@ class CaptureClockDetector {
   bool testing_ = false, decided_ = false;
   int64_t test_from_taken_ = 0, test_from_stamp_ = 0;  // where slow motion showed, on each clock
   std::vector<DetectorEvent> held_reader_, held_stamped_;
+  std::set<std::pair<int, int>> emitted_peaks_, emitted_impacts_;  // (sequence, bounce / index)
   ClockChoice choice_;
   int max_held_peaks_ = 3;
 };
