@@ -120,7 +120,7 @@ void AddSynthCommand(CLI::App& app) {
       "<clip>.truth.json (docs/FORMATS.md).");
   auto o = std::make_shared<SynthOptions>();
   SynthClipConfig& c = o->clip;
-  cmd->add_option("--out,-o", o->out, "Output clip: .avi (MJPEG) or .mp4 (needs FFmpeg)")
+  cmd->add_option("--out,-o", o->out, "Output clip: .avi (MJPEG) or .mp4 (needs FFmpeg); a variable rate: .mp4, .mov or .mkv")
       ->capture_default_str();
   cmd->add_option("--ball", o->ball, "Ball preset: " + BallPresetNames())->capture_default_str();
   cmd->add_option("--diameter", o->diameter_m, "Override the preset's diameter, metres");
@@ -168,8 +168,30 @@ void AddSynthCommand(CLI::App& app) {
                   "(default: the preset's)")
       ->check(NonNegative());
   cmd->add_option("--fps", c.fps, "Frame rate, frames per second")->capture_default_str();
+  cmd->add_option("--slow-motion", c.timeline.slow_motion,
+                  "A phone's slow motion without a tag: frames taken at --fps, those in "
+                  "[--slow-from, --slow-to) stamped this many times further apart, factor "
+                  "(1 = none; .mp4, .mov or .mkv)")
+      ->capture_default_str();
+  cmd->add_option("--slow-from", c.timeline.slow_from_s,
+                  "Start of the slowed span, real seconds from the first frame")
+      ->capture_default_str();
+  cmd->add_option("--slow-to", c.timeline.slow_to_s,
+                  "End of the slowed span, real seconds from the first frame")
+      ->capture_default_str();
+  cmd->add_option("--slow-ramp", c.timeline.slow_ramp_s,
+                  "The slow-down ramps from 1 to --slow-motion over this long at the slowed span's "
+                  "start and back at its end, real seconds")
+      ->capture_default_str();
+  cmd->add_option("--vfr-min-fps", c.timeline.vfr_min_fps,
+                  "A variable frame rate: each frame interval drawn between 1/--fps and 1/this, "
+                  "frames per second, stamped as taken (0 = constant; .mp4, .mov or .mkv)")
+      ->capture_default_str();
   cmd->add_option("--size", o->size, "Frame size WxH, pixels")->capture_default_str();
-  cmd->add_option("--duration", c.duration_s, "Clip length, seconds (several drops: until the last rests)")->capture_default_str();
+  cmd->add_option("--duration", c.duration_s,
+                  "Clip length, seconds of real time (a slow-motion file plays longer; several "
+                  "drops: until the last rests)")
+      ->capture_default_str();
   cmd->add_option("--px-per-m", c.px_per_m,
                   "Image scale, pixels per metre (0 = fit the drop into the frame)")
       ->capture_default_str();

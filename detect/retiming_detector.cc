@@ -1,9 +1,15 @@
 #include "detect/retiming_detector.h"
 
+#include <algorithm>
+#include <limits>
+
 namespace bouncefit {
 
-RetimingDetector::RetimingDetector(BounceDetectorConfig detector, FrameRetimingConfig retiming)
+RetimingDetector::RetimingDetector(BounceDetectorConfig detector, FrameRetimingConfig retiming,
+                                   CaptureClockConfig capture, bool on_capture_clock)
     : detector_config_(std::move(detector)),
+      capture_(capture),
+      on_capture_clock_(on_capture_clock),
       retimer_(retiming),
       detector_(std::make_unique<BounceDetector>(detector_config_)) {}
 
@@ -24,7 +30,13 @@ void RetimingDetector::OnDecided() {
   before_.clear();
 }
 
-std::vector<DetectorEvent> RetimingDetector::Push(const BallObservation& obs) {
+std::vector<DetectorEvent> RetimingDetector::Push(const BallObservation& stamped) {
+  BallObservation obs = stamped;
+  // A stamp that goes back stays as it is: the detector refuses it.
+  const bool forward = stamped.utime >= last_stamp_;
+  last_stamp_ = std::max(last_stamp_, stamped.utime);
+  const int64_t taken = capture_.Add(stamped.utime, stamped.frame);
+  if (on_capture_clock_ && forward) obs.utime = taken;
   const bool was_decided = retimer_.retiming().decided;
   const auto released = retimer_.Push(obs);
   if (!retimer_.retiming().decided) {

@@ -1,6 +1,10 @@
 #pragma once
-// The bounce detector behind the frame-time test (detect/frame_retiming.h).
+// The bounce detector behind the frame-time test (detect/frame_retiming.h) and the capture
+// clock (detect/capture_clock.h).
 //
+// Stamps that show a slowed stretch (a phone's slow motion) may be read on the capture clock
+// first (detect/capture_clock_detector.h decides): each picture at the time it was taken; the
+// frame-time test then sees those times.
 // Pictures taken at one rate and stamped at a lower one: once the test finds the faster rate
 // the pictures came from, every observation is read at the time it was taken, the ones seen
 // before the test decided too (a fresh detector reads them again, re-timed; what the first one
@@ -10,10 +14,12 @@
 // calibration 19% off; read whole, 1.0005 m (docs/ACCURACY.md "Frames re-timed by default").
 // A core with no I/O.
 #include <deque>
+#include <limits>
 #include <memory>
 #include <vector>
 
 #include "detect/bounce_detector.h"
+#include "detect/capture_clock.h"
 #include "detect/frame_retiming.h"
 #include "track/ball_observation.h"
 
@@ -22,7 +28,9 @@ namespace bouncefit {
 class RetimingDetector {
  public:
   // Throws std::invalid_argument for an invalid detector config.
-  RetimingDetector(BounceDetectorConfig detector, FrameRetimingConfig retiming);
+  // on_capture_clock: slowed steps are read as one capture period each (else as stamped).
+  RetimingDetector(BounceDetectorConfig detector, FrameRetimingConfig retiming,
+                   CaptureClockConfig capture = {}, bool on_capture_clock = false);
 
   // One observation in stream order; returns the events released by it. An observation the
   // detector refuses (bad values) is counted in rejected(), never thrown.
@@ -33,6 +41,8 @@ class RetimingDetector {
   const BounceDetector& detector() const { return *detector_; }
   // The frame-time test's verdict, and whether the detector reads re-timed times.
   const Retiming& retiming() const { return retimer_.retiming(); }
+  // The capture clock the observations were read on (no slowed steps: as stamped).
+  const CaptureClock& capture_clock() const { return capture_; }
   int64_t rejected() const { return rejected_; }
 
  private:
@@ -41,6 +51,9 @@ class RetimingDetector {
   void OnDecided();
 
   BounceDetectorConfig detector_config_;
+  CaptureClock capture_;
+  bool on_capture_clock_;
+  int64_t last_stamp_ = std::numeric_limits<int64_t>::min();
   FrameRetimer retimer_;
   std::unique_ptr<BounceDetector> detector_;
   // What the detector read before the test decided (the ball still, before its first moves),

@@ -112,12 +112,26 @@ void DetectStage::OnBox(const ball_box_t& m) {
     retiming_said_ = true;
     notice_("clock: " + node_->retiming().verdict);
   }
+  if (const ClockChoice& choice = node_->clock_reader().choice(); choice.tested && !slow_motion_said_) {
+    slow_motion_said_ = true;
+    const CaptureClock& cc = node_->clock_reader().capture_clock();
+    notice_(fmt::format("clock: stamps up to {:.1f}x the {:.0f} fps capture period apart; {}", cc.max_slowdown(),
+                        1 / cc.capture_period_s(), choice.verdict));
+  }
   Handle(events);
 }
 
 void DetectStage::OnImpact(const impact_t& m) {
   if (done_ || !fatal_.empty() || m.source != "audio" || m.fused) return;  // its own seen ones come back too
   if (!started_) StartStream(m.utime);
+  // A file whose stamps hold slow motion: the sound runs on the file's clock, the picture on the
+  // capture clock; a heard impact would meet no seen one, or the wrong one.
+  if (const CaptureClockDetector& reader = node_->clock_reader();
+      reader.capture_clock().shows_slow_motion() && !reader.choice().stamped) {
+    if (!sound_off_said_) notice_("sound: the stamps hold slow motion: impacts heard on the file's clock are not used");
+    sound_off_said_ = true;
+    return;
+  }
   sound_->OnHeard(m, t0_);
   PublishHeardPeaks();
 }

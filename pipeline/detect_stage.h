@@ -84,7 +84,8 @@ class DetectStage {
   std::unique_ptr<SoundFusion> sound_;
   std::unique_ptr<ClockReport> clock_;
   stream_t start_{}, end_{};
-  bool started_ = false, have_end_ = false, done_ = false, retiming_said_ = false;
+  bool started_ = false, have_end_ = false, done_ = false, retiming_said_ = false,
+       slow_motion_said_ = false, sound_off_said_ = false;
   int64_t t0_ = 0, now_ = 0, release_utime_ = 0;
   std::vector<bounce_peak_t> emitted_;  // revision 0 of every bounce, in order
   std::optional<calibration_t> calibration_;

@@ -41,6 +41,16 @@ void DetectStage::WriteSummary(const std::vector<bounce_peak_t>& rows) {
                                                                    {"phase", retiming.phase},
                                                                    {"first_frame_s", t0_ * 1e-6}}
                                                   : nlohmann::json();
+  // Slow motion in the stamps: the rows' times are real seconds on the capture clock.
+  const CaptureClock& cc = node_->clock_reader().capture_clock();
+  s["clock"]["slow_motion"] = node_->clock_reader().choice().verdict;
+  s["clock"]["capture_clock"] = node_->clock_reader().on_capture_clock()
+                                    ? nlohmann::json{{"capture_fps", 1 / cc.capture_period_s()},
+                                                     {"slowed_steps", cc.slowed_steps()},
+                                                     {"max_slowdown", cc.max_slowdown()},
+                                                     {"slowed_stamp_s", cc.slowed_stamp_s()},
+                                                     {"slowed_real_s", cc.slowed_real_s()}}
+                                    : nlohmann::json();
   // Every bounce as it was emitted, with its height refitted with its whole drop.
   nlohmann::json peaks = nlohmann::json::array();
   for (const bounce_peak_t& m : emitted_) {

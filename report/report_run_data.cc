@@ -291,8 +291,16 @@ namespace {
 // A run whose pictures were re-timed (summary.json clock.frames_retimed) reports its rows on
 // the clock they were taken on; its track.csv keeps the stamps. The track is read on the same
 // clock, so that the tracked curve meets the apexes.
+// Slow motion in the stamps (clock.capture_clock): the rows are on the capture clock, every
+// picture one capture period after the one before.
 void RetimeTrack(const nlohmann::json& summary, std::vector<ReportTrackRow>* track) {
   if (!summary.is_object() || !summary.contains("clock") || !summary["clock"].is_object()) return;
+  const auto& capture = summary["clock"].value("capture_clock", nlohmann::json());
+  if (capture.is_object() && capture.value("capture_fps", 0.0) > 0) {
+    const double fps = capture.value("capture_fps", 0.0);
+    for (size_t i = 0; i < track->size(); ++i) (*track)[i].t_s = static_cast<double>(i) / fps;
+    return;
+  }
   const auto& r = summary["clock"].value("frames_retimed", nlohmann::json());
   if (!r.is_object()) return;
   const double f = r.value("source_fps", 0.0), c = r.value("phase", 0.0), first = r.value("first_frame_s", 0.0);

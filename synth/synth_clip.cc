@@ -71,6 +71,9 @@ void ValidateSynthClipConfig(const SynthClipConfig& c) {
     Require(e.empty(), e);
     Require(c.out.extension() == ".avi", "a clip with sound must be .avi (MJPEG + PCM)");
   }
+  const std::string timeline = c.timeline.Validate(c.fps);
+  Require(timeline.empty(), timeline);
+  Require(!(c.sound && c.timeline.Variable()), "a clip with sound has a constant frame rate");
   if (c.ball_bgr) ValidateColor(*c.ball_bgr, "ball");
   ValidateColor(c.wall_bgr, "wall");
   ValidateColor(c.floor_bgr, "floor");
@@ -114,6 +117,17 @@ void AddClipSound(const SynthClipConfig& c, const SynthTrajectory& traj, SynthTr
   truth->sound_hum_rms = c.sound->hum_rms;
   truth->sound_click_at_1mps = c.sound->click_at_1mps;
   truth->sound_click_exponent = c.sound->click_exponent;
+}
+
+// The file's time of real time t (s since the first frame), between the frames' stamps.
+double FileTimeAt(const std::vector<SynthFrameTime>& times, double t) {
+  auto it = std::upper_bound(times.begin(), times.end(), t,
+                             [](double v, const SynthFrameTime& f) { return v < f.real_s; });
+  if (it == times.begin()) return t - times.front().real_s + times.front().file_s;
+  if (it == times.end()) return t - times.back().real_s + times.back().file_s;
+  const SynthFrameTime& b = *it;
+  const SynthFrameTime& a = *(it - 1);
+  return a.file_s + (t - a.real_s) / (b.real_s - a.real_s) * (b.file_s - a.file_s);
 }
 
 }  // namespace
@@ -199,7 +213,8 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
     Require(scale > 0, "cannot fit the drop into the frame; give --px-per-m");
   }
   const double ball_x_px = c.ball_x * (c.width - 1);
-  const int frame_count = std::max(1, static_cast<int>(std::lround(c.duration_s * c.fps)));
+  const std::vector<SynthFrameTime> frame_times =
+      SynthFrameTimes(c.timeline, c.fps, c.duration_s, c.seed);
 
   const SynthScene scene(SynthSceneConfigOf(c, floor_px, r_m * scale));
 
@@ -221,7 +236,7 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   };
 
   SynthTruth truth = SynthTruthHeader(c, scene, scale, floor_px);
-  truth.frame_count = frame_count;
+  truth.frame_count = static_cast<int>(frame_times.size());
   truth.drop_height_m = c.drop_height_m;
   truth.trajectory = traj.name;
   truth.launch_up_mps = c.launch_up_mps;
@@ -246,10 +261,17 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
       truth.apex_heights_m.push_back(traj.apex_heights_m[k]);
     }
   }
+  truth.timeline = c.timeline;
+  if (c.timeline.Variable()) {
+    for (double t : truth.impact_times_s)
+      truth.impact_file_times_s.push_back(FileTimeAt(frame_times, t));
+    for (double t : truth.apex_times_s)
+      truth.apex_file_times_s.push_back(FileTimeAt(frame_times, t));
+  }
   truth.comes_to_rest = traj.comes_to_rest && in_clip(traj.rest_time_s);
   truth.rest_t_s = truth.comes_to_rest ? traj.rest_time_s - offset : 0;
 
-  const SynthFrameTimes times = RenderSynthFrames(c, scene, ball_at, &truth, progress);
+  const SynthRenderCost times = RenderSynthFrames(c, scene, frame_times, ball_at, &truth, progress);
 
   if (c.sound) AddClipSound(c, traj, &truth);
 

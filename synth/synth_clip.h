@@ -15,6 +15,7 @@
 #include "model/ball_model.h"
 #include "model/ball_preset.h"
 #include "synth/synth_audio.h"
+#include "synth/synth_frame_times.h"
 #include "synth/synth_scene.h"
 #include "synth/synth_truth.h"
 
@@ -35,8 +36,11 @@ struct SynthClipConfig {
   double air_density_kgpm3 = 1.2;
 
   double fps = 120;
+  // A variable frame rate: a phone's slow motion (frames taken at fps, a span stamped slowed)
+  // or its wandering ordinary rate (synth/synth_frame_times.h); written .mp4, .mov or .mkv.
+  SynthTimelineConfig timeline;
   int width = 640, height = 480;  // px
-  double duration_s = 5;        // clip length, s (frames = round(duration * fps))
+  double duration_s = 5;        // clip length in real time, s (frames = round(duration * fps))
   double px_per_m = 0;          // image scale; 0 = the drop fits the frame height
   double roll_deg = 0;          // camera roll: scene rotated counter-clockwise on screen
   // A camera held in a hand: each frame's picture moved by a jitter of up to this much each

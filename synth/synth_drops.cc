@@ -152,7 +152,8 @@ SynthClipResult RenderSynthDropsClip(const SynthClipConfig& c, const SynthProgre
   truth.camera_focal_px = cam.focal_px;
   truth.camera_height_m = cam.height_m;
   const double end = drops.back().rest_t + 0.5;
-  truth.frame_count = std::max(1, static_cast<int>(std::lround(end * c.fps)));
+  const std::vector<SynthFrameTime> frame_times = SynthFrameTimes(c.timeline, c.fps, end, c.seed);
+  truth.frame_count = static_cast<int>(frame_times.size());
   for (const PlannedDrop& d : drops) {
     SynthTruthDrop td;
     td.distance_m = d.distance_m;
@@ -175,7 +176,7 @@ SynthClipResult RenderSynthDropsClip(const SynthClipConfig& c, const SynthProgre
   truth.comes_to_rest = true;
   truth.rest_t_s = drops.back().rest_t;
 
-  const SynthFrameTimes times = RenderSynthFrames(c, scene, ball_at, &truth, progress);
+  const SynthRenderCost times = RenderSynthFrames(c, scene, frame_times, ball_at, &truth, progress);
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return FinishSynthClip(c, std::move(truth), times, wall_s, cpu_start);
 }

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <ctime>
 #include <numbers>
 #include <random>
 
 #include "synth/synth_noise.h"
+#include "synth/synth_stamped_video.h"
 #include "synth/synth_video.h"
 
 namespace bouncefit {
@@ -97,7 +99,7 @@ SynthTruth SynthTruthHeader(const SynthClipConfig& c, const SynthScene& scene, d
   return truth;
 }
 
-SynthClipResult FinishSynthClip(const SynthClipConfig& c, SynthTruth truth, const SynthFrameTimes& times,
+SynthClipResult FinishSynthClip(const SynthClipConfig& c, SynthTruth truth, const SynthRenderCost& times,
                                 double wall_s, double cpu_start_s) {
   SynthClipResult result;
   result.clip_path = c.out;
@@ -118,22 +120,29 @@ double SynthCpuSeconds() {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-SynthFrameTimes RenderSynthFrames(const SynthClipConfig& c, const SynthScene& scene,
+SynthRenderCost RenderSynthFrames(const SynthClipConfig& c, const SynthScene& scene,
+                                  const std::vector<SynthFrameTime>& frame_times,
                                   const std::function<SynthBallAt(double)>& ball_at,
                                   SynthTruth* truth, const SynthProgress& progress) {
-  const int frame_count = truth->frame_count;
-  cv::VideoWriter writer = OpenSynthVideo(c.out, c.fps, {c.width, c.height}, c.quality);
+  const int frame_count = static_cast<int>(frame_times.size());
+  truth->frame_count = frame_count;
+  cv::VideoWriter writer;
+  std::unique_ptr<StampedVideoWriter> stamped;
+  if (c.timeline.Variable())
+    stamped = std::make_unique<StampedVideoWriter>(c.out, cv::Size(c.width, c.height), c.quality);
+  else
+    writer = OpenSynthVideo(c.out, c.fps, {c.width, c.height}, c.quality);
   SynthNoise noise(c.noise_sigma, c.seed);
   // Where a hand holds the camera in frame i, relative to the first frame: the picture moves by it.
   const HeldCamera held(c, frame_count);
   truth->camera_jitter_px = c.camera_jitter_px;
   truth->camera_sway_px = c.camera_sway_px;
-  SynthFrameTimes times;
+  SynthRenderCost times;
   cv::Mat frame, moved;
   std::vector<BallShape> subs;
   truth->frames.reserve(frame_count);
   for (int i = 0; i < frame_count; ++i) {
-    const double t = i / c.fps;
+    const double t = frame_times[static_cast<size_t>(i)].real_s;
     int n = 1;
     if (c.exposure_s > 0) {
       n = c.blur_samples;
@@ -152,6 +161,7 @@ SynthFrameTimes RenderSynthFrames(const SynthClipConfig& c, const SynthScene& sc
     SynthTruthFrame f;
     f.index = i;
     f.t_s = t;
+    f.file_t_s = frame_times[static_cast<size_t>(i)].file_s;
     f.fully_in_view = true;
     for (int k = 0; k < n; ++k) {
       const double ts = n == 1 ? t : t - c.exposure_s / 2 + c.exposure_s * (k + 0.5) / n;
@@ -178,7 +188,10 @@ SynthFrameTimes RenderSynthFrames(const SynthClipConfig& c, const SynthScene& sc
     const double t1 = SynthCpuSeconds();
     noise.Add(&frame);
     const double t2 = SynthCpuSeconds();
-    writer.write(frame);
+    if (stamped)
+      stamped->Write(frame, f.file_t_s);
+    else
+      writer.write(frame);
     const double t3 = SynthCpuSeconds();
     times.scene_s += t1 - t0;
     times.noise_s += t2 - t1;
@@ -186,7 +199,10 @@ SynthFrameTimes RenderSynthFrames(const SynthClipConfig& c, const SynthScene& sc
     if (progress) progress(i + 1, frame_count);
   }
   const double t_release = SynthCpuSeconds();
-  writer.release();
+  if (stamped)
+    stamped->Close();
+  else
+    writer.release();
   times.encode_s += SynthCpuSeconds() - t_release;
   return times;
 }

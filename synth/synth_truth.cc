@@ -57,6 +57,15 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
   j["first_apex"] = t.first_apex;
   j["apex_times_s"] = t.apex_times_s;
   j["apex_heights_m"] = t.apex_heights_m;
+  if (t.timeline.Variable()) {
+    j["timeline"] = {{"slow_motion", t.timeline.slow_motion},
+                     {"slow_from_s", t.timeline.slow_from_s},
+                     {"slow_to_s", t.timeline.slow_to_s},
+                     {"slow_ramp_s", t.timeline.slow_ramp_s},
+                     {"vfr_min_fps", t.timeline.vfr_min_fps},
+                     {"impact_file_times_s", t.impact_file_times_s},
+                     {"apex_file_times_s", t.apex_file_times_s}};
+  }
   j["comes_to_rest"] = t.comes_to_rest;
   j["rest_t_s"] = t.comes_to_rest ? ojson(t.rest_t_s) : ojson(nullptr);
   if (t.has_sound)
@@ -95,6 +104,7 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
                       {"cy", f.cy},
                       {"height_m", f.height_m},
                       {"fully_in_view", f.fully_in_view}});
+    if (t.timeline.Variable()) frames.back().push_back({"file_t_s", f.file_t_s});
     if (f.camera_dx != 0 || f.camera_dy != 0)
       frames.back().push_back({"camera_dx", f.camera_dx}), frames.back().push_back({"camera_dy", f.camera_dy});
   }
@@ -206,6 +216,16 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
   t.apex_heights_m = Get<std::vector<double>>(j, "apex_heights_m", where);
   if (t.apex_times_s.size() != t.apex_heights_m.size())
     throw std::runtime_error(where + ": apex_times_s and apex_heights_m differ in length");
+  if (j.contains("timeline")) {
+    const json tl = Get<json>(j, "timeline", where);
+    t.timeline.slow_motion = Get<double>(tl, "slow_motion", where + " timeline");
+    t.timeline.slow_from_s = Get<double>(tl, "slow_from_s", where + " timeline");
+    t.timeline.slow_to_s = Get<double>(tl, "slow_to_s", where + " timeline");
+    t.timeline.slow_ramp_s = tl.value("slow_ramp_s", 0.0);
+    t.timeline.vfr_min_fps = Get<double>(tl, "vfr_min_fps", where + " timeline");
+    t.impact_file_times_s = Get<std::vector<double>>(tl, "impact_file_times_s", where + " timeline");
+    t.apex_file_times_s = Get<std::vector<double>>(tl, "apex_file_times_s", where + " timeline");
+  }
   t.comes_to_rest = Get<bool>(j, "comes_to_rest", where);
   if (t.comes_to_rest) t.rest_t_s = Get<double>(j, "rest_t_s", where);
   if (j.contains("sound")) {
@@ -260,6 +280,7 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
     f.cy = Get<double>(frames[i], "cy", fw);
     f.height_m = Get<double>(frames[i], "height_m", fw);
     f.fully_in_view = Get<bool>(frames[i], "fully_in_view", fw);
+    f.file_t_s = frames[i].value("file_t_s", f.t_s);
     f.camera_dx = frames[i].value("camera_dx", 0.0);
     f.camera_dy = frames[i].value("camera_dy", 0.0);
     t.frames.push_back(f);

@@ -6,11 +6,15 @@
 #include <string>
 #include <vector>
 
+#include "synth/synth_frame_times.h"
+
 namespace bouncefit {
 
 struct SynthTruthFrame {
   int index = 0;
-  double t_s = 0;            // index / fps: the centre of the frame's exposure
+  double t_s = 0;            // the centre of the frame's exposure, real s (index / fps at a
+                             // constant rate)
+  double file_t_s = 0;       // its stamp in the file, s (t_s unless the rate varies)
   double cx = 0, cy = 0;     // true ball centre in the image, px (exposure average; origin at
                              // the top-left pixel's centre, y down, after roll)
   double height_m = 0;       // ball bottom above the floor, m (exposure average)
@@ -71,6 +75,10 @@ struct SynthTruth {
   double launch_up_mps = 0, launch_right_mps = 0;  // a throw's speeds (0: dropped)
   double release_t_s = 0;                  // end of the hold (< 0: before the clip began)
   std::vector<double> impact_times_s;
+  // A variable frame rate (SynthTimelineConfig): how it was stamped, and the impacts' and
+  // apexes' times on the file's clock (empty at a constant rate, where the clocks are one).
+  SynthTimelineConfig timeline;
+  std::vector<double> impact_file_times_s, apex_file_times_s;
   int first_apex = 0;                      // index of apex_times_s[0] (> 0: clip began later)
   std::vector<double> apex_times_s;        // [0] = release (or the top of a throw)
   std::vector<double> apex_heights_m;      // [0] = drop height; ball bottom above the floor

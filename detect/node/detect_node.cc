@@ -44,7 +44,7 @@ bounce_peak_t ToBouncePeakMsg(const BouncePeak& p) {
 DetectNode::DetectNode(LcmBus* bus, DetectNodeConfig config)
     : bus_(bus),
       config_(std::move(config)),
-      detector_(std::make_unique<RetimingDetector>(config_.detector, config_.retiming)) {}
+      detector_(std::make_unique<CaptureClockDetector>(config_.detector, config_.retiming)) {}
 
 void DetectNode::Subscribe() {
   if (!bus_) throw std::logic_error("detect node: no bus to subscribe to");
@@ -82,7 +82,7 @@ std::vector<DetectorEvent> DetectNode::OnObservation(const BallObservation& obs)
     events = detector_->Finish();
     for (const auto& s : detector_->detector().Summaries()) earlier_summaries_.push_back(s);
     rejected_before_ += detector_->rejected();
-    detector_ = std::make_unique<RetimingDetector>(config_.detector, config_.retiming);
+    detector_ = std::make_unique<CaptureClockDetector>(config_.detector, config_.retiming);
     ++stats_.stream_restarts;
   }
   have_box_ = true;

@@ -15,7 +15,7 @@
 #include "bouncefit/calibration_t.hpp"
 #include "detect/bounce_detector.h"
 #include "detect/frame_retiming.h"
-#include "detect/retiming_detector.h"
+#include "detect/capture_clock_detector.h"
 #include "msgs/channels.h"
 #include "track/ball_observation.h"
 #include "track/node/ball_box_msg.h"
@@ -77,6 +77,9 @@ class DetectNode {
   const BounceDetector& detector() const { return detector_->detector(); }
   // Whether the frames' stamps were re-timed to the rate they were taken at (detect/retiming_detector.h).
   const Retiming& retiming() const { return detector_->retiming(); }
+  // Slow motion in the stamps: the capture clock and whether the detector reads on it
+  // (detect/capture_clock_detector.h).
+  const CaptureClockDetector& clock_reader() const { return *detector_; }
   const DetectStats& stats() const { return stats_; }
   // Summaries of every drop ended so far, across stream restarts.
   std::vector<SequenceSummary> Summaries() const;
@@ -86,7 +89,7 @@ class DetectNode {
 
   LcmBus* bus_;
   DetectNodeConfig config_;
-  std::unique_ptr<RetimingDetector> detector_;
+  std::unique_ptr<CaptureClockDetector> detector_;
   std::vector<SequenceSummary> earlier_summaries_;
   int64_t rejected_before_ = 0;  // by the detectors of earlier streams
   EventFn on_event_;
