@@ -230,6 +230,8 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
   sc.wall_bgr = c.wall_bgr;
   sc.wall_pattern = c.wall_pattern;
   sc.floor_bgr = c.floor_bgr;
+  sc.floor_pattern = c.floor_pattern;
+  sc.pebble_px = std::max(4.0, 2 * r_m * scale);
   const Bgr preset_bgr = {c.ball.color_bgr[0], c.ball.color_bgr[1], c.ball.color_bgr[2]};
   sc.ball_bgr = c.ball_bgr.value_or(preset_bgr);
   sc.distractor = c.distractor;

@@ -54,6 +54,7 @@ struct SynthClipConfig {
   Bgr wall_bgr = {196, 202, 206};
   WallPattern wall_pattern = WallPattern::kPlain;
   Bgr floor_bgr = {112, 118, 124};
+  FloorPattern floor_pattern = FloorPattern::kPlain;  // pebbles are a ball's diameter across
   bool distractor = false;      // a static sphere of similar hue on the floor
   int quality = 95;             // MJPEG quality, 1-100
   std::filesystem::path out = "synth.avi";  // .avi (MJPEG) or .mp4
