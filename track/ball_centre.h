@@ -19,6 +19,13 @@ struct BallCentreParams {
   double radius_prior_weight = 2; // pull towards the tracked radius, in edge points
   double min_valid_rays = 0.35;   // share of rays that must give a rim point
   double max_rms_px = 1.5;        // worse inlier RMS means the blob is not a round ball
+  // A fit looser than this (px, or radii when more) is tried again with rays from half the
+  // radius to 1.5 radii and a consensus fit; the tighter of the two is kept.
+  double loose_rms_px = 1.0;
+  double loose_rms_radii = 0.012;
+  // Coverage relative to the ray's inside: for planes of one channel (a brightness
+  // contrast), where the ball's own shading along a ray cannot be unmixed from the colour.
+  bool coverage_from_inside = false;
 };
 
 struct BallCentre {

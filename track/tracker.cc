@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "track/ball_extent.h"
+#include "track/inscribed_disc.h"
 
 namespace bouncefit {
 
@@ -125,6 +126,10 @@ BallObservation Tracker::Track(const Frame& frame) {
   if (last_frame_t_ >= 0 && t > last_frame_t_) frame_dt_s_ = t - last_frame_t_;
   last_frame_t_ = t;
   if (lost_ <= 2 && PredictInFrame(t, &px, &py, &speed)) {
+    // An arc just begun (an impact, a kick) has no speed of its own yet: the ball leaves it
+    // at most as fast as it came.
+    if (predictor_.samples() < 3) speed = std::max(speed, arc_speed_px_s_);
+    else arc_speed_px_s_ = speed;
     const double dt = std::clamp(t - last_t_, 1e-3, 0.1);
     const double motion = speed * dt;
     const double frame_dt = frame_dt_s_ > 0 ? frame_dt_s_ : dt;
@@ -139,6 +144,9 @@ BallObservation Tracker::Track(const Frame& frame) {
       const double half = radius_ + std::max(radius_, config_.window_margin_px) + 2 * motion;
       const double gate = radius_ + 2 * motion + config_.gate_px;
       ok = TryWindow(frame, pred, half, gate, &obs);
+      // Fast enough to sweep a radius over a frame: a streak too pale for the ball's colour.
+      const double sweep = speed * frame_dt;
+      if (!ok && radius_ > 0 && sweep > 0.5 * radius_) ok = TryStreak(frame, pred, half, gate, sweep, &obs);
     }
   }
   if (!ok && has_seed_) {
@@ -157,7 +165,7 @@ BallObservation Tracker::Track(const Frame& frame) {
     ++found_;
   } else {
     ++lost_;
-    if (lost_ > config_.lost_frames_keep) predictor_.Reset();
+    if (lost_ > config_.lost_frames_keep) predictor_.Reset(), arc_speed_px_s_ = 0;
   }
   if (luma_) {
     // The background is kept from absorbing the ball only while it moves or has just come to
@@ -230,7 +238,7 @@ SegmenterParams Tracker::SegmentParamsFor(double radius_px) const {
 }
 
 bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
-                        BallObservation* obs) {
+                        BallObservation* obs, bool recentre) {
   const int hw = static_cast<int>(std::ceil(half));
   const cv::Rect rect = cv::Rect(static_cast<int>(std::lround(centre.x)) - hw,
                                  static_cast<int>(std::lround(centre.y)) - hw, 2 * hw + 1,
@@ -270,7 +278,38 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
   }
   if (!best) return false;
   const Blob chosen = *best;
+  // Cut by the window where the window is not the frame's edge: the window missed part of the
+  // ball (a close-up a radius from where it was predicted, after an impact). Once more, round it.
+  const bool window_cut = (inner_left && chosen.box.x <= rect.x) || (inner_top && chosen.box.y <= rect.y) ||
+                          (inner_right && chosen.box.x + chosen.box.width >= rect.br().x) ||
+                          (inner_bottom && chosen.box.y + chosen.box.height >= rect.br().y);
+  if (window_cut && recentre && followed_r > 0) {
+    const cv::Point2f at(chosen.box.x + 0.5f * chosen.box.width, chosen.box.y + 0.5f * chosen.box.height);
+    const double grown = std::max(half, 0.5 * std::max(chosen.box.width, chosen.box.height) + 1.6 * followed_r + 8);
+    if (TryWindow(frame, at, grown, 1.6 * followed_r + 8, obs, false)) return true;
+  }
   return Refine(frame, chosen, centre, obs);
+}
+
+bool Tracker::TryStreak(const Frame& frame, cv::Point2f centre, double half, double gate, double sweep_px,
+                        BallObservation* obs) {
+  const int hw = static_cast<int>(std::ceil(half));
+  const cv::Rect rect = cv::Rect(static_cast<int>(std::lround(centre.x)) - hw,
+                                 static_cast<int>(std::lround(centre.y)) - hw, 2 * hw + 1,
+                                 2 * hw + 1) & roi_;
+  if (rect.width < 4 || rect.height < 4) return false;
+  if (planes_.rect != rect || planes_.step != 1) Planes(frame, rect, 1, config_.blur_sigma_px, &planes_);
+  const BallStreak s = FindBallStreak(planes_, color_, centre, gate, radius_, 2 * radius_ + 1.5 * sweep_px + 4);
+  if (!s.ok) return false;
+  obs->found = true;
+  obs->x = s.box.x, obs->y = s.box.y, obs->w = s.box.width, obs->h = s.box.height;
+  obs->cx = static_cast<float>(s.cx);
+  obs->cy = static_cast<float>(s.cy);
+  obs->radius_px = static_cast<float>(radius_);
+  obs->pixel_count = s.pixels;
+  obs->aspect_ratio = s.box.height > 0 ? s.box.width / s.box.height : 0;
+  obs->score = 0.3f;
+  return true;
 }
 
 bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
@@ -339,16 +378,28 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   double r0 = EquivalentRadius(blob);
   if (blob.touches_edge && radius_ > 0) r0 = radius_;
   const double cx = blob.centroid.x, cy = blob.centroid.y;
+  // In brightness mode the rim is found on unclamped contrast: clamped, a lit top would reach
+  // half the clamp further out in a blur than a shaded bottom, and the centre would rise.
+  BallCentreParams centre_params = config_.centre;
+  centre_params.coverage_from_inside = luma_ != nullptr;
   auto rim_from = [&](double x, double y, double r) {
     const double reach = r + RimRayOvershootPx(r) + 3;
     const cv::Rect need = cv::Rect(static_cast<int>(std::floor(x - reach)) - 1,
                                    static_cast<int>(std::floor(y - reach)) - 1,
                                    static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
+    if (luma_) {
+      if ((need & rim_planes_.rect) != need || rim_frame_ != frame.index) {
+        luma_->ContrastPlanes(need | planes_.rect, 1, config_.blur_sigma_px, &rim_planes_, false);
+        rim_frame_ = frame.index;
+      }
+      return FindBallCentre(rim_planes_, color_, x, y, r, radius_, centre_params);
+    }
     if ((need & planes_.rect) != need) Planes(frame, need, 1, config_.blur_sigma_px, &planes_);
-    return FindBallCentre(planes_, color_, x, y, r, radius_, config_.centre);
+    return FindBallCentre(planes_, color_, x, y, r, radius_, centre_params);
   };
+  const cv::Rect mask_rect = planes_.rect;  // the window mask_ segmented
   BallCentre bc = rim_from(cx, cy, r0);
-  bool from_expected = false;
+  bool from_expected = false;  // the rim found round another start: no colour adaptation
   // A blob the window cuts, its rim not found round its centroid: the ball run together with
   // something of its colour (its shadow on a floor of its hue). Where the ball was expected,
   // its rim may still be found; the merged blob's centroid is not the ball's centre.
@@ -360,6 +411,26 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
       std::hypot(expected.x - cx, expected.y - cy) > 0.25 * radius_) {
     const BallCentre at_expected = rim_from(expected.x, expected.y, radius_);
     if (at_expected.ok && !at_expected.cut && SizeMatches(at_expected.r, radius_)) bc = at_expected, from_expected = true;
+  }
+  // No round rim of the ball's size round the centroid: the ball run together with a patch of
+  // its colour (the centroid lies between them; a close-up's rim, a hundred pixels out, then
+  // lies beyond the rays' reach from it). The largest disc inside the blob sits in the ball.
+  // A loose fit is no better: it settled between the ball's rim and the patch's edges.
+  const auto loose = [&](const BallCentre& c) {
+    return c.rms > std::max(config_.centre.loose_rms_px, config_.centre.loose_rms_radii * c.r);
+  };
+  if (!from_expected && (!bc.ok || loose(bc) || (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_)))) {
+    const cv::Rect box = cv::Rect(blob.box) - mask_rect.tl();
+    const InscribedDisc disc = LargestInscribedDisc(
+        mask_, box, blob.box.x <= roi_.x, blob.box.y <= roi_.y, blob.box.x + blob.box.width >= roi_.br().x,
+        blob.box.y + blob.box.height >= roi_.br().y);
+    const double dx = mask_rect.x + disc.cx, dy = mask_rect.y + disc.cy;
+    const double ref_r = radius_ > 0 ? radius_ : disc.r;
+    if (disc.ok && disc.r > 0.5 * ref_r && std::hypot(dx - cx, dy - cy) > 0.1 * ref_r) {
+      const BallCentre at_disc = rim_from(dx, dy, ref_r);
+      const bool fits = at_disc.ok && (radius_ <= 0 || at_disc.cut || SizeMatches(at_disc.r, radius_));
+      if (fits && (!bc.ok || at_disc.rms < bc.rms)) bc = at_disc, from_expected = true;
+    }
   }
   float score;
   if (bc.ok) {

@@ -6,7 +6,8 @@
 // they are) -> optional ROI -> chroma threshold around the ball colour (picked pixel, given
 // colour, or chosen automatically: track/ball_finder.h, confirmed by track/arc_check.h) -> blobs with the paper's
 // min/max box -> the blob nearest the parabolic prediction -> sub-pixel centre from a robust
-// circle fit to the rim. Once locked it only looks in a window around the prediction; the
+// circle fit to the rim; a ball swept into a streak over the exposure is found by its coverage
+// (track/ball_streak.h). Once locked it only looks in a window around the prediction; the
 // whole frame (at half resolution) is searched only to (re)acquire.
 #include <deque>
 #include <memory>
@@ -19,6 +20,7 @@
 #include "track/ball_finder.h"
 #include "track/ball_observation.h"
 #include "track/ball_segmenter.h"
+#include "track/ball_streak.h"
 #include "track/camera_motion.h"
 #include "track/color_model.h"
 #include "track/color_pick.h"
@@ -137,7 +139,13 @@ class Tracker {
   // the light changes removed grow with it.
   bool IsCloseUp(double radius_px) const;
   SegmenterParams SegmentParamsFor(double radius_px) const;
+  // recentre: a ball the window cuts is looked for once more in a window round it.
   bool TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
+                 BallObservation* obs, bool recentre = true);
+  // The ball as a streak (track/ball_streak.h) in the window: its centre at mid-exposure, its
+  // size the tracked radius (the streak's length is the sweep, not the ball). sweep_px: the
+  // most the ball can move over an exposure.
+  bool TryStreak(const Frame& frame, cv::Point2f centre, double half, double gate, double sweep_px,
                  BallObservation* obs);
   bool Acquire(const Frame& frame, BallObservation* obs);
   // expected: where the window looked for the ball (the prediction, or the blob itself).
@@ -168,6 +176,7 @@ class Tracker {
   // The longest box side the ball can show this frame (track/ball_extent.h; 0: no
   // prediction, not checked).
   double max_extent_px_ = 0;
+  double arc_speed_px_s_ = 0;        // the prediction's speed on the last arc it knew, px/s
   double expected_motion_px_ = 1e9;  // the prediction's motion since the last sighting, px
   double last_frame_t_ = -1, frame_dt_s_ = 0;  // the frame period, s, from the last two frames (-1: none yet)
   int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;
@@ -190,6 +199,8 @@ class Tracker {
   int64_t dropped_locks_ = 0, choices_ = 0;
   int64_t adapt_tick_ = 0;
   YccPlanes planes_, wide_;
+  YccPlanes rim_planes_;     // brightness mode: unclamped contrast for the rim (of frame rim_frame_)
+  int64_t rim_frame_ = -1;
   cv::Mat mask_;
   std::unique_ptr<LumaContrast> luma_;  // brightness mode only
   double last_cx_ = 0, last_cy_ = 0;   // last found centre, pixels
