@@ -176,6 +176,7 @@ class Tracker {
   // The longest box side the ball can show this frame (track/ball_extent.h; 0: no
   // prediction, not checked).
   double max_extent_px_ = 0;
+  double sweep_px_ = 0;               // how far the ball may move over a frame period, px (0: unknown)
   double arc_speed_px_s_ = 0;        // the prediction's speed on the last arc it knew, px/s
   double expected_motion_px_ = 1e9;  // the prediction's motion since the last sighting, px
   double last_frame_t_ = -1, frame_dt_s_ = 0;  // the frame period, s, from the last two frames (-1: none yet)
