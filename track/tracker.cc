@@ -280,12 +280,14 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
   }
   if (!best) return false;
   const Blob chosen = *best;
-  // Cut by the window where the window is not the frame's edge: the window missed part of the
-  // ball (a close-up a radius from where it was predicted, after an impact). Once more, round it.
+  // A close-up cut by the window where the window is not the frame's edge: a prediction off by
+  // half its radius after an impact is tens of pixels, and the window missed part of it. Once
+  // more, round it. (A smaller ball's cut blob is a smear running on, its centre found below:
+  // a wider window took in the smear of a white ball on black cloth and moved its centres.)
   const bool window_cut = (inner_left && chosen.box.x <= rect.x) || (inner_top && chosen.box.y <= rect.y) ||
                           (inner_right && chosen.box.x + chosen.box.width >= rect.br().x) ||
                           (inner_bottom && chosen.box.y + chosen.box.height >= rect.br().y);
-  if (window_cut && recentre && followed_r > 0) {
+  if (window_cut && recentre && IsCloseUp(followed_r)) {
     const cv::Point2f at(chosen.box.x + 0.5f * chosen.box.width, chosen.box.y + 0.5f * chosen.box.height);
     const double grown = std::max(half, 0.5 * std::max(chosen.box.width, chosen.box.height) + 1.6 * followed_r + 8);
     if (TryWindow(frame, at, grown, 1.6 * followed_r + 8, obs, false)) return true;
