@@ -382,16 +382,19 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   double r0 = EquivalentRadius(blob);
   if (blob.touches_edge && radius_ > 0) r0 = radius_;
   const double cx = blob.centroid.x, cy = blob.centroid.y;
-  // In brightness mode the rim is found on unclamped contrast: clamped, a lit top would reach
-  // half the clamp further out in a blur than a shaded bottom, and the centre would rise.
+  // In brightness mode the rim of a ball followed is found on unclamped contrast: clamped, a
+  // lit top would reach half the clamp further out in a blur than a shaded bottom, and the
+  // centre would rise. Not to acquire one (size unknown): unclamped, a ball held at the top of
+  // pingpong_ruler was taken before its drop and the first drop's calibration broke.
   BallCentreParams centre_params = config_.centre;
-  centre_params.coverage_from_inside = luma_ != nullptr;
+  const bool unclamped = luma_ != nullptr && radius_ > 0;
+  centre_params.coverage_from_inside = unclamped;
   auto rim_from = [&](double x, double y, double r) {
     const double reach = r + RimRayOvershootPx(r) + 3;
     const cv::Rect need = cv::Rect(static_cast<int>(std::floor(x - reach)) - 1,
                                    static_cast<int>(std::floor(y - reach)) - 1,
                                    static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
-    if (luma_) {
+    if (unclamped) {
       if ((need & rim_planes_.rect) != need || rim_frame_ != frame.index) {
         luma_->ContrastPlanes(need | planes_.rect, 1, config_.blur_sigma_px, &rim_planes_, false);
         rim_frame_ = frame.index;
@@ -423,16 +426,15 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   const auto loose = [&](const BallCentre& c) {
     return c.rms > std::max(config_.centre.loose_rms_px, config_.centre.loose_rms_radii * c.r);
   };
-  if (!from_expected && (!bc.ok || loose(bc) || (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_)))) {
+  if (!from_expected && radius_ > 0 && (!bc.ok || loose(bc) || (!bc.cut && !SizeMatches(bc.r, radius_)))) {
     const cv::Rect box = cv::Rect(blob.box) - mask_rect.tl();
     const InscribedDisc disc = LargestInscribedDisc(
         mask_, box, blob.box.x <= roi_.x, blob.box.y <= roi_.y, blob.box.x + blob.box.width >= roi_.br().x,
         blob.box.y + blob.box.height >= roi_.br().y);
     const double dx = mask_rect.x + disc.cx, dy = mask_rect.y + disc.cy;
-    const double ref_r = radius_ > 0 ? radius_ : disc.r;
-    if (disc.ok && disc.r > 0.5 * ref_r && std::hypot(dx - cx, dy - cy) > 0.1 * ref_r) {
-      const BallCentre at_disc = rim_from(dx, dy, ref_r);
-      const bool fits = at_disc.ok && (radius_ <= 0 || at_disc.cut || SizeMatches(at_disc.r, radius_));
+    if (disc.ok && disc.r > 0.5 * radius_ && std::hypot(dx - cx, dy - cy) > 0.1 * radius_) {
+      const BallCentre at_disc = rim_from(dx, dy, radius_);
+      const bool fits = at_disc.ok && (at_disc.cut || SizeMatches(at_disc.r, radius_));
       if (fits && (!bc.ok || at_disc.rms < bc.rms)) bc = at_disc, from_expected = true;
     }
   }
