@@ -78,18 +78,13 @@ int CastRays(const Sampler& sm, const ColorModel& color, double cx, double cy, d
     const double a_in = coverage(p, &k_in);
     // The inside must be the ball: covered, and with enough chroma to tell it apart.
     if (a_in < 0.6 || k_in * std::hypot(c1, c2) < params.edge_min_contrast) continue;
-    // One channel: the inside is fully covered, whatever its brightness (a shaded bottom, a
-    // lit top): the rim is where the contrast is half the inside's.
-    const double a_scale = params.coverage_from_inside ? 1 / a_in : 1;
-    double a1 = a_scale * coverage(o1, nullptr);
+    double a1 = coverage(o1, nullptr);
     for (int i = n - 2; i >= 0; --i) {
       double a0 = a_in;
       if (i == n - 2)
-        a0 = a_scale * coverage(o2, nullptr);
+        a0 = coverage(o2, nullptr);
       else if (i > 0)
-        sample(i, p), a0 = a_scale * coverage(p, nullptr);
-      else
-        a0 = a_scale * a_in;
+        sample(i, p), a0 = coverage(p, nullptr);
       if (a0 >= 0.5 && a1 < 0.5) {
         const double rr = r_in + (i + (a0 - 0.5) / (a0 - a1)) * kStep;
         pts->push_back({cx + rr * c, cy + rr * sn});

@@ -23,9 +23,6 @@ struct BallCentreParams {
   // radius to 1.5 radii and a consensus fit; the tighter of the two is kept.
   double loose_rms_px = 1.0;
   double loose_rms_radii = 0.012;
-  // Coverage relative to the ray's inside: for planes of one channel (a brightness
-  // contrast), where the ball's own shading along a ray cannot be unmixed from the colour.
-  bool coverage_from_inside = false;
 };
 
 struct BallCentre {

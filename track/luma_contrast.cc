@@ -66,7 +66,7 @@ void LumaContrast::SetFrame(const Frame& frame, double closeup_radius_px) {
 }
 
 void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
-                                  YccPlanes* out, bool clamp) const {
+                                  YccPlanes* out) const {
   rect &= cv::Rect(0, 0, grey_.cols, grey_.rows);
   out->rect = rect;
   out->step = step;
@@ -89,11 +89,9 @@ void LumaContrast::ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px,
   if (params_.polarity == 0) diff = cv::abs(diff);
   out->u = diff;
   if (blur_sigma_px > 0) cv::GaussianBlur(out->u, out->u, cv::Size(), blur_sigma_px);
-  if (clamp) {
-    const float c = static_cast<float>(params_.clamp_luma);
-    cv::min(out->u, c, out->u);
-    cv::max(out->u, -c, out->u);
-  }
+  const float c = static_cast<float>(params_.clamp_luma);
+  cv::min(out->u, c, out->u);
+  cv::max(out->u, -c, out->u);
   out->y = cv::Mat(out->u.size(), CV_32F, cv::Scalar(kContrastLuma));
   out->v = cv::Mat::zeros(out->u.size(), CV_32F);
 }

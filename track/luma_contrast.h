@@ -47,10 +47,8 @@ class LumaContrast {
   // its body from being taken for a soft change of light.
   void SetFrame(const Frame& frame, double closeup_radius_px = 0);
   // Contrast planes of `rect` of the current frame, decimated by `step` (1 or 2) and blurred
-  // by `blur_sigma_px` (output pixels), in the layout of ExtractYcc. `clamp`: at +-clamp_luma
-  // (to segment); unclamped, the contrast stays proportional to the ball's coverage of a
-  // pixel (to find its rim in a blur).
-  void ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px, YccPlanes* out, bool clamp = true) const;
+  // by `blur_sigma_px` (output pixels), in the layout of ExtractYcc.
+  void ContrastPlanes(cv::Rect rect, int step, double blur_sigma_px, YccPlanes* out) const;
   // Blends the current frame into the background, except within the keep-out circle around
   // (cx, cy) of radius r (r <= 0: no keep-out).
   void UpdateBackground(double cx, double cy, double r);

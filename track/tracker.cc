@@ -129,8 +129,11 @@ BallObservation Tracker::Track(const Frame& frame) {
   if (lost_ <= 2 && PredictInFrame(t, &px, &py, &speed)) {
     // An arc just begun (an impact, a kick) has no speed of its own yet: the ball leaves it
     // at most as fast as it came.
-    if (predictor_.samples() < 3) speed = std::max(speed, arc_speed_px_s_);
-    else arc_speed_px_s_ = speed;
+    double ax = 0, ay = 0;
+    if (predictor_.samples() >= 3 && PredictInFrame(t + 1e-3, &ax, &ay) && speed > 0)
+      arc_speed_px_s_ = speed, arc_dir_x_ = (ax - px) / (1e-3 * speed), arc_dir_y_ = (ay - py) / (1e-3 * speed);
+    else
+      speed = std::max(speed, arc_speed_px_s_);
     const double dt = std::clamp(t - last_t_, 1e-3, 0.1);
     const double motion = speed * dt;
     const double frame_dt = frame_dt_s_ > 0 ? frame_dt_s_ : dt;
@@ -146,9 +149,8 @@ BallObservation Tracker::Track(const Frame& frame) {
       const double half = radius_ + std::max(radius_, config_.window_margin_px) + 2 * motion;
       const double gate = radius_ + 2 * motion + config_.gate_px;
       ok = TryWindow(frame, pred, half, gate, &obs);
-      // Fast enough to sweep a radius over a frame: a streak too pale for the ball's colour.
-      const double sweep = speed * frame_dt;
-      if (!ok && radius_ > 0 && sweep > 0.5 * radius_) ok = TryStreak(frame, pred, half, gate, sweep, &obs);
+      // Fast enough to sweep half its radius over a frame: a streak too pale for the ball's colour.
+      if (!ok && radius_ > 0 && sweep_px_ > 0.5 * radius_) ok = TryStreak(frame, pred, half, gate, sweep_px_, &obs);
     }
   }
   if (!ok && has_seed_) {
@@ -305,6 +307,13 @@ bool Tracker::TryStreak(const Frame& frame, cv::Point2f centre, double half, dou
   if (planes_.rect != rect || planes_.step != 1) Planes(frame, rect, 1, config_.blur_sigma_px, &planes_);
   const BallStreak s = FindBallStreak(planes_, color_, centre, gate, radius_, 2 * radius_ + 1.5 * sweep_px + 4);
   if (!s.ok) return false;
+  // A streak lies along the ball's path: as steep as the path was before (an impact turns it
+  // back up but keeps its slope within e's change; a strip sliding along the floor does not).
+  if (s.length_px > 1.3 * s.width_px && arc_speed_px_s_ > 0) {
+    const double slope_streak = std::atan2(std::abs(s.dir_y), std::abs(s.dir_x));
+    const double slope_path = std::atan2(std::abs(arc_dir_y_), std::abs(arc_dir_x_));
+    if (std::abs(slope_streak - slope_path) > config_.streak_max_turn_deg * std::numbers::pi / 180) return false;
+  }
   obs->found = true;
   obs->x = s.box.x, obs->y = s.box.y, obs->w = s.box.width, obs->h = s.box.height;
   obs->cx = static_cast<float>(s.cx);
@@ -382,27 +391,13 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   double r0 = EquivalentRadius(blob);
   if (blob.touches_edge && radius_ > 0) r0 = radius_;
   const double cx = blob.centroid.x, cy = blob.centroid.y;
-  // In brightness mode the rim of a ball followed is found on unclamped contrast: clamped, a
-  // lit top would reach half the clamp further out in a blur than a shaded bottom, and the
-  // centre would rise. Not to acquire one (size unknown): unclamped, a ball held at the top of
-  // pingpong_ruler was taken before its drop and the first drop's calibration broke.
-  BallCentreParams centre_params = config_.centre;
-  const bool unclamped = luma_ != nullptr && radius_ > 0;
-  centre_params.coverage_from_inside = unclamped;
   auto rim_from = [&](double x, double y, double r) {
     const double reach = r + RimRayOvershootPx(r) + 3;
     const cv::Rect need = cv::Rect(static_cast<int>(std::floor(x - reach)) - 1,
                                    static_cast<int>(std::floor(y - reach)) - 1,
                                    static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
-    if (unclamped) {
-      if ((need & rim_planes_.rect) != need || rim_frame_ != frame.index) {
-        luma_->ContrastPlanes(need | planes_.rect, 1, config_.blur_sigma_px, &rim_planes_, false);
-        rim_frame_ = frame.index;
-      }
-      return FindBallCentre(rim_planes_, color_, x, y, r, radius_, centre_params);
-    }
     if ((need & planes_.rect) != need) Planes(frame, need, 1, config_.blur_sigma_px, &planes_);
-    return FindBallCentre(planes_, color_, x, y, r, radius_, centre_params);
+    return FindBallCentre(planes_, color_, x, y, r, radius_, config_.centre);
   };
   const cv::Rect mask_rect = planes_.rect;  // the window mask_ segmented
   BallCentre bc = rim_from(cx, cy, r0);
@@ -426,15 +421,17 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   const auto loose = [&](const BallCentre& c) {
     return c.rms > std::max(config_.centre.loose_rms_px, config_.centre.loose_rms_radii * c.r);
   };
-  if (!from_expected && radius_ > 0 && (!bc.ok || loose(bc) || (!bc.cut && !SizeMatches(bc.r, radius_)))) {
+  // Its size not known yet (the first sighting), the disc's is taken.
+  if (!from_expected && (!bc.ok || loose(bc) || (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_)))) {
     const cv::Rect box = cv::Rect(blob.box) - mask_rect.tl();
     const InscribedDisc disc = LargestInscribedDisc(
         mask_, box, blob.box.x <= roi_.x, blob.box.y <= roi_.y, blob.box.x + blob.box.width >= roi_.br().x,
         blob.box.y + blob.box.height >= roi_.br().y);
     const double dx = mask_rect.x + disc.cx, dy = mask_rect.y + disc.cy;
-    if (disc.ok && disc.r > 0.5 * radius_ && std::hypot(dx - cx, dy - cy) > 0.1 * radius_) {
-      const BallCentre at_disc = rim_from(dx, dy, radius_);
-      const bool fits = at_disc.ok && (at_disc.cut || SizeMatches(at_disc.r, radius_));
+    const double ref_r = radius_ > 0 ? radius_ : disc.r;
+    if (disc.ok && disc.r > 0.5 * ref_r && std::hypot(dx - cx, dy - cy) > 0.1 * ref_r) {
+      const BallCentre at_disc = rim_from(dx, dy, ref_r);
+      const bool fits = at_disc.ok && (radius_ <= 0 || at_disc.cut || SizeMatches(at_disc.r, radius_));
       if (fits && (!bc.ok || at_disc.rms < bc.rms)) bc = at_disc, from_expected = true;
     }
   }

@@ -62,6 +62,8 @@ struct TrackerConfig {
   SegmenterParams segment;          // min/max box and shape limits
   BallCentreParams centre;          // sub-pixel rim fit
   MotionPredictorParams motion;     // parabolic prediction
+  // A streak's slope may differ from the path's before it by this much, degrees.
+  double streak_max_turn_deg = 30;
   double window_margin_px = 8;      // search window beyond radius + expected motion, pixels
   double gate_px = 6;               // a blob may be this far beyond radius + motion from the prediction, pixels
   double radius_change = 0.4;       // a blob whose radius differs more (relative) is not the ball
@@ -178,6 +180,7 @@ class Tracker {
   double max_extent_px_ = 0;
   double sweep_px_ = 0;               // how far the ball may move over a frame period, px (0: unknown)
   double arc_speed_px_s_ = 0;        // the prediction's speed on the last arc it knew, px/s
+  double arc_dir_x_ = 0, arc_dir_y_ = 0;  // ... and its direction (unit)
   double expected_motion_px_ = 1e9;  // the prediction's motion since the last sighting, px
   double last_frame_t_ = -1, frame_dt_s_ = 0;  // the frame period, s, from the last two frames (-1: none yet)
   int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;
@@ -200,8 +203,6 @@ class Tracker {
   int64_t dropped_locks_ = 0, choices_ = 0;
   int64_t adapt_tick_ = 0;
   YccPlanes planes_, wide_;
-  YccPlanes rim_planes_;     // brightness mode: unclamped contrast for the rim (of frame rim_frame_)
-  int64_t rim_frame_ = -1;
   cv::Mat mask_;
   std::unique_ptr<LumaContrast> luma_;  // brightness mode only
   double last_cx_ = 0, last_cy_ = 0;   // last found centre, pixels
