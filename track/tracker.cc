@@ -462,11 +462,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   obs->h = blob.box.height;
   obs->cx = static_cast<float>(bc.cx);
   obs->cy = static_cast<float>(bc.cy);
-  // A ball that may sweep half its radius over an exposure (at most a frame period): its rim
-  // at half coverage lies inside the ball across the motion (a ping-pong ball at 4 m/s and
-  // 1/60 s: 5.7 of its 7.4 px), so the size it shows is not the ball's. The size followed
-  // from slower frames is.
-  obs->radius_px = static_cast<float>(radius_ > 0 && sweep_px_ > 0.5 * radius_ ? radius_ : bc.r);
+  obs->radius_px = static_cast<float>(bc.r);
   obs->pixel_count = blob.pixels;
   obs->aspect_ratio = blob.box.height > 0 ? blob.box.width / blob.box.height : 0;
   obs->score = std::clamp(score, 0.0f, 1.0f);
