@@ -421,7 +421,9 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   const auto loose = [&](const BallCentre& c) {
     return c.rms > std::max(config_.centre.loose_rms_px, config_.centre.loose_rms_radii * c.r);
   };
-  // Its size not known yet (the first sighting), the disc's is taken.
+  // Its size not known yet (the first sighting), the disc's is taken. Close-ups only: a smaller
+  // ball's rim is within the rays' reach of its centroid, and on football_door this start moved
+  // the first fall's centres enough for the fitted ball to diverge in its export check.
   if (!from_expected && (!bc.ok || loose(bc) || (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_)))) {
     const cv::Rect box = cv::Rect(blob.box) - mask_rect.tl();
     const InscribedDisc disc = LargestInscribedDisc(
@@ -429,7 +431,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
         blob.box.y + blob.box.height >= roi_.br().y);
     const double dx = mask_rect.x + disc.cx, dy = mask_rect.y + disc.cy;
     const double ref_r = radius_ > 0 ? radius_ : disc.r;
-    if (disc.ok && disc.r > 0.5 * ref_r && std::hypot(dx - cx, dy - cy) > 0.1 * ref_r) {
+    if (disc.ok && IsCloseUp(ref_r) && disc.r > 0.5 * ref_r && std::hypot(dx - cx, dy - cy) > 0.1 * ref_r) {
       const BallCentre at_disc = rim_from(dx, dy, ref_r);
       const bool fits = at_disc.ok && (radius_ <= 0 || at_disc.cut || SizeMatches(at_disc.r, radius_));
       if (fits && (!bc.ok || at_disc.rms < bc.rms)) bc = at_disc, from_expected = true;
