@@ -36,12 +36,15 @@ struct Sampler {
 // shading. a is linear in the blur, whatever the shading, so a = 0.5 is the rim.
 // Samples are taken only as needed: the outer two (the background), the innermost (is it the
 // ball?), then inwards from the outside to the first crossing, most rays' first third unread.
-int CastRays(const Sampler& sm, const ColorModel& color, double cx, double cy, double r, double r_in,
-             double r_hi, const BallCentreParams& params, std::vector<EdgePoint>* pts, bool* cut) {
+int CastRays(const Sampler& sm, const ColorModel& color, double cx, double cy, double r,
+             const BallCentreParams& params, std::vector<EdgePoint>* pts, bool* cut) {
   pts->clear();
-  // From r_in to r_hi; coarser steps on big balls (coverage is smooth across the rim, the
-  // crossing is interpolated).
+  // From inside the rim (past any motion-blur ramp) to the background; coarser steps on big
+  // balls (coverage is smooth across the rim, the crossing is interpolated).
   const double kStep = std::clamp(r / 24, 0.5, 1.0);
+  // The rim's blur ramp grows with the picture (a close-up on a 4K phone): so does the span.
+  const double r_in = std::max(0.3 * r, r - std::clamp(0.4 * r, 2.5, std::max(9.0, 0.1 * r)));
+  const double r_hi = r + RimRayOvershootPx(r);
   const int n = static_cast<int>(std::ceil((r_hi - r_in) / kStep)) + 1;
   const double c0 = 1, c1 = color.nu(), c2 = color.nv();
   const double cc = c0 * c0 + c1 * c1 + c2 * c2;
@@ -96,31 +99,25 @@ int CastRays(const Sampler& sm, const ColorModel& color, double cx, double cy, d
   return static_cast<int>(pts->size());
 }
 
-// The rim's crossing is looked for from inside the rim (past any motion-blur ramp) to the
-// background; the ramp grows with the picture (a close-up on a 4K phone): so does the span.
-double RimInPx(double r) { return std::max(0.3 * r, r - std::clamp(0.4 * r, 2.5, std::max(9.0, 0.1 * r))); }
+}  // namespace
 
-// The rim fitted in passes from (cx, cy, r). `wide`: the first pass casts its rays from half
-// the radius to half as far again beyond it, and fits the points by a consensus of three
-// (track/circle_fit.h) without the prior: a start far off the ball's centre (the centroid of
-// a close-up run together with a patch of its colour) leaves its rim out of the usual span.
-BallCentre FitRim(const Sampler& sm, const ColorModel& color, double cx, double cy, double r,
-                  double radius_prior, const BallCentreParams& params, bool wide) {
+BallCentre FindBallCentre(const YccPlanes& planes, const ColorModel& color, double cx, double cy,
+                          double r, double radius_prior, const BallCentreParams& params) {
   BallCentre out;
+  if (planes.step != 1 || !(r > 0)) return out;
+  const Sampler sm{planes};
   std::vector<EdgePoint> pts;
   pts.reserve(static_cast<size_t>(params.rays));
   CircleFitParams fp;
   fp.radius_prior = radius_prior;
-  fp.radius_prior_weight = radius_prior > 0 && !wide ? params.radius_prior_weight : 0;
+  fp.radius_prior_weight = radius_prior > 0 ? params.radius_prior_weight : 0;
   CircleFitResult fit;
-  for (int pass = 0; pass < (wide ? 3 : 2); ++pass) {
+  for (int pass = 0; pass < 2; ++pass) {
     out.cut = false;
-    const bool wide_pass = wide && pass == 0;
-    const double r_in = wide_pass ? 0.5 * r : RimInPx(r), r_hi = wide_pass ? 1.5 * r : r + RimRayOvershootPx(r);
-    const int got = CastRays(sm, color, cx, cy, r, r_in, r_hi, params, &pts, &out.cut);
+    const int got = CastRays(sm, color, cx, cy, r, params, &pts, &out.cut);
     out.valid_rays = static_cast<double>(got) / params.rays;
     if (out.valid_rays < params.min_valid_rays) return out;
-    fit = wide_pass ? FitCircle(pts, fp) : FitCircleFrom(pts, cx, cy, r, fp);
+    fit = FitCircleFrom(pts, cx, cy, r, fp);
     if (!fit.ok || fit.r < 0.5 * r || fit.r > 1.6 * r) return out;
     cx = fit.cx, cy = fit.cy, r = fit.r;
   }
@@ -131,20 +128,6 @@ BallCentre FitRim(const Sampler& sm, const ColorModel& color, double cx, double 
   out.inlier_fraction = fit.inlier_fraction;
   out.ok = fit.inlier_fraction >= 0.5 && fit.rms <= std::max(params.max_rms_px, 0.04 * fit.r);
   return out;
-}
-
-}  // namespace
-
-BallCentre FindBallCentre(const YccPlanes& planes, const ColorModel& color, double cx, double cy,
-                          double r, double radius_prior, const BallCentreParams& params) {
-  if (planes.step != 1 || !(r > 0)) return {};
-  const Sampler sm{planes};
-  const BallCentre near = FitRim(sm, color, cx, cy, r, radius_prior, params, false);
-  // A rim that fits loosely: its rays may have missed it (a start far off, a radius misjudged).
-  if (near.ok && near.rms <= std::max(params.loose_rms_px, params.loose_rms_radii * near.r)) return near;
-  const BallCentre wide = FitRim(sm, color, cx, cy, r, radius_prior, params, true);
-  if (wide.ok && (!near.ok || wide.rms < near.rms)) return wide;
-  return near;
 }
 
 }  // namespace bouncefit
