@@ -9,17 +9,8 @@ namespace bouncefit {
 void MotionPredictor::Add(double t, double x, double y) {
   if (!hist_.empty() && t - hist_.back().t > params_.max_gap_s) hist_.clear();
   double px, py;
-  // Falling, then rising: free flight only ever turns the other way (gravity pulls down the
-  // picture whatever the roll short of 90 degrees), so an impact came between. Seen from the
-  // second sample on: the arc's first samples give no parabola to miss.
-  bool turned_up = false;
-  if (hist_.size() >= 2) {
-    const Sample& a = hist_[hist_.size() - 2];
-    const Sample& b = hist_.back();
-    turned_up = b.y - a.y > params_.new_arc_px && b.y - y > params_.new_arc_px;
-  }
-  if ((hist_.size() >= 2 && turned_up) || (hist_.size() >= 3 && Predict(t, &px, &py) &&
-                                           std::hypot(px - x, py - y) > params_.new_arc_px)) {
+  if (hist_.size() >= 3 && Predict(t, &px, &py) &&
+      std::hypot(px - x, py - y) > params_.new_arc_px) {
     // Keep only the newest sample: the arc it ends may have been a different one.
     const Sample last = hist_.back();
     hist_.clear();
