@@ -141,7 +141,7 @@ class Tracker {
   // the light changes removed grow with it.
   bool IsCloseUp(double radius_px) const;
   SegmenterParams SegmentParamsFor(double radius_px) const;
-  // recentre: a ball the window cuts is looked for once more in a window round it.
+  // recentre: a close-up the window cuts is looked for once more in a window round it.
   bool TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
                  BallObservation* obs, bool recentre = true);
   // The ball as a streak (track/ball_streak.h) in the window: its centre at mid-exposure, its
