@@ -20,6 +20,7 @@ struct SynthOptions {
   std::string size = "640x480";
   std::string color, wall_color, floor_color;
   std::string wall_pattern = "plain";
+  std::string floor_pattern = "plain";
   bool no_drag = false;
   bool quiet = false;
   std::string out = "synth.avi";
@@ -76,6 +77,7 @@ void Run(SynthOptions o) {
   if (!o.wall_color.empty()) o.clip.wall_bgr = ParseColor(o.wall_color, "--wall-color");
   o.clip.wall_pattern = ParseWallPattern(o.wall_pattern);
   if (!o.floor_color.empty()) o.clip.floor_bgr = ParseColor(o.floor_color, "--floor-color");
+  o.clip.floor_pattern = ParseFloorPattern(o.floor_pattern);
   o.clip.drag = !o.no_drag;
   if (o.drops < 0 || o.drops > 20) throw std::invalid_argument("--drops must be in 0-20");
   if (o.drops > 0 && o.clip.drop_distances_m.empty()) o.clip.drop_distances_m = DefaultDropDistances(o.drops);
@@ -224,6 +226,10 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--floor-color", o->floor_color,
                   "Floor colour B,G,R, 0-255 each (default 112,118,124)");
+  cmd->add_option("--floor-pattern", o->floor_pattern,
+                  "Floor surface: plain (the floor colour) or pebble (tiles of many greys and "
+                  "browns, each about a ball's diameter across, px from the scale)")
+      ->capture_default_str();
   cmd->add_flag("--distractor", c.distractor,
                 "Add a static sphere of similar hue resting on the floor");
   cmd->add_option("--quality", c.quality, "MJPEG quality, 1-100")->capture_default_str();

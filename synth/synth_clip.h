@@ -58,6 +58,7 @@ struct SynthClipConfig {
   Bgr wall_bgr = {196, 202, 206};
   WallPattern wall_pattern = WallPattern::kPlain;
   Bgr floor_bgr = {112, 118, 124};
+  FloorPattern floor_pattern = FloorPattern::kPlain;  // pebbles are a ball's diameter across
   bool distractor = false;      // a static sphere of similar hue on the floor
   // Several drops in one clip (synth/synth_drops.h): each drop's distance from the camera, m,
   // and its release height, m (empty: drop_height_m for each). Empty distances: one drop at

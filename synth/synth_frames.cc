@@ -52,6 +52,8 @@ SynthSceneConfig SynthSceneConfigOf(const SynthClipConfig& c, double floor_px, d
   sc.wall_bgr = c.wall_bgr;
   sc.wall_pattern = c.wall_pattern;
   sc.floor_bgr = c.floor_bgr;
+  sc.floor_pattern = c.floor_pattern;
+  sc.pebble_px = std::max(4.0, 2 * ball_radius_px);
   const Bgr preset_bgr = {c.ball.color_bgr[0], c.ball.color_bgr[1], c.ball.color_bgr[2]};
   sc.ball_bgr = c.ball_bgr.value_or(preset_bgr);
   sc.distractor = c.distractor;

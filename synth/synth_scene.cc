@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -75,7 +76,54 @@ ShadowShape ShadowOf(const BallShape& b, double floor_y) {
   return {b.x, floor_y + 0.5 * sy, sx, sy, 0.55 / (1.0 + h / (3 * r))};
 }
 
+// A well-mixed 32-bit hash of a cell and a salt, mapped to [0, 1).
+double Hash01(int i, int j, unsigned salt) {
+  uint32_t h = static_cast<uint32_t>(i) * 0x8da6b343u ^ static_cast<uint32_t>(j) * 0xd8163841u ^ salt * 0xcb1ab31fu;
+  h ^= h >> 16, h *= 0x7feb352du, h ^= h >> 15, h *= 0x846ca68bu, h ^= h >> 16;
+  return h / 4294967296.0;
+}
+
 }  // namespace
+
+FloorPattern ParseFloorPattern(const std::string& name) {
+  if (name == "plain") return FloorPattern::kPlain;
+  if (name == "pebble") return FloorPattern::kPebble;
+  throw std::invalid_argument("floor pattern must be plain or pebble (got '" + name + "')");
+}
+
+const char* FloorPatternName(FloorPattern pattern) {
+  return pattern == FloorPattern::kPebble ? "pebble" : "plain";
+}
+
+Bgr SynthScene::FloorColor(cv::Point2d q) const {
+  if (config_.floor_pattern != FloorPattern::kPebble) return config_.floor_bgr;
+  // Pebbles: the cells of seeds jittered on a grid (squashed vertically, a floor seen at a
+  // slant), each of its own grey or brown, in dark grout, darker towards its rim, with a
+  // lighter or darker blotch and a fine grain.
+  const double s = std::max(4.0, config_.pebble_px), squash = 1.6;
+  const double u = q.x / s, v = q.y * squash / s;
+  const int ci = static_cast<int>(std::floor(u)), cj = static_cast<int>(std::floor(v));
+  double d1 = 1e9, d2 = 1e9;
+  int bi = 0, bj = 0;
+  double bx = 0, by = 0;
+  for (int j = cj - 1; j <= cj + 1; ++j)
+    for (int i = ci - 1; i <= ci + 1; ++i) {
+      const double sx = i + 0.1 + 0.8 * Hash01(i, j, 1), sy = j + 0.1 + 0.8 * Hash01(i, j, 2);
+      const double d = std::hypot(u - sx, v - sy);
+      if (d < d1) d2 = d1, d1 = d, bi = i, bj = j, bx = sx, by = sy;
+      else if (d < d2) d2 = d;
+    }
+  const double edge = d2 - d1;  // in pebble sizes: 0 on the border between two pebbles
+  if (edge < 0.07) return {52, 56, 60};
+  const double value = 70 + 140 * Hash01(bi, bj, 3), sat = 0.55 * Hash01(bi, bj, 4);
+  const double warm = 0.3 + 0.5 * Hash01(bi, bj, 5);  // how far green follows red: brown to tan
+  double k = 0.78 + 0.22 * std::min(1.0, edge / 0.3);
+  const double spot_x = bx + 0.3 * (Hash01(bi, bj, 6) - 0.5), spot_y = by + 0.3 * (Hash01(bi, bj, 7) - 0.5);
+  if (std::hypot(u - spot_x, v - spot_y) < 0.12 + 0.15 * Hash01(bi, bj, 8)) k *= Hash01(bi, bj, 9) < 0.5 ? 0.75 : 1.2;
+  const double grain = 1 + 0.06 * (Hash01(static_cast<int>(std::floor(q.x)), static_cast<int>(std::floor(q.y)), 10) - 0.5);
+  const double r = value * k * grain;
+  return {std::min(255.0, r * (1 - sat)), std::min(255.0, r * (1 - sat * (1 - warm))), std::min(255.0, r)};
+}
 
 WallPattern ParseWallPattern(const std::string& name) {
   if (name == "plain") return WallPattern::kPlain;
@@ -141,10 +189,10 @@ SynthScene::SynthScene(const SynthSceneConfig& config) : config_(config) {
       const double hx = (q.x - W / 2) / (W / 2);
       const double wall_k = (1.03 - 0.10 * std::clamp(q.y / H, 0.0, 1.0)) * (1 - 0.06 * hx * hx);
       const double floor_k = 0.92 + 0.12 * Clamp01((q.y - fy) / (0.2 * H));
-      const Bgr wall = WallColor(q);
+      const Bgr wall = floor_cover < 1 ? WallColor(q) : Bgr{};
+      const Bgr floor = floor_cover > 0 ? FloorColor(q) : Bgr{};
       for (int c = 0; c < 3; ++c) {
-        const double v = wall[c] * wall_k * (1 - floor_cover) +
-                         config.floor_bgr[c] * floor_k * floor_cover;
+        const double v = wall[c] * wall_k * (1 - floor_cover) + floor[c] * floor_k * floor_cover;
         row[3 * x + c] = cv::saturate_cast<uchar>(v);
       }
     }

@@ -24,6 +24,13 @@ enum class WallPattern { kPlain, kBrick, kPoster };
 WallPattern ParseWallPattern(const std::string& name);
 const char* WallPatternName(WallPattern pattern);
 
+// What covers the floor: plain; or pebble tiles of many greys and browns in dark grout, each
+// about a ball across and mottled, so that the floor shows edges and blobs of the ball's size.
+enum class FloorPattern { kPlain, kPebble };
+// "plain", "pebble"; throws std::invalid_argument for another name.
+FloorPattern ParseFloorPattern(const std::string& name);
+const char* FloorPatternName(FloorPattern pattern);
+
 struct SynthSceneConfig {
   int width = 640, height = 480;   // px
   double roll_deg = 0;             // scene rotation, counter-clockwise on screen
@@ -31,6 +38,8 @@ struct SynthSceneConfig {
   Bgr wall_bgr = {196, 202, 206};
   WallPattern wall_pattern = WallPattern::kPlain;
   Bgr floor_bgr = {112, 118, 124};
+  FloorPattern floor_pattern = FloorPattern::kPlain;
+  double pebble_px = 24;           // a pebble's size across, px
   Bgr ball_bgr = {20, 120, 250};
   bool distractor = false;         // a static sphere of similar hue resting on the floor
   double distractor_x_px = 0;      // its centre's scene x
@@ -70,6 +79,8 @@ class SynthScene {
 
   // The wall's colour at scene point q (before shading), per its pattern.
   Bgr WallColor(cv::Point2d q) const;
+  // The floor's colour at scene point q (before shading), per its pattern.
+  Bgr FloorColor(cv::Point2d q) const;
 
   SynthSceneConfig config_;
   std::vector<std::pair<cv::Rect2d, Bgr>> poster_;  // poster patches, scene px

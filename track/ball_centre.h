@@ -19,6 +19,10 @@ struct BallCentreParams {
   double radius_prior_weight = 2; // pull towards the tracked radius, in edge points
   double min_valid_rays = 0.35;   // share of rays that must give a rim point
   double max_rms_px = 1.5;        // worse inlier RMS means the blob is not a round ball
+  // A fit looser than this (px, or radii when more) may have settled between the ball's rim
+  // and the edges of what it ran into: the tracker tries a close-up again from inside its blob.
+  double loose_rms_px = 1.0;
+  double loose_rms_radii = 0.012;
 };
 
 struct BallCentre {

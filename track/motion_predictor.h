@@ -23,6 +23,7 @@ class MotionPredictor {
   // Predicted centre and speed (pixels/s) at time t; false when there is no history.
   bool Predict(double t, double* x, double* y, double* speed_px_s = nullptr) const;
   int64_t arcs_started() const { return arcs_; }
+  int samples() const { return static_cast<int>(hist_.size()); }  // of the current arc
 
  private:
   struct Sample {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "track/ball_extent.h"
+#include "track/inscribed_disc.h"
 
 namespace bouncefit {
 
@@ -121,16 +122,25 @@ BallObservation Tracker::Track(const Frame& frame) {
   bool ok = false;
   double px, py, speed;
   max_extent_px_ = 0;
+  sweep_px_ = 0;
   expected_motion_px_ = 1e9;  // no prediction: nothing expected
   if (last_frame_t_ >= 0 && t > last_frame_t_) frame_dt_s_ = t - last_frame_t_;
   last_frame_t_ = t;
   if (lost_ <= 2 && PredictInFrame(t, &px, &py, &speed)) {
+    // An arc just begun (an impact, a kick) has no speed of its own yet: the ball leaves it
+    // at most as fast as it came.
+    double ax = 0, ay = 0;
+    if (predictor_.samples() >= 3 && PredictInFrame(t + 1e-3, &ax, &ay) && speed > 0)
+      arc_speed_px_s_ = speed, arc_dir_x_ = (ax - px) / (1e-3 * speed), arc_dir_y_ = (ay - py) / (1e-3 * speed);
+    else
+      speed = std::max(speed, arc_speed_px_s_);
     const double dt = std::clamp(t - last_t_, 1e-3, 0.1);
     const double motion = speed * dt;
     const double frame_dt = frame_dt_s_ > 0 ? frame_dt_s_ : dt;
     max_extent_px_ = radius_ > 0 ? MaxBallExtentPx(radius_, speed, frame_dt) : 0;
     const cv::Point2f pred(static_cast<float>(px), static_cast<float>(py));
     expected_motion_px_ = motion;
+    sweep_px_ = speed * frame_dt;
     // In flight the parabola predicts to a pixel: a tight window first. A bounce or a kick
     // breaks the prediction: then a window wide enough for any reversal of the motion.
     const double tight = 1.6 * radius_ + config_.window_margin_px;
@@ -139,6 +149,8 @@ BallObservation Tracker::Track(const Frame& frame) {
       const double half = radius_ + std::max(radius_, config_.window_margin_px) + 2 * motion;
       const double gate = radius_ + 2 * motion + config_.gate_px;
       ok = TryWindow(frame, pred, half, gate, &obs);
+      // Fast enough to sweep half its radius over a frame: a streak too pale for the ball's colour.
+      if (!ok && radius_ > 0 && sweep_px_ > 0.5 * radius_) ok = TryStreak(frame, pred, half, gate, sweep_px_, &obs);
     }
   }
   if (!ok && has_seed_) {
@@ -157,7 +169,7 @@ BallObservation Tracker::Track(const Frame& frame) {
     ++found_;
   } else {
     ++lost_;
-    if (lost_ > config_.lost_frames_keep) predictor_.Reset();
+    if (lost_ > config_.lost_frames_keep) predictor_.Reset(), arc_speed_px_s_ = 0;
   }
   if (luma_) {
     // The background is kept from absorbing the ball only while it moves or has just come to
@@ -230,7 +242,7 @@ SegmenterParams Tracker::SegmentParamsFor(double radius_px) const {
 }
 
 bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
-                        BallObservation* obs) {
+                        BallObservation* obs, bool recentre) {
   const int hw = static_cast<int>(std::ceil(half));
   const cv::Rect rect = cv::Rect(static_cast<int>(std::lround(centre.x)) - hw,
                                  static_cast<int>(std::lround(centre.y)) - hw, 2 * hw + 1,
@@ -270,7 +282,47 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
   }
   if (!best) return false;
   const Blob chosen = *best;
+  // A close-up cut by the window where the window is not the frame's edge: a prediction off by
+  // half its radius after an impact is tens of pixels, and the window missed part of it. Once
+  // more, round it. (A smaller ball's cut blob is a smear running on, its centre found below:
+  // a wider window took in the smear of a white ball on black cloth and moved its centres.)
+  const bool window_cut = (inner_left && chosen.box.x <= rect.x) || (inner_top && chosen.box.y <= rect.y) ||
+                          (inner_right && chosen.box.x + chosen.box.width >= rect.br().x) ||
+                          (inner_bottom && chosen.box.y + chosen.box.height >= rect.br().y);
+  if (window_cut && recentre && IsCloseUp(followed_r)) {
+    const cv::Point2f at(chosen.box.x + 0.5f * chosen.box.width, chosen.box.y + 0.5f * chosen.box.height);
+    const double grown = std::max(half, 0.5 * std::max(chosen.box.width, chosen.box.height) + 1.6 * followed_r + 8);
+    if (TryWindow(frame, at, grown, 1.6 * followed_r + 8, obs, false)) return true;
+  }
   return Refine(frame, chosen, centre, obs);
+}
+
+bool Tracker::TryStreak(const Frame& frame, cv::Point2f centre, double half, double gate, double sweep_px,
+                        BallObservation* obs) {
+  const int hw = static_cast<int>(std::ceil(half));
+  const cv::Rect rect = cv::Rect(static_cast<int>(std::lround(centre.x)) - hw,
+                                 static_cast<int>(std::lround(centre.y)) - hw, 2 * hw + 1,
+                                 2 * hw + 1) & roi_;
+  if (rect.width < 4 || rect.height < 4) return false;
+  if (planes_.rect != rect || planes_.step != 1) Planes(frame, rect, 1, config_.blur_sigma_px, &planes_);
+  const BallStreak s = FindBallStreak(planes_, color_, centre, gate, radius_, 2 * radius_ + 1.5 * sweep_px + 4);
+  if (!s.ok) return false;
+  // A streak lies along the ball's path: as steep as the path was before (an impact turns it
+  // back up but keeps its slope within e's change; a strip sliding along the floor does not).
+  if (s.length_px > 1.3 * s.width_px && arc_speed_px_s_ > 0) {
+    const double slope_streak = std::atan2(std::abs(s.dir_y), std::abs(s.dir_x));
+    const double slope_path = std::atan2(std::abs(arc_dir_y_), std::abs(arc_dir_x_));
+    if (std::abs(slope_streak - slope_path) > config_.streak_max_turn_deg * std::numbers::pi / 180) return false;
+  }
+  obs->found = true;
+  obs->x = s.box.x, obs->y = s.box.y, obs->w = s.box.width, obs->h = s.box.height;
+  obs->cx = static_cast<float>(s.cx);
+  obs->cy = static_cast<float>(s.cy);
+  obs->radius_px = static_cast<float>(radius_);
+  obs->pixel_count = s.pixels;
+  obs->aspect_ratio = s.box.height > 0 ? s.box.width / s.box.height : 0;
+  obs->score = 0.3f;
+  return true;
 }
 
 bool Tracker::Acquire(const Frame& frame, BallObservation* obs) {
@@ -347,8 +399,9 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
     if ((need & planes_.rect) != need) Planes(frame, need, 1, config_.blur_sigma_px, &planes_);
     return FindBallCentre(planes_, color_, x, y, r, radius_, config_.centre);
   };
+  const cv::Rect mask_rect = planes_.rect;  // the window mask_ segmented
   BallCentre bc = rim_from(cx, cy, r0);
-  bool from_expected = false;
+  bool from_expected = false;  // the rim found round another start: no colour adaptation
   // A blob the window cuts, its rim not found round its centroid: the ball run together with
   // something of its colour (its shadow on a floor of its hue). Where the ball was expected,
   // its rim may still be found; the merged blob's centroid is not the ball's centre.
@@ -360,6 +413,29 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
       std::hypot(expected.x - cx, expected.y - cy) > 0.25 * radius_) {
     const BallCentre at_expected = rim_from(expected.x, expected.y, radius_);
     if (at_expected.ok && !at_expected.cut && SizeMatches(at_expected.r, radius_)) bc = at_expected, from_expected = true;
+  }
+  // No round rim of the ball's size round the centroid: the ball run together with a patch of
+  // its colour (the centroid lies between them; a close-up's rim, a hundred pixels out, then
+  // lies beyond the rays' reach from it). The largest disc inside the blob sits in the ball.
+  // A loose fit is no better: it settled between the ball's rim and the patch's edges.
+  const auto loose = [&](const BallCentre& c) {
+    return c.rms > std::max(config_.centre.loose_rms_px, config_.centre.loose_rms_radii * c.r);
+  };
+  // Its size not known yet (the first sighting), the disc's is taken. Close-ups only: a smaller
+  // ball's rim is within the rays' reach of its centroid, and on football_door this start moved
+  // the first fall's centres enough for the fitted ball to diverge in its export check.
+  if (!from_expected && (!bc.ok || loose(bc) || (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_)))) {
+    const cv::Rect box = cv::Rect(blob.box) - mask_rect.tl();
+    const InscribedDisc disc = LargestInscribedDisc(
+        mask_, box, blob.box.x <= roi_.x, blob.box.y <= roi_.y, blob.box.x + blob.box.width >= roi_.br().x,
+        blob.box.y + blob.box.height >= roi_.br().y);
+    const double dx = mask_rect.x + disc.cx, dy = mask_rect.y + disc.cy;
+    const double ref_r = radius_ > 0 ? radius_ : disc.r;
+    if (disc.ok && IsCloseUp(ref_r) && disc.r > 0.5 * ref_r && std::hypot(dx - cx, dy - cy) > 0.1 * ref_r) {
+      const BallCentre at_disc = rim_from(dx, dy, ref_r);
+      const bool fits = at_disc.ok && (radius_ <= 0 || at_disc.cut || SizeMatches(at_disc.r, radius_));
+      if (fits && (!bc.ok || at_disc.rms < bc.rms)) bc = at_disc, from_expected = true;
+    }
   }
   float score;
   if (bc.ok) {

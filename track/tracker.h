@@ -6,7 +6,8 @@
 // they are) -> optional ROI -> chroma threshold around the ball colour (picked pixel, given
 // colour, or chosen automatically: track/ball_finder.h, confirmed by track/arc_check.h) -> blobs with the paper's
 // min/max box -> the blob nearest the parabolic prediction -> sub-pixel centre from a robust
-// circle fit to the rim. Once locked it only looks in a window around the prediction; the
+// circle fit to the rim; a ball swept into a streak over the exposure is found by its coverage
+// (track/ball_streak.h). Once locked it only looks in a window around the prediction; the
 // whole frame (at half resolution) is searched only to (re)acquire.
 #include <deque>
 #include <memory>
@@ -19,6 +20,7 @@
 #include "track/ball_finder.h"
 #include "track/ball_observation.h"
 #include "track/ball_segmenter.h"
+#include "track/ball_streak.h"
 #include "track/camera_motion.h"
 #include "track/color_model.h"
 #include "track/color_pick.h"
@@ -60,6 +62,8 @@ struct TrackerConfig {
   SegmenterParams segment;          // min/max box and shape limits
   BallCentreParams centre;          // sub-pixel rim fit
   MotionPredictorParams motion;     // parabolic prediction
+  // A streak's slope may differ from the path's before it by this much, degrees.
+  double streak_max_turn_deg = 30;
   double window_margin_px = 8;      // search window beyond radius + expected motion, pixels
   double gate_px = 6;               // a blob may be this far beyond radius + motion from the prediction, pixels
   double radius_change = 0.4;       // a blob whose radius differs more (relative) is not the ball
@@ -137,7 +141,13 @@ class Tracker {
   // the light changes removed grow with it.
   bool IsCloseUp(double radius_px) const;
   SegmenterParams SegmentParamsFor(double radius_px) const;
+  // recentre: a close-up the window cuts is looked for once more in a window round it.
   bool TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
+                 BallObservation* obs, bool recentre = true);
+  // The ball as a streak (track/ball_streak.h) in the window: its centre at mid-exposure, its
+  // size the tracked radius (the streak's length is the sweep, not the ball). sweep_px: the
+  // most the ball can move over an exposure.
+  bool TryStreak(const Frame& frame, cv::Point2f centre, double half, double gate, double sweep_px,
                  BallObservation* obs);
   bool Acquire(const Frame& frame, BallObservation* obs);
   // expected: where the window looked for the ball (the prediction, or the blob itself).
@@ -168,6 +178,9 @@ class Tracker {
   // The longest box side the ball can show this frame (track/ball_extent.h; 0: no
   // prediction, not checked).
   double max_extent_px_ = 0;
+  double sweep_px_ = 0;               // how far the ball may move over a frame period, px (0: unknown)
+  double arc_speed_px_s_ = 0;        // the prediction's speed on the last arc it knew, px/s
+  double arc_dir_x_ = 0, arc_dir_y_ = 0;  // ... and its direction (unit)
   double expected_motion_px_ = 1e9;  // the prediction's motion since the last sighting, px
   double last_frame_t_ = -1, frame_dt_s_ = 0;  // the frame period, s, from the last two frames (-1: none yet)
   int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;

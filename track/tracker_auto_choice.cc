@@ -37,6 +37,7 @@ void Tracker::Adopt(const BallCandidate& c) {
   has_seed_ = true;
   arc_.Reset();
   predictor_.Reset();
+  arc_speed_px_s_ = 0;
   radius_ = 0;
   lost_ = 1 << 20;
   distractors_.clear();
@@ -140,6 +141,7 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   color_ = ColorModel();
   luma_.reset();
   predictor_.Reset();
+  arc_speed_px_s_ = 0;
   lost_ = 1 << 20;
   how_ = "automatic: dropped the lock at " + Fmt("%.0f,%.0f", here_x, here_y) + " (" + drop + "); waiting for another";
 }
