@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <ostream>
 #include <string>
 
 #include "synth/synth_truth.h"
@@ -20,6 +21,9 @@ struct Clip {
   const char* name;
   const char* synth_flags;
 };
+
+// ctest's test names show the clip's name, not the parameter's bytes.
+void PrintTo(const Clip& c, std::ostream* os) { *os << c.name; }
 
 class MultiDrop : public ::testing::TestWithParam<Clip> {};
 

@@ -5,6 +5,7 @@
 // the scale is within 2%.
 #include <gtest/gtest.h>
 
+#include <ostream>
 #include <string>
 
 #include "synth/synth_truth.h"
@@ -19,6 +20,9 @@ struct Throw {
   const char* ball;
   const char* synth_flags;
 };
+
+// ctest's test names show the clip's name, not the parameter's bytes.
+void PrintTo(const Throw& c, std::ostream* os) { *os << c.name; }
 
 class ThrownBall : public ::testing::TestWithParam<Throw> {};
 

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <ostream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -27,6 +28,9 @@ struct VariableClip {
   bool slowed;  // the stamps hold slow motion
   const char* container = ".mp4";
 };
+
+// ctest's test names show the clip's name, not the parameter's bytes.
+void PrintTo(const VariableClip& c, std::ostream* os) { *os << c.name; }
 
 class VariableRate : public ::testing::TestWithParam<VariableClip> {};
 
