@@ -424,7 +424,10 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   // Its size not known yet (the first sighting), the disc's is taken. Close-ups only: a smaller
   // ball's rim is within the rays' reach of its centroid, and on football_door this start moved
   // the first fall's centres enough for the fitted ball to diverge in its export check.
-  if (!from_expected && (!bc.ok || loose(bc) || (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_)))) {
+  // A ball of known size that is no close-up never takes the disc: it is not looked for.
+  const bool may_be_close_up = radius_ <= 0 || IsCloseUp(radius_);
+  if (!from_expected && may_be_close_up &&
+      (!bc.ok || loose(bc) || (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_)))) {
     const cv::Rect box = cv::Rect(blob.box) - mask_rect.tl();
     const InscribedDisc disc = LargestInscribedDisc(
         mask_, box, blob.box.x <= roi_.x, blob.box.y <= roi_.y, blob.box.x + blob.box.width >= roi_.br().x,
