@@ -347,11 +347,11 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
     auto fits = [&](const SegBlob& b) { return b.ok && b.r >= min_r && b.r <= 1.6 * rb + 1; };
     SegBlob in_b = SegmentNear(B, {cx, cy}, 2.5 * rb + 3, is_ball, &labels, k);
     if (!fits(in_b)) continue;
-    if (c.by_luma && c.weaker_colour > 0) {
-      // A colour outweighed by brightness, read on what moved: a ball that moved less than
-      // its size leaves a thin crescent of its leading (often shaded) side, blended with the
-      // background, where its colour is diluted. Its colour over the whole blob found by
-      // brightness decides again, and is followed if it then wins and segments the ball.
+    if (c.by_luma) {
+      // Brightness chosen on what moved: a ball that moved less than its size leaves a thin
+      // crescent of its leading (often shaded) side, blended with the background, where its
+      // colour is diluted or lost. Its colour over the whole blob found by brightness decides
+      // again, and is followed if it then wins and segments the ball.
       const Stats body = StatsOf(B, in_b.box, floor, [&](int i, int j) { return is_ball(B.ptr<uint8_t>(j) + 3 * i); });
       const BallCandidate by_brightness = c;
       if (body.n >= 4 && choose(body.nu, body.nv) && !c.by_luma) {
