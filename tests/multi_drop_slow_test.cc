@@ -59,8 +59,9 @@ TEST_P(MultiDrop, EachDropWithItsOwnScale) {
   EXPECT_EQ(run_drops.size(), 3u) << s.table;
 }
 
-// A red tennis ball: the tracker follows its colour (its own yellow-green on this wall it
-// follows by brightness, darker than the wall, and loses in front of the darker floor).
+// A red tennis ball, and one in its own yellow-green: the tracker follows the colour of
+// each (the yellow-green one's shaded side is darker than the wall, but brightness loses it
+// in front of the darker floor).
 INSTANTIATE_TEST_SUITE_P(
     Clips, MultiDrop,
     ::testing::Values(Clip{"near_far_nearer_60fps", "--color 40,60,210 --drops 3 --drop-distances 1.6,2.6,1.1 "
@@ -69,7 +70,9 @@ INSTANTIATE_TEST_SUITE_P(
                            "--color 40,60,210 --drops 3 --size 540x960 --fps 30 --exposure 0.016"},
                       // 5% apart in size: the floor line 2 cm elsewhere, the fall another gravity.
                       Clip{"nearly_the_same_distance_60fps", "--color 40,60,210 --drops 3 --drop-distances "
-                                                             "1.5,1.58,1.5 --size 360x640 --fps 60 --exposure 0.004"}),
+                                                             "1.5,1.58,1.5 --size 360x640 --fps 60 --exposure 0.004"},
+                      Clip{"own_colour_near_far_nearer_60fps", "--drops 3 --drop-distances 1.6,2.6,1.1 "
+                                                               "--drop-heights 0.8,0.7,0.6 --size 360x640 --fps 60 --exposure 0.004"}),
     [](const ::testing::TestParamInfo<Clip>& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -306,31 +306,37 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
     // ball and background (motion blur, a crescent when it moved less than its size).
     const Stats ball = DistinctStats(B, box, floor, around, [&](int i, int j) { return labels.at<int>(j, i) == k; });
     BallCandidate c;
-    const double chroma_contrast = std::hypot(ball.nu - around.nu, ball.nv - around.nv);
-    const double luma_contrast = ball.y - around.y;
     ColorModel model;
-    // Followed by what sets it apart the most: a white ball under warm light has a faint tint
-    // that a black cloth lacks, and a far larger step of brightness.
-    const bool has_colour = chroma_contrast >= params_.min_chroma_contrast &&
-                            std::hypot(ball.nu, ball.nv) >= params_.min_ball_chroma;
-    const bool brightness_stronger = std::abs(luma_contrast) / kLumaContrastUnit >=
-                                         2 * chroma_contrast / kChromaContrastUnit &&
-                                     std::abs(luma_contrast) >= params_.min_luma_contrast;
-    if (has_colour && !brightness_stronger) {
-      model = ColorModel(ball.nu, ball.nv, color_);
-      model.KeepOut(around.nu, around.nv);
-      // The ring must not match the ball's colour: a model that takes in the surroundings
-      // cannot separate the ball from them.
-      if (std::hypot(around.nu - ball.nu, around.nv - ball.nv) <= model.tolerance()) continue;
-      c.contrast = chroma_contrast;
-    } else if (std::abs(luma_contrast) >= params_.min_luma_contrast) {
-      c.by_luma = true;
-      c.polarity = luma_contrast > 0 ? 1 : -1;
-      c.contrast = std::abs(luma_contrast);
-      if (has_colour) c.weaker_colour = chroma_contrast;
-    } else {
-      continue;
-    }
+    const double luma_contrast = ball.y - around.y;
+    // Chooses the cue for a ball of chroma `nu`, `nv`: what sets it apart the most (a white
+    // ball under warm light has a faint tint that a black cloth lacks, and a far larger step
+    // of brightness). False: neither does, or its colour takes in the ring.
+    auto choose = [&](double nu, double nv) {
+      c = BallCandidate();
+      const double chroma_contrast = std::hypot(nu - around.nu, nv - around.nv);
+      const bool has_colour = chroma_contrast >= params_.min_chroma_contrast &&
+                              std::hypot(nu, nv) >= params_.min_ball_chroma;
+      const bool brightness_stronger = std::abs(luma_contrast) / kLumaContrastUnit >=
+                                           2 * chroma_contrast / kChromaContrastUnit &&
+                                       std::abs(luma_contrast) >= params_.min_luma_contrast;
+      if (has_colour && !brightness_stronger) {
+        model = ColorModel(nu, nv, color_);
+        model.KeepOut(around.nu, around.nv);
+        // The ring must not match the ball's colour: a model that takes in the surroundings
+        // cannot separate the ball from them.
+        if (std::hypot(around.nu - nu, around.nv - nv) <= model.tolerance()) return false;
+        c.contrast = chroma_contrast;
+      } else if (std::abs(luma_contrast) >= params_.min_luma_contrast) {
+        c.by_luma = true;
+        c.polarity = luma_contrast > 0 ? 1 : -1;
+        c.contrast = std::abs(luma_contrast);
+        if (has_colour) c.weaker_colour = chroma_contrast;
+      } else {
+        return false;
+      }
+      return true;
+    };
+    if (!choose(ball.nu, ball.nv)) continue;
     // Segment the neighbourhood with that colour (or brightness): the ball must come out as a
     // round blob of its own, inside the window, not part of something larger.
     const float level = static_cast<float>(around.y + 0.5 * luma_contrast);
@@ -338,8 +344,24 @@ std::vector<BallCandidate> BallFinder::Find(const Frame& frame, cv::Rect roi) {
       if (c.by_luma) return c.polarity > 0 ? p[0] >= level : p[0] <= level;
       return model.Matches(p[0], p[2] - 128.0f, p[1] - 128.0f);
     };
-    const SegBlob in_b = SegmentNear(B, {cx, cy}, 2.5 * rb + 3, is_ball, &labels, k);
-    if (!in_b.ok || in_b.r < min_r || in_b.r > 1.6 * rb + 1) continue;
+    auto fits = [&](const SegBlob& b) { return b.ok && b.r >= min_r && b.r <= 1.6 * rb + 1; };
+    SegBlob in_b = SegmentNear(B, {cx, cy}, 2.5 * rb + 3, is_ball, &labels, k);
+    if (!fits(in_b)) continue;
+    if (c.by_luma) {
+      // Brightness chosen on what moved: a ball that moved less than its size leaves a thin
+      // crescent of its leading (often shaded) side, blended with the background, where its
+      // colour is diluted or lost. Its colour over the whole blob found by brightness decides
+      // again, and is followed if it then wins and segments the ball.
+      const Stats body = StatsOf(B, in_b.box, floor, [&](int i, int j) { return is_ball(B.ptr<uint8_t>(j) + 3 * i); });
+      const BallCandidate by_brightness = c;
+      if (body.n >= 4 && choose(body.nu, body.nv) && !c.by_luma) {
+        const SegBlob by_colour = SegmentNear(B, {cx, cy}, 2.5 * rb + 3, is_ball, &labels, k);
+        if (fits(by_colour)) in_b = by_colour;
+        else c = by_brightness;
+      } else {
+        c = by_brightness;
+      }
+    }
     c.roundness = in_b.roundness;
     if (!c.by_luma) {
       const Stats blob = StatsOf(B, in_b.box, floor, [&](int i, int j) {
