@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <ctime>
 #include <cmath>
@@ -74,6 +75,16 @@ void ValidateSynthClipConfig(const SynthClipConfig& c) {
   const std::string timeline = c.timeline.Validate(c.fps);
   Require(timeline.empty(), timeline);
   Require(!(c.sound && c.timeline.Variable()), "a clip with sound has a constant frame rate");
+  if (c.timeline.Variable()) {
+    std::string ext = c.out.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+    Require(ext == ".mp4" || ext == ".mov" || ext == ".mkv",
+            "a clip with a variable frame rate must be .mp4, .mov or .mkv (got '" + ext + "')");
+    Require(c.width % 2 == 0 && c.height % 2 == 0,
+            "a clip with a variable frame rate needs an even width and height (got " +
+                std::to_string(c.width) + "x" + std::to_string(c.height) + ")");
+  }
   if (c.ball_bgr) ValidateColor(*c.ball_bgr, "ball");
   ValidateColor(c.wall_bgr, "wall");
   ValidateColor(c.floor_bgr, "floor");

@@ -587,6 +587,8 @@ TEST(SynthCli, BadOptionsAreOneLineErrors) {
       {"--ball-x 1.5" + ok_out, "ball x"},
       {"--roll 120" + ok_out, "roll"},
       {"--fps" + ok_out, "fps"},
+      {"--slow-motion 8 --slow-from 0.2 --slow-to 1" + ok_out, "variable frame rate"},
+      {"--floor-pattern carpet" + ok_out, "floor pattern"},
   };
   for (const auto& [args, what] : cases) {
     std::string out;
