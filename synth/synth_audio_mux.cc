@@ -16,10 +16,6 @@ extern "C" {
 namespace bouncefit {
 namespace {
 
-void Check(int rc, const std::string& what) {
-  if (rc < 0) throw std::runtime_error(what + ": " + FfmpegErrorText(rc));
-}
-
 // Owns the contexts so every exit path closes them.
 struct Contexts {
   AVFormatContext* in = nullptr;
@@ -46,15 +42,15 @@ void AddSoundTrack(const std::filesystem::path& clip, const std::vector<float>& 
   const std::string path = clip.string();
   const std::string tmp = path + ".sound" + ext;
   Contexts c;
-  Check(avformat_open_input(&c.in, path.c_str(), nullptr, nullptr), "cannot reopen " + path);
-  Check(avformat_find_stream_info(c.in, nullptr), "cannot read " + path);
+  ThrowIfFfmpegError(avformat_open_input(&c.in, path.c_str(), nullptr, nullptr), "cannot reopen " + path);
+  ThrowIfFfmpegError(avformat_find_stream_info(c.in, nullptr), "cannot read " + path);
   const int video = av_find_best_stream(c.in, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
-  Check(video, path + ": no video stream");
-  Check(avformat_alloc_output_context2(&c.out, nullptr, nullptr, tmp.c_str()), "cannot write " + tmp);
+  ThrowIfFfmpegError(video, path + ": no video stream");
+  ThrowIfFfmpegError(avformat_alloc_output_context2(&c.out, nullptr, nullptr, tmp.c_str()), "cannot write " + tmp);
 
   AVStream* vin = c.in->streams[video];
   AVStream* vout = avformat_new_stream(c.out, nullptr);
-  Check(avcodec_parameters_copy(vout->codecpar, vin->codecpar), "copying the video stream");
+  ThrowIfFfmpegError(avcodec_parameters_copy(vout->codecpar, vin->codecpar), "copying the video stream");
   vout->codecpar->codec_tag = 0;
   vout->time_base = vin->time_base;
   vout->avg_frame_rate = vin->avg_frame_rate;
@@ -72,8 +68,8 @@ void AddSoundTrack(const std::filesystem::path& clip, const std::vector<float>& 
   ap->bit_rate = 16LL * sample_rate;
   aout->time_base = AVRational{1, sample_rate};
 
-  Check(avio_open(&c.out->pb, tmp.c_str(), AVIO_FLAG_WRITE), "cannot write " + tmp);
-  Check(avformat_write_header(c.out, nullptr), "cannot write " + tmp);
+  ThrowIfFfmpegError(avio_open(&c.out->pb, tmp.c_str(), AVIO_FLAG_WRITE), "cannot write " + tmp);
+  ThrowIfFfmpegError(avformat_write_header(c.out, nullptr), "cannot write " + tmp);
 
   const int64_t per_packet = 1024;
   int64_t written = 0;
@@ -82,7 +78,7 @@ void AddSoundTrack(const std::filesystem::path& clip, const std::vector<float>& 
     while (written < total && written < t_s * sample_rate) {
       const int64_t n = std::min(per_packet, total - written);
       AVPacket* p = av_packet_alloc();
-      Check(av_new_packet(p, static_cast<int>(2 * n)), "allocating a sound packet");
+      ThrowIfFfmpegError(av_new_packet(p, static_cast<int>(2 * n)), "allocating a sound packet");
       auto* pcm = reinterpret_cast<int16_t*>(p->data);
       for (int64_t i = 0; i < n; ++i)
         pcm[i] = static_cast<int16_t>(std::lround(std::clamp(samples[written + i], -1.0f, 1.0f) * 32767));
@@ -91,7 +87,7 @@ void AddSoundTrack(const std::filesystem::path& clip, const std::vector<float>& 
       p->duration = av_rescale_q(n, AVRational{1, sample_rate}, aout->time_base);
       const int rc = av_interleaved_write_frame(c.out, p);
       av_packet_free(&p);
-      Check(rc, "writing sound to " + tmp);
+      ThrowIfFfmpegError(rc, "writing sound to " + tmp);
       written += n;
     }
   };
@@ -106,10 +102,10 @@ void AddSoundTrack(const std::filesystem::path& clip, const std::vector<float>& 
     av_packet_rescale_ts(c.packet, vin->time_base, vout->time_base);
     c.packet->stream_index = vout->index;
     c.packet->pos = -1;
-    Check(av_interleaved_write_frame(c.out, c.packet), "writing video to " + tmp);
+    ThrowIfFfmpegError(av_interleaved_write_frame(c.out, c.packet), "writing video to " + tmp);
   }
   write_audio_until(1e300);
-  Check(av_write_trailer(c.out), "finishing " + tmp);
+  ThrowIfFfmpegError(av_write_trailer(c.out), "finishing " + tmp);
   avio_closep(&c.out->pb);
   std::filesystem::rename(tmp, clip);
 }

@@ -3,7 +3,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <ctime>
 #include <cmath>
@@ -16,6 +15,7 @@
 #include "synth/synth_audio_mux.h"
 #include "synth/synth_drops.h"
 #include "synth/synth_frames.h"
+#include "synth/synth_stamped_video.h"
 
 namespace bouncefit {
 namespace {
@@ -76,14 +76,8 @@ void ValidateSynthClipConfig(const SynthClipConfig& c) {
   Require(timeline.empty(), timeline);
   Require(!(c.sound && c.timeline.Variable()), "a clip with sound has a constant frame rate");
   if (c.timeline.Variable()) {
-    std::string ext = c.out.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-    Require(ext == ".mp4" || ext == ".mov" || ext == ".mkv",
-            "a clip with a variable frame rate must be .mp4, .mov or .mkv (got '" + ext + "')");
-    Require(c.width % 2 == 0 && c.height % 2 == 0,
-            "a clip with a variable frame rate needs an even width and height (got " +
-                std::to_string(c.width) + "x" + std::to_string(c.height) + ")");
+    const std::string problem = StampedVideoProblem(c.out, {c.width, c.height});
+    Require(problem.empty(), problem);
   }
   if (c.ball_bgr) ValidateColor(*c.ball_bgr, "ball");
   ValidateColor(c.wall_bgr, "wall");

@@ -7,8 +7,13 @@
 
 #include <filesystem>
 #include <memory>
+#include <string>
 
 namespace bouncefit {
+
+// Empty when `path` (.mp4, .mov or .mkv, any case) and `size` (even width and height) can be
+// written with stamps of their own, else a one-line reason.
+std::string StampedVideoProblem(const std::filesystem::path& path, cv::Size size);
 
 class StampedVideoWriter {
  public:
