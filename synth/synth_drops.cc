@@ -121,13 +121,13 @@ SynthClipResult RenderSynthDropsClip(const SynthClipConfig& c, const SynthProgre
   if (c.sound) throw std::invalid_argument("a clip of several drops has no sound track");
   if (c.launch_up_mps != 0 || c.launch_right_mps != 0 || c.start_after_release_s != 0)
     throw std::invalid_argument("several drops are dropped from rest: no throw, no late start");
-  for (const PlannedDrop& d : PlanDrops(c, FitSynthPinhole(c)))
-    if (d.distance_m - c.approach_mps * d.sim->rest_time_s < 0.2)
-      throw std::invalid_argument("the ball would come within 0.2 m of the camera: less --approach");
   const auto wall_start = std::chrono::steady_clock::now();
   const double cpu_start = SynthCpuSeconds();
   const SynthPinhole cam = FitSynthPinhole(c);
   const std::vector<PlannedDrop> drops = PlanDrops(c, cam);
+  for (const PlannedDrop& d : drops)
+    if (d.distance_m - c.approach_mps * d.sim->rest_time_s < 0.2)
+      throw std::invalid_argument("the ball would come within 0.2 m of the camera: less --approach");
   const double r = c.ball.radius_m();
   const double cx = (c.width - 1) / 2.0, cy = (c.height - 1) / 2.0;
   auto floor_y = [&](double distance) { return cy + cam.focal_px * cam.height_m / distance; };
