@@ -122,7 +122,7 @@ BallObservation Tracker::Track(const Frame& frame) {
   bool ok = false;
   double px, py, speed;
   max_extent_px_ = 0;
-  sweep_px_ = 0;
+  double sweep_px = 0;  // how far the ball may move over a frame period, px (0: unknown)
   expected_motion_px_ = 1e9;  // no prediction: nothing expected
   if (last_frame_t_ >= 0 && t > last_frame_t_) frame_dt_s_ = t - last_frame_t_;
   last_frame_t_ = t;
@@ -140,7 +140,7 @@ BallObservation Tracker::Track(const Frame& frame) {
     max_extent_px_ = radius_ > 0 ? MaxBallExtentPx(radius_, speed, frame_dt) : 0;
     const cv::Point2f pred(static_cast<float>(px), static_cast<float>(py));
     expected_motion_px_ = motion;
-    sweep_px_ = speed * frame_dt;
+    sweep_px = speed * frame_dt;
     // In flight the parabola predicts to a pixel: a tight window first. A bounce or a kick
     // breaks the prediction: then a window wide enough for any reversal of the motion.
     const double tight = 1.6 * radius_ + config_.window_margin_px;
@@ -150,7 +150,7 @@ BallObservation Tracker::Track(const Frame& frame) {
       const double gate = radius_ + 2 * motion + config_.gate_px;
       ok = TryWindow(frame, pred, half, gate, &obs);
       // Fast enough to sweep half its radius over a frame: a streak too pale for the ball's colour.
-      if (!ok && radius_ > 0 && sweep_px_ > 0.5 * radius_) ok = TryStreak(frame, pred, half, gate, sweep_px_, &obs);
+      if (!ok && radius_ > 0 && sweep_px > 0.5 * radius_) ok = TryStreak(frame, pred, half, gate, sweep_px, &obs);
     }
   }
   if (!ok && has_seed_) {
@@ -241,12 +241,15 @@ SegmenterParams Tracker::SegmentParamsFor(double radius_px) const {
   return p;
 }
 
+cv::Rect Tracker::WindowRect(cv::Point2f centre, double half) const {
+  const int hw = static_cast<int>(std::ceil(half));
+  return cv::Rect(static_cast<int>(std::lround(centre.x)) - hw, static_cast<int>(std::lround(centre.y)) - hw,
+                  2 * hw + 1, 2 * hw + 1) & roi_;
+}
+
 bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
                         BallObservation* obs, bool recentre) {
-  const int hw = static_cast<int>(std::ceil(half));
-  const cv::Rect rect = cv::Rect(static_cast<int>(std::lround(centre.x)) - hw,
-                                 static_cast<int>(std::lround(centre.y)) - hw, 2 * hw + 1,
-                                 2 * hw + 1) & roi_;
+  const cv::Rect rect = WindowRect(centre, half);
   if (rect.width < 4 || rect.height < 4) return false;
   Planes(frame, rect, 1, config_.blur_sigma_px, &planes_);
   const double followed_r = FollowedRadius();
@@ -299,10 +302,7 @@ bool Tracker::TryWindow(const Frame& frame, cv::Point2f centre, double half, dou
 
 bool Tracker::TryStreak(const Frame& frame, cv::Point2f centre, double half, double gate, double sweep_px,
                         BallObservation* obs) {
-  const int hw = static_cast<int>(std::ceil(half));
-  const cv::Rect rect = cv::Rect(static_cast<int>(std::lround(centre.x)) - hw,
-                                 static_cast<int>(std::lround(centre.y)) - hw, 2 * hw + 1,
-                                 2 * hw + 1) & roi_;
+  const cv::Rect rect = WindowRect(centre, half);
   if (rect.width < 4 || rect.height < 4) return false;
   if (planes_.rect != rect || planes_.step != 1) Planes(frame, rect, 1, config_.blur_sigma_px, &planes_);
   const BallStreak s = FindBallStreak(planes_, color_, centre, gate, radius_, 2 * radius_ + 1.5 * sweep_px + 4);

@@ -141,6 +141,8 @@ class Tracker {
   // the light changes removed grow with it.
   bool IsCloseUp(double radius_px) const;
   SegmenterParams SegmentParamsFor(double radius_px) const;
+  // The square window of half-size `half` round `centre`, within the ROI.
+  cv::Rect WindowRect(cv::Point2f centre, double half) const;
   // recentre: a close-up the window cuts is looked for once more in a window round it.
   bool TryWindow(const Frame& frame, cv::Point2f centre, double half, double gate,
                  BallObservation* obs, bool recentre = true);
@@ -178,7 +180,6 @@ class Tracker {
   // The longest box side the ball can show this frame (track/ball_extent.h; 0: no
   // prediction, not checked).
   double max_extent_px_ = 0;
-  double sweep_px_ = 0;               // how far the ball may move over a frame period, px (0: unknown)
   double arc_speed_px_s_ = 0;        // the prediction's speed on the last arc it knew, px/s
   double arc_dir_x_ = 0, arc_dir_y_ = 0;  // ... and its direction (unit)
   double expected_motion_px_ = 1e9;  // the prediction's motion since the last sighting, px
