@@ -203,7 +203,7 @@ void ApexLedger::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& e
   p.height_m = p.height_px / cal.px_per_m;
   p.height_sigma_m = PictureSigmaM(arc, p.height_m);
   if (j >= 1 && config_.flight_check_sigmas > 0) {
-    const ApexFlightResult f = CheckApexAgainstFlight(FlightInputFor(j, t_top, p));
+    const ApexFlightResult f = CheckApexAgainstFlight(FlightInputFor(j, t_top, p.height_m, p.height_sigma_m));
     if (f.verdict == ApexVerdict::kHold) {
       arc.apex_held = true;
       return;
@@ -257,10 +257,8 @@ void ApexLedger::CloseDrop(const std::string& reason, std::vector<DetectorEvent>
     double final_m = metres && arcs[j].fit_ok ? (FloorUnderArcPx(j, true) - top) / cal.px_per_m : nan;
     // Checked against its flight as the live apex was (both sides known now, or none).
     if (j >= 1 && std::isfinite(final_m) && config_.flight_check_sigmas > 0) {
-      BouncePeak refit;
-      refit.height_m = final_m;
-      refit.height_sigma_m = PictureSigmaM(arcs[j], final_m);
-      const ApexFlightResult f = CheckApexAgainstFlight(FlightInputFor(j, FlightTopT(arcs[j].fit, arcs[j].held), refit));
+      const ApexFlightResult f = CheckApexAgainstFlight(FlightInputFor(
+          j, FlightTopT(arcs[j].fit, arcs[j].held), final_m, PictureSigmaM(arcs[j], final_m)));
       if (f.verdict == ApexVerdict::kFlightHeight) final_m = f.flight_m;
       if (f.verdict == ApexVerdict::kWithhold) final_m = nan;
     }
@@ -317,12 +315,13 @@ double ApexLedger::PictureSigmaM(const DetectorArc& arc, double height_m) const 
   return std::hypot(std::hypot(arc.u_sigma, cal.floor_sigma_px) / cal.px_per_m, height_m * rel);
 }
 
-ApexFlightInput ApexLedger::FlightInputFor(size_t j, double t_apex, const BouncePeak& p) const {
+ApexFlightInput ApexLedger::FlightInputFor(size_t j, double t_apex, double picture_m,
+                                           double picture_sigma_m) const {
   const CalibrationResult& cr = scene_.calibration();
   const auto& imps = cr.impacts;
   ApexFlightInput in;
-  in.picture_m = p.height_m;
-  in.picture_sigma_m = p.height_sigma_m;
+  in.picture_m = picture_m;
+  in.picture_sigma_m = picture_sigma_m;
   // imps[i] lies between arcs i and i + 1: arc j flies from imps[j - 1] to imps[j].
   if (j >= 1 && j - 1 < imps.size() && imps[j - 1].ok) in.rise_s = t_apex - imps[j - 1].t;
   if (j < imps.size() && j + 1 < follower_.arcs().size() && imps[j].ok) in.fall_s = imps[j].t - t_apex;

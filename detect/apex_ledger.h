@@ -89,8 +89,9 @@ class ApexLedger {
   // The uncertainty of arc's apex measured height_m over the floor in the picture, m (the
   // arc's fit, the floor line, the scale).
   double PictureSigmaM(const DetectorArc& arc, double height_m) const;
-  // What the flight times around arc j say of its apex at t_apex, measured as p.
-  ApexFlightInput FlightInputFor(size_t j, double t_apex, const BouncePeak& p) const;
+  // What the flight times around arc j say of its apex at t_apex, measured in the picture
+  // as picture_m +- picture_sigma_m.
+  ApexFlightInput FlightInputFor(size_t j, double t_apex, double picture_m, double picture_sigma_m) const;
   // The drop's first arc, entered mid-flight: its apex lies within its samples.
   bool EnteredApexSeen() const;
 
