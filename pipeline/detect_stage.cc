@@ -106,6 +106,7 @@ void DetectStage::OnBox(const ball_box_t& m) {
   ++boxes_;
   last_box_wall_us_ = SteadyMicros();
   now_ = m.utime;
+  sound_->OnFrame(SecondsSince(m.utime, t0_), m.found);
   const bool retiming_known = node_->retiming().decided;
   const auto events = node_->OnBox(m);
   if (!retiming_known && node_->retiming().retimed && !retiming_said_) {

@@ -211,13 +211,16 @@ std::vector<bounce_peak_t> SoundFusion::FinalRows(const std::vector<bounce_peak_
   // Bounces heard but not seen: with the sound checked, every heard arc no seen apex is on;
   // a heard train alone, those before the picture found the ball and after the last bounce
   // it saw (too small to see). A hop shorter than the picture can show
-  // (BounceDetectorConfig::min_flight_frames frames) is not a bounce a person sees: its
-  // impacts stay in impacts.csv.
+  // (BounceDetectorConfig::min_flight_frames frames), or one the picture followed the ball
+  // through past its last seen impact without seeing it (detect/watched_arcs.h), is not a
+  // bounce a person sees: its impacts stay in impacts.csv.
   const double min_flight_s = BounceDetectorConfig{}.min_flight_frames * frame_period_s_;
   std::vector<std::pair<double, bounce_peak_t>> heard_only;
+  const std::vector<bool> watched_unseen = ArcsWatchedUnseen(fused_, picture_);
   for (size_t k = 0; k < fused_.flights.size(); ++k) {
     const HeardFlight& fl = fused_.flights[k];
     if (arc_seen[k]) continue;
+    if (fused_.sound_used && watched_unseen[k]) continue;
     if (!fused_.sound_used && (!fl.heard_only || (fl.apex_t_s > first_t && fl.apex_t_s <= last_t)))
       continue;
     if (fl.flight_s < min_flight_s) continue;

@@ -16,6 +16,7 @@
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/impact_t.hpp"
 #include "detect/impact_fusion.h"
+#include "detect/watched_arcs.h"
 #include "model/ball_preset.h"
 
 namespace bouncefit {
@@ -26,6 +27,8 @@ class SoundFusion {
 
   // The picture's frame period, s (a seen impact is timed to about a frame).
   void set_frame_period_s(double s) { frame_period_s_ = s; }
+  // A frame of the picture (video clock), the ball found in it or not.
+  void OnFrame(double t_s, bool found) { picture_.AddFrame(t_s, found); }
   // An impact heard by the capture node (t0: the stream's first frame).
   void OnHeard(const impact_t& m, int64_t t0_utime);
   bool any_heard() const { return !heard_.empty(); }
@@ -75,6 +78,7 @@ class SoundFusion {
   std::map<std::pair<int, int>, std::pair<size_t, int>> seen_keys_;  // key -> (in seen_t_s_, message index)
   std::set<std::pair<int, int>> heard_peaks_;  // (sequence, bounce) already revised as heard
   FusionResult fused_;
+  PictureCoverage picture_;
   int next_seen_index_ = 0;
   double frame_period_s_ = 0;
 };
