@@ -68,16 +68,20 @@ void ApexLedger::OnImpact(int64_t utime, std::vector<DetectorEvent>& ev) {
     e.impact = bi;
     ev.push_back(e);
   }
-  // An arc whose apex went unreported (seen too briefly, or hidden, or the arc that began
-  // the drop in flight): report it late.
-  if ((idx >= 2 || arcs[0].entered) && !arcs[idx - 1].apex_emitted && scene_.calibrated() &&
-      arcs[idx - 1].fit_ok) {
-    const double h = scene_.calibration().calibration.floor_centre_px() - arcs[idx - 1].fit.u_apex;
-    if (h >= scene_.MinApexPx()) EmitPeak(idx - 1, utime, ev);
-  }
+  EmitUnreported(idx, utime, ev);
   if (!bounce0_emitted_ && idx == 1 && arcs[0].held &&
       static_cast<int>(arcs[1].samples.size()) >= config_.bounce0_rising_samples)
     EmitPeak(0, utime, ev);
+}
+
+void ApexLedger::EmitUnreported(size_t end, int64_t utime, std::vector<DetectorEvent>& ev) {
+  const std::vector<DetectorArc>& arcs = follower_.arcs();
+  if (arcs.empty() || !scene_.calibrated()) return;
+  for (size_t j = arcs[0].entered ? 0 : 1; j < end && j < arcs.size(); ++j) {
+    if (arcs[j].apex_emitted || !arcs[j].fit_ok) continue;
+    const double h = scene_.calibration().calibration.floor_centre_px() - arcs[j].fit.u_apex;
+    if (h >= scene_.MinApexPx()) EmitPeak(j, utime, ev);
+  }
 }
 
 void ApexLedger::TryEmitApex(double t, int64_t utime, bool have_sample,

@@ -53,8 +53,8 @@ class ApexLedger {
   // A sample joined the current arc: bounce 0 of a release seen held goes out once the
   // first rebound has risen bounce0_rising_samples, then the current apex when due.
   void OnSampleKept(const DetectorSample& s, std::vector<DetectorEvent>& ev);
-  // An impact began the current arc (the scale refitted with it): its event, the apex of
-  // the arc it closed when that went unreported, bounce 0 when due.
+  // An impact began the current arc (the scale refitted with it): its event, the apexes of
+  // the arcs before it that went unreported, bounce 0 when due.
   void OnImpact(int64_t utime, std::vector<DetectorEvent>& ev);
   // Arc j's apex as a peak (bounce 0 first, if still pending).
   void EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& ev);
@@ -86,6 +86,10 @@ class ApexLedger {
   const ApexConfig& config() const { return config_; }
 
  private:
+  // The apexes of arcs before `end` that went unreported (seen too briefly, hidden, the arc
+  // that began the drop in flight, every rebound before the scale), those that clear the
+  // lowest bounce with the scale and fits as they are now: late, in bounce order.
+  void EmitUnreported(size_t end, int64_t utime, std::vector<DetectorEvent>& ev);
   // The uncertainty of arc's apex measured height_m over the floor in the picture, m (the
   // arc's fit, the floor line, the scale).
   double PictureSigmaM(const DetectorArc& arc, double height_m) const;

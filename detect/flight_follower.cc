@@ -235,13 +235,21 @@ void FlightFollower::OnFlight(const DetectorSample& s, std::vector<DetectorEvent
   DetectorArc& cur = arcs_.back();
   double up, wp, vp;
   if (!Predict(cur, s.t, &up, &wp, &vp)) {
-    // The first frames of the first fall: nothing to predict with yet; take what moves on
-    // down the same vertical line (a stray detection elsewhere is dropped).
+    // The first frames of an arc with no scale yet to follow it by: take what moves on the
+    // same vertical line (a stray detection elsewhere is dropped), down in the first fall, up
+    // in the rebounds after a fall seen from its hold too short to measure gravity by (three
+    // samples below the hold at least: a "fall" of one is no flight of the ball's).
     const DetectorSample& last = cur.samples.back();
     const double g = scene_.Gate();
-    if (std::abs(Floor(s) - Floor(last)) <= 2 * g && Down(s) >= Down(last) - g &&
-        Down(s) - Down(last) <= 20 * g)
-      cur.samples.push_back(s);
+    const DetectorArc& first = arcs_.front();
+    const bool rising = !cur.release && first.held &&
+                        first.samples.size() >= first.hold_samples + 3;
+    const double on = rising ? Down(last) - Down(s) : Down(s) - Down(last);
+    // A rebound slows as it rises: a step no longer than the one before it.
+    double most = 20 * g;
+    if (rising && cur.samples.size() >= 2)
+      most = std::max(most, Down(cur.samples[cur.samples.size() - 2]) - Down(last) + 2 * g);
+    if (std::abs(Floor(s) - Floor(last)) <= 2 * g && on >= -g && on <= most) cur.samples.push_back(s);
     return;
   }
   const double u = Down(s), w = Floor(s);
