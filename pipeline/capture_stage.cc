@@ -145,7 +145,7 @@ void CaptureStage::OnFrame(const Frame& frame, const BallObservation& obs) {
 bool CaptureStage::Step() {
   if (ended_ || !failure_.empty()) return false;
   try {
-    return node_->Step().has_value();
+    return node_->Step();
   } catch (const std::exception& e) {
     failure_ = e.what();  // what was recorded stays; End() says why it stopped
     return false;
@@ -161,6 +161,11 @@ void CaptureStage::Run(const std::atomic<bool>* stop) {
 void CaptureStage::End(bool stopped) {
   if (ended_) return;
   ended_ = true;
+  try {
+    node_->Finish();  // the frames still waiting for the look back
+  } catch (const std::exception& e) {
+    if (failure_.empty()) failure_ = e.what();
+  }
   const CaptureStats& s = node_->stats();
   if (t0_utime_ >= 0) {
     try {

@@ -16,6 +16,7 @@
 #include "synth/synth_clip.h"
 #include "synth/synth_truth.h"
 #include "replay/video_file_source.h"
+#include "track/look_back_tracker.h"
 #include "track/tracker.h"
 
 namespace bouncefit::testing {
@@ -92,8 +93,9 @@ inline cv::Mat BgrToYuyv(const cv::Mat& bgr) {
   return out;
 }
 
-// Decodes `clip` and tracks every frame; scores against `truth` when given.
-// `transform`, when set, edits each decoded BGR frame first (lighting changes).
+// Decodes `clip` and tracks every frame as `run` does (with its look back); scores against
+// `truth` when given. `transform`, when set, edits each decoded BGR frame first (lighting
+// changes).
 inline TrackScore TrackClip(const std::filesystem::path& clip, const TrackerConfig& config,
                             const SynthTruth* truth, bool as_yuyv = false,
                             int max_frames = 1 << 30,
@@ -107,11 +109,13 @@ inline TrackScore TrackClip(const std::filesystem::path& clip, const TrackerConf
     source.emplace(VideoFileSourceConfig{clip.string(), false});
   }
   Tracker tracker(config);
+  LookBackTracker look_back(tracker);
   TrackScore s;
-  std::vector<double> err;
-  cv::Mat img;
-  const double fps = truth ? truth->fps : 0;
+  auto keep = [&](std::vector<TrackedFrame> settled) {
+    for (const TrackedFrame& f : settled) s.obs.push_back(f.obs);
+  };
   for (int i = 0; i < max_frames; ++i) {
+    cv::Mat img;
     int64_t utime = 0;
     if (source) {
       std::optional<Frame> next = source->Next();
@@ -120,20 +124,25 @@ inline TrackScore TrackClip(const std::filesystem::path& clip, const TrackerConf
       utime = next->utime;
     } else {
       if (!cap.read(img)) break;
-      utime = static_cast<int64_t>(std::llround(i / fps * 1e6));
+      utime = static_cast<int64_t>(std::llround(i / (truth ? truth->fps : 1) * 1e6));
     }
     if (transform) transform(i, &img);
     Frame f;
     f.image = as_yuyv ? BgrToYuyv(img) : img;
+    f.owns_image = true;  // a new picture every frame
     f.format = as_yuyv ? PixelFormat::kYuyv : PixelFormat::kBgr24;
     f.index = i;
     f.sequence = i;
     f.utime = utime;
-    const BallObservation o = tracker.Track(f);
-    s.obs.push_back(o);
+    keep(look_back.Track(f));
+  }
+  keep(look_back.Flush());
+  std::vector<double> err;
+  for (size_t i = 0; i < s.obs.size(); ++i) {
+    const BallObservation& o = s.obs[i];
     if (o.found) ++s.found_total;
-    if (!truth || i >= static_cast<int>(truth->frames.size())) continue;
-    const SynthTruthFrame& t = truth->frames[static_cast<size_t>(i)];
+    if (!truth || i >= truth->frames.size()) continue;
+    const SynthTruthFrame& t = truth->frames[i];
     const double e = std::hypot(o.cx - t.cx, o.cy - t.cy);
     if (o.found && e > std::max(3.0, truth->radius_px / 2)) ++s.wrong;
     if (!t.fully_in_view) continue;

@@ -473,7 +473,8 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   obs->score = std::clamp(score, 0.0f, 1.0f);
   // Adaptation is slow by design: every 4th good frame, 4x the rate, same time constant.
   // Not from a rim found only at the prediction: its surroundings are the patch it ran into.
-  if (!luma_ && bc.ok && !bc.cut && !from_expected && bc.inlier_fraction > 0.8 && config_.adapt_rate > 0 &&
+  if (!luma_ && !looking_back_ && bc.ok && !bc.cut && !from_expected && bc.inlier_fraction > 0.8 &&
+      config_.adapt_rate > 0 &&
       ++adapt_tick_ % 4 == 0)
     Adapt(bc.cx, bc.cy, bc.r);
   return true;
@@ -563,8 +564,11 @@ void Tracker::Adapt(double cx, double cy, double r) {
 std::string Tracker::Describe() const {
   char buf[120];
   std::snprintf(buf, sizeof buf, "; found in %lld of %lld frames, %lld full-frame searches",
-                static_cast<long long>(found_), static_cast<long long>(frames_),
+                static_cast<long long>(found_ + found_earlier_), static_cast<long long>(frames_),
                 static_cast<long long>(acquisitions_));
+  const std::string earlier =
+      found_earlier_ > 0 ? Fmt("; %.0f of those found looking back from a later sighting", static_cast<double>(found_earlier_), 0)
+                         : std::string();
   std::string dropped;
   if (dropped_locks_ > 0)
     dropped = Fmt("; automatic locks dropped or replaced before one was ballistic: %.0f",
@@ -574,7 +578,7 @@ std::string Tracker::Describe() const {
     camera = "; the camera moved (held in a hand?): up to " + Fmt("%.1f px", camera_.max_offset(), 0) +
              " from where it started, taken out of the ball's track" +
              (camera_.unmeasured() > 0 ? Fmt(" (%.0f frames not measurable)", static_cast<double>(camera_.unmeasured()), 0) : "");
-  return "tracker: " + how_ + buf + dropped + camera;
+  return "tracker: " + how_ + buf + earlier + dropped + camera;
 }
 
 }  // namespace bouncefit

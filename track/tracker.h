@@ -107,6 +107,14 @@ class Tracker {
   // One line for the user: what colour it locked on and why.
   std::string Describe() const;
 
+  // The ball followed, looked for again in an earlier frame (track/look_back_tracker.h): near
+  // `centre` (pixels), as far as `reach_px` beyond its own radius, as a streak too where it may
+  // sweep more than half its radius over the frame (`sweep_px`). Changes nothing the tracker
+  // follows. False when not found, or with nothing to look with: no colour chosen yet, or
+  // brightness (its background model is of now, not of then).
+  bool FindInEarlierFrame(const Frame& frame, cv::Point2f centre, double reach_px, double sweep_px,
+                          BallObservation* obs);
+
   bool color_chosen() const { return color_.valid(); }
   const ColorModel& color() const { return color_; }
   int64_t acquisitions() const { return acquisitions_; }
@@ -185,6 +193,8 @@ class Tracker {
   double expected_motion_px_ = 1e9;  // the prediction's motion since the last sighting, px
   double last_frame_t_ = -1, frame_dt_s_ = 0;  // the frame period, s, from the last two frames (-1: none yet)
   int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;
+  int64_t found_earlier_ = 0;  // frames the ball was found in looking back
+  bool looking_back_ = false;  // in FindInEarlierFrame: no colour adaptation
   std::vector<Remembered> distractors_;
   std::vector<Blob> last_candidates_;
   BallFinder finder_;

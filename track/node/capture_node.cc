@@ -9,8 +9,12 @@ CaptureNode::CaptureNode(FrameSource& source, Tracker& tracker, LcmBus* bus,
                          CaptureNodeConfig config)
     : source_(source), tracker_(tracker), bus_(bus), config_(std::move(config)) {}
 
-std::optional<BallObservation> CaptureNode::Step() {
-  if (config_.max_frames > 0 && stats_.frames >= config_.max_frames) return std::nullopt;
+bool CaptureNode::Step() {
+  if (ended_) return false;
+  if (config_.max_frames > 0 && stats_.frames >= config_.max_frames) {
+    Finish();
+    return false;
+  }
   const int64_t t0 = SteadyMicros();
   if (start_wall_us_ < 0) start_wall_us_ = t0;
   std::optional<Frame> frame;
@@ -18,29 +22,48 @@ std::optional<BallObservation> CaptureNode::Step() {
     frame = source_.Next();
   } catch (...) {
     stats_.dropped = source_.dropped_frames();
-    stats_.wall_s = (SteadyMicros() - start_wall_us_) * 1e-6;
+    Finish();
     throw;
   }
   const int64_t t1 = SteadyMicros();
   stats_.read_s += (t1 - t0) * 1e-6;
   stats_.dropped = source_.dropped_frames();
   if (!frame) {
-    stats_.wall_s = (t1 - start_wall_us_) * 1e-6;
-    return std::nullopt;
+    Finish();
+    return false;
   }
   if (pace_) {
     const int64_t late = pace_(frame->utime);
     if (late > stats_.max_late_us) stats_.max_late_us = late;
   }
   if (recorder_) recorder_->Write(*frame);
+  if (stats_.frames == 0) stats_.first_utime = frame->utime;
+  stats_.last_utime = frame->utime;
+  ++stats_.frames;
   const int64_t t2 = SteadyMicros();
-  BallObservation obs = tracker_.Track(*frame);
+  std::vector<TrackedFrame> settled;
+  try {
+    settled = tracker_.Track(*frame);
+  } catch (...) {
+    Finish();
+    throw;
+  }
   stats_.track_s += (SteadyMicros() - t2) * 1e-6;
-  obs.utime = frame->utime;
-  obs.frame = frame->index;
+  for (const TrackedFrame& f : settled) Publish(f);
+  stats_.wall_s = (SteadyMicros() - start_wall_us_) * 1e-6;
+  return true;
+}
 
+void CaptureNode::Finish() {
+  if (ended_) return;
+  ended_ = true;
+  for (const TrackedFrame& f : tracker_.Flush()) Publish(f);
+  if (start_wall_us_ >= 0) stats_.wall_s = (SteadyMicros() - start_wall_us_) * 1e-6;
+}
+
+void CaptureNode::Publish(const TrackedFrame& f) {
   if (bus_ || log_) {
-    const ball_box_t msg = ToBallBox(obs);
+    const ball_box_t msg = ToBallBox(f.obs);
     buffer_.resize(static_cast<std::size_t>(msg.getEncodedSize()));
     msg.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
     if (bus_) {
@@ -52,14 +75,8 @@ std::optional<BallObservation> CaptureNode::Step() {
     }
     if (log_) log_->Record(config_.channels.ball_box, buffer_.data(), buffer_.size(), WallMicros());
   }
-  if (observer_) observer_(*frame, obs);
-
-  if (stats_.frames == 0) stats_.first_utime = frame->utime;
-  stats_.last_utime = frame->utime;
-  ++stats_.frames;
-  if (obs.found) ++stats_.found;
-  stats_.wall_s = (SteadyMicros() - start_wall_us_) * 1e-6;
-  return obs;
+  if (f.obs.found) ++stats_.found;
+  if (observer_) observer_(f.frame, f.obs);
 }
 
 const CaptureStats& CaptureNode::Run(const std::atomic<bool>* stop,
@@ -73,6 +90,7 @@ const CaptureStats& CaptureNode::Run(const std::atomic<bool>* stop,
       next_report = stats_.wall_s + progress_period_s;
     }
   }
+  Finish();
   return stats_;
 }
 

@@ -1,5 +1,7 @@
 #pragma once
-// The capture node: FrameSource -> Tracker -> one ball_box_t per frame on BALL_BOX.
+// The capture node: FrameSource -> Tracker (with its look back) -> one ball_box_t per frame on
+// BALL_BOX, in frame order; a frame without the ball may come out a little after the frames
+// read after it (track/look_back_tracker.h).
 //
 // It cannot tell a camera from a file. Pacing (real time for replayed files), recording the
 // frames (--record) and logging the published messages (--log) are optional hooks, so the
@@ -17,6 +19,7 @@
 #include "msgs/channels.h"
 #include "track/node/ball_box_msg.h"
 #include "track/ball_observation.h"
+#include "track/look_back_tracker.h"
 #include "track/tracker.h"
 
 namespace bouncefit {
@@ -60,10 +63,13 @@ class CaptureNode {
   void set_log(LcmLogRecorder* log) { log_ = log; }
   void set_observer(ObserverFn observer) { observer_ = std::move(observer); }
 
-  // One frame: read, pace, record, track, publish. nullopt at the end of the stream (or
-  // after max_frames). Throws what the source or the tracker throws (std::runtime_error,
-  // std::invalid_argument); what was already published, recorded and logged stays.
-  std::optional<BallObservation> Step();
+  // One frame: read, pace, record, track; publish the frames it settles. False at the end of
+  // the stream (or after max_frames), once the frames still waiting are published. Throws
+  // what the source or the tracker throws (std::runtime_error, std::invalid_argument), after
+  // publishing the frames waiting; what was already published, recorded and logged stays.
+  bool Step();
+  // The end (or a stop): publishes the frames still waiting; Step() is false after it.
+  void Finish();
 
   // Steps until the end, until *stop becomes true (Ctrl-C), or until max_frames; calls
   // progress about every progress_period_s seconds of wall time.
@@ -74,8 +80,11 @@ class CaptureNode {
   const CaptureStats& stats() const { return stats_; }
 
  private:
+  // Publishes a settled frame and counts it.
+  void Publish(const TrackedFrame& f);
+
   FrameSource& source_;
-  Tracker& tracker_;
+  LookBackTracker tracker_;
   LcmBus* bus_;
   CaptureNodeConfig config_;
   PaceFn pace_;
@@ -84,6 +93,7 @@ class CaptureNode {
   ObserverFn observer_;
   CaptureStats stats_;
   int64_t start_wall_us_ = -1;
+  bool ended_ = false;
   std::vector<uint8_t> buffer_;
 };
 
