@@ -2,6 +2,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -83,6 +84,14 @@ void LookBackTracker::LookBack() {
                                static_cast<float>(centre.y + w.obs.camera_dy));
     BallObservation found = w.obs;
     if (!tracker_.FindInEarlierFrame(w.frame, in_frame, reach, speed * (ta - tk), &found)) return;
+    // Across the picture a ball between two sightings keeps between them (its sideways speed
+    // is steady in flight; an impact may slow it, not send it back): a thing of its colour
+    // beside its path, where it vanished before a patch of its hue, is not it.
+    if (before_) {
+      const double x = InScene(found).x, margin = 0.5 * found.radius_px + 2;
+      if (x < std::min(pa.x, InScene(*before_).x) - margin || x > std::max(pa.x, InScene(*before_).x) + margin)
+        return;
+    }
     w.obs = found;
     b = a;
     a = &w.obs;
