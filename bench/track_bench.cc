@@ -30,12 +30,14 @@
 #include "replay/video_file_source.h"
 #include "synth/synth_clip.h"
 #include "tests/tracker_test_util.h"
+#include "track/look_back_tracker.h"
 #include "track/tracker.h"
 
 namespace {
 
 using bouncefit::Frame;
 using bouncefit::PixelFormat;
+using bouncefit::LookBackTracker;
 using bouncefit::Tracker;
 using bouncefit::TrackerConfig;
 using Clock = std::chrono::steady_clock;
@@ -93,17 +95,20 @@ Timer DecodePass(const bouncefit::VideoFileSourceConfig& config, const TrackerCo
   for (int lap = 0; lap < laps; ++lap) {
     bouncefit::VideoFileSource source(config);
     std::optional<Tracker> tracker;
-    if (tracking) tracker.emplace(*tracking);
+    std::optional<LookBackTracker> look_back;  // as `run` tracks
+    if (tracking) tracker.emplace(*tracking), look_back.emplace(*tracker);
     *n = 0;
     *found = 0;
     while (std::optional<Frame> f = source.Next()) {
-      if (tracker) {
+      if (look_back) {
         const double c0 = CpuNow(CLOCK_THREAD_CPUTIME_ID);
-        *found += tracker->Track(*f).found;
+        for (const auto& settled : look_back->Track(*f)) *found += settled.obs.found;
         in_track += CpuNow(CLOCK_THREAD_CPUTIME_ID) - c0;
       }
       ++*n;
     }
+    if (look_back)
+      for (const auto& settled : look_back->Flush()) *found += settled.obs.found;
     const bouncefit::VideoFileSource::QueueWaits lap_waits = source.queue_waits();
     waited.consumer_s += lap_waits.consumer_s;
     waited.reader_s += lap_waits.reader_s;
@@ -154,9 +159,12 @@ double Median(std::vector<double> v) {
 // decoder's own luma, which the tracker reads in `run`).
 Timer TrackPass(const std::vector<Frame>& frames, const TrackerConfig& config, int* found) {
   Tracker tracker(config);
+  LookBackTracker look_back(tracker);
   *found = 0;
   Timer t;
-  for (const Frame& f : frames) *found += tracker.Track(f).found;
+  for (const Frame& f : frames)
+    for (const auto& settled : look_back.Track(f)) *found += settled.obs.found;
+  for (const auto& settled : look_back.Flush()) *found += settled.obs.found;
   t.Stop();
   return t;
 }
