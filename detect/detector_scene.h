@@ -57,9 +57,10 @@ struct SceneConfig {
   // 0.3 px; every length in the picture scales with its size).
   double initial_noise_radius_share = 0.01;
   double min_apex_px = 1.0;     // rebounds lower than this (or 5 noise sigmas) mean rest
-  // ... or lower than a flight this many frames long can show (g T^2 / 8: 2.2 cm at 30 fps,
-  // 1.4 mm at 120 fps; a hop of fewer samples has no measurable apex).
-  double min_flight_frames = 4;
+  // ... or lower than a flight this many frames long can show (g T^2 / 8: 1.97 cm at 30 fps,
+  // 1.2 mm at 120 fps; a hop of fewer samples has no measurable apex). A 2 cm hop at 30 fps
+  // lasts 3.83 frames: its three or four samples, the scale known, fix its apex.
+  double min_flight_frames = 3.8;
   // The clock: real seconds per second of the frames' timestamps. 0 = decide: as recorded,
   // unless the container says the file is slowed (capture_slowdown_hint = capture fps /
   // stored fps) and the ball's known size confirms that factor: gravity measured on a

@@ -62,7 +62,7 @@ KindScore RenderAndRun(const fs::path& dir, const std::string& synth_flags, cons
     if (match >= 0) used[static_cast<size_t>(match)] = true;
     // An apex within a frame and a half of the clip's ends may be found or not (no frames on
     // its other side), and so may a hop at the picture's limit (its flight within 5% of the
-    // shortest the detector measures: 4 frames, 2.18 cm at 30 fps); the rest of 2 cm and more
+    // shortest the detector measures: 3.8 frames, 1.97 cm at 30 fps); the rest of 2 cm and more
     // must be.
     const double flight_frames = 2 * std::sqrt(2 * h / 9.81) * truth->fps;
     const bool at_limit = flight_frames < 1.05 * BounceDetectorConfig{}.min_flight_frames;
