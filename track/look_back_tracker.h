@@ -38,8 +38,6 @@ class LookBackTracker {
   // The end of the stream: every frame still waiting, oldest first.
   std::vector<TrackedFrame> Flush();
 
-  Tracker& tracker() { return tracker_; }
-
  private:
   // Looks for the ball in the waiting frames before the first one it was found in, newest
   // first, until one does not show it.
