@@ -29,12 +29,11 @@ std::vector<TrackedFrame> LookBackTracker::Track(const Frame& frame) {
   waiting_.push_back(std::move(tracked));
 
   std::vector<TrackedFrame> out;
-  size_t first = 0;
-  while (first < waiting_.size() && !waiting_[first].obs.found) ++first;
+  const size_t first = FirstFound();
   // Found after frames without it: look back from here when its motion is known, from the
   // sighting before those frames or from the frame after this one.
   if (first == 0 || (first < waiting_.size() && (before_ || first + 1 < waiting_.size()))) {
-    LookBack();
+    LookBack(first);
     Settle(waiting_.size(), &out);
   }
   while (!waiting_.empty() &&
@@ -45,16 +44,20 @@ std::vector<TrackedFrame> LookBackTracker::Track(const Frame& frame) {
 }
 
 std::vector<TrackedFrame> LookBackTracker::Flush() {
-  LookBack();
+  LookBack(FirstFound());
   std::vector<TrackedFrame> out;
   Settle(waiting_.size(), &out);
   return out;
 }
 
-void LookBackTracker::LookBack() {
+size_t LookBackTracker::FirstFound() const {
   size_t first = 0;
   while (first < waiting_.size() && !waiting_[first].obs.found) ++first;
-  if (first == 0 || first == waiting_.size()) return;
+  return first;
+}
+
+void LookBackTracker::LookBack(size_t first) {
+  if (first == 0 || first >= waiting_.size()) return;
   const BallObservation* a = &waiting_[first].obs;  // the sighting just after the frame looked at
   const BallObservation* b =
       first + 1 < waiting_.size() && waiting_[first + 1].obs.found ? &waiting_[first + 1].obs : nullptr;

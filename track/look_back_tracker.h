@@ -6,6 +6,7 @@
 // the window for a frame: such frames are found this way. Every frame still comes out once,
 // in order, with its own time; only frames without the ball wait, so a ball followed frame
 // after frame comes out at once.
+#include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -39,9 +40,11 @@ class LookBackTracker {
   std::vector<TrackedFrame> Flush();
 
  private:
-  // Looks for the ball in the waiting frames before the first one it was found in, newest
-  // first, until one does not show it.
-  void LookBack();
+  // The index of the first waiting frame the ball was found in (waiting_.size(): none).
+  size_t FirstFound() const;
+  // Looks for the ball in the waiting frames before `first`, the first one it was found in,
+  // newest first, until one does not show it.
+  void LookBack(size_t first);
   // Settles the `n` oldest waiting frames into *out.
   void Settle(size_t n, std::vector<TrackedFrame>* out);
 
