@@ -108,8 +108,10 @@ TEST(LookBackTracker, NoFrameWaitsWhileTheBallIsFollowedAndNoneLongerThanItsWait
   const DropRun run = TrackDrop();
   // Followed (a third of a second after the release): out with the frame that read it, but for
   // the hidden frame, which waits for the next.
-  for (int i = kReleaseFrame + 10; i < kFrames; ++i)
-    if (i != kHiddenFrame) EXPECT_EQ(run.waited[static_cast<size_t>(i)], 0) << "frame " << i;
+  for (int i = kReleaseFrame + 10; i < kFrames; ++i) {
+    if (i == kHiddenFrame) continue;
+    EXPECT_EQ(run.waited[static_cast<size_t>(i)], 0) << "frame " << i;
+  }
   EXPECT_EQ(run.waited[kHiddenFrame], 1);
   for (int i = 0; i < kFrames; ++i) EXPECT_LE(run.waited[static_cast<size_t>(i)], std::ceil(0.25 * kFps) + 1);
 }
