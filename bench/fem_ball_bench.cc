@@ -1,6 +1,6 @@
 // A trial, measured and not adopted: the Bullet FEM (btDeformableBody, Neo-Hookean) ball
 // measured against the criteria for adopting it, with the classic btSoftBody ball as the
-// baseline of the same run. docs/MODEL.md "FEM deformable ball" holds the figures and the decision.
+// baseline of the same run. docs/journal/fem-trial.md holds the figures and the decision.
 //
 //   build/bench/fem_ball_bench [--section rebound|steps|smooth|cost|transfer|all] [--ball pingpong]
 //

@@ -1,4 +1,4 @@
-// transfer_bench: the transfer matrix (docs/ACCURACY.md "Transfer"). A ball whose restitution falls with impact
+// transfer_bench: the transfer matrix (docs/FIT.md "Transfer"). A ball whose restitution falls with impact
 // speed (synth's point mass, e(v) = e0 - k v, drag) is dropped from one height; its recorded
 // heights are fitted; the fitted ball is then predicted from the other height (ensemble mean,
 // as `bouncefit predict` does) and compared with the truth on every bounce of 2 cm or more:

@@ -113,8 +113,8 @@ double ApexLedger::FloorUnderArcPx(size_t j, bool both) const {
   // much as the one after it: the floor under a ball coming towards the camera drifts down
   // the picture, faster as it comes closer, and a line held by the old impacts lags it (the
   // shared football clip's sixth rebound was 15% low); the recent contacts say where the
-  // floor is now, the older ones still steady the line (docs/ACCURACY.md, "The floor under a
-  // live apex"). Refitted (`both` true), the arc's own two contacts weigh most and each
+  // floor is now, the older ones still steady the line (docs/ACCURACY.md, "The floor under
+  // each apex"). Refitted (`both` true), the arc's own two contacts weigh most and each
   // impact further from them half as much as the one before: one line through all of them
   // cuts across a drift that quickens (the football's seventh rebound 7% low).
   //

@@ -6,7 +6,7 @@
 // the ball's height turns from falling to rising) and a parabola of time is fitted to each
 // arc, with the stamps as they are and with each frame re-timed to the tick of a faster source
 // it would have come from (floor(t f + c) / f). The pooled residual says whether a re-timing
-// explains the motion by far better (docs/ACCURACY.md, "Why tennis_door sees 1 rebound").
+// explains the motion by far better (docs/ACCURACY.md, "Frames re-timed by default").
 // Whole arcs, not four-sample windows: a window's third difference amplifies a pixel of
 // tracking noise by the frame rate cubed, and the shared tennis clip cropped by 8 px and
 // re-encoded lost its 7x signal that way (1.5x); fitted arcs keep it (5x). A core with no I/O.

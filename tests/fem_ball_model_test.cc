@@ -83,7 +83,7 @@ TEST(FemBallModel, StepFollowsTheElasticWaveAndIsDeterministic) {
 
 TEST(FemBallModel, AStepPastTheStabilityLimitIsAFailedRunNotACrash) {
   FemBallModelConfig cfg;
-  cfg.courant = 4;  // explicit elastic forces: unstable past ~1 (docs/MODEL.md)
+  cfg.courant = 4;  // explicit elastic forces: unstable past ~1 (docs/journal/fem-trial.md)
   const SimulationResult r = Pingpong(cfg).Simulate(kSoftPingpong, ShortDrop());
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.failure.find("diverged"), std::string::npos) << r.failure;

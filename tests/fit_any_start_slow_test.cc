@@ -3,8 +3,8 @@
 // two drops in one clip, a 2.5 m drop onto a soft floor (e 0.47 at 7 m/s). Each gives a final
 // fit from whatever apex its footage starts at; the fitted ball's heights are within
 // max(2 mm, 2%) of the truth's, and dropped from 1.6 m it predicts the truth's bounces of
-// 2 cm or more within max(5 mm, 3%). Figures in docs/ACCURACY.md "Fits that start wherever
-// the footage starts".
+// 2 cm or more within max(5 mm, 3%). Figures in docs/FIT.md "Fits from wherever the
+// footage starts".
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -78,7 +78,7 @@ TEST_P(FinalFitOnSynthClip, RmsWithinOnePercentOfTheDrop) {
     if (p["sequence"] == 0 && p["bounce"].get<int>() > 0 && p["height_m"].get<double>() >= 0.01)
       ++above;
   EXPECT_EQ(static_cast<int>(recorded.size()), above);
-  // One line per ball: the figures of docs/ACCURACY.md "Final fit on rendered clips".
+  // One line per ball: the figures of docs/FIT.md "Final fit on rendered clips".
   std::printf("| %s | %.3f | %zu | %.2f | %.2f%% | %d | %.1f |\n", ball.c_str(), drop,
               recorded.size(), rms * 1000, 100 * rms / drop, fit["evaluations"].get<int>(),
               fit["wall_time_s"].get<double>());

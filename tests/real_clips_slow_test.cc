@@ -284,8 +284,8 @@ TEST(RealClipsMustShow, RedBallSlowMotion120On30fps) {
 // to itself; the clip is replayed at its recorded pace, as a user sees it) writes a final fit
 // (coefficients.json, fitted_ball/) within max(3 mm, 5% of the highest fitted apex) of the
 // heights, after at least one live update published before the next apex in stream time;
-// its restitution at 1 and 4 m/s lies in 0.3-0.97. Figures in docs/ACCURACY.md "Fits from
-// the shared clips".
+// its restitution at 1 and 4 m/s lies in 0.3-0.97. Figures in docs/FIT.md "Fits from
+// wherever the footage starts".
 void ExpectFitted(const std::string& file, const std::string& ball) {
   const auto clip = RealClip(file);
   if (clip.empty()) GTEST_SKIP() << "real clips not found (../shared/real-clips)";

@@ -8,8 +8,8 @@
 // Bounce heights are measured as SoftBallModel measures them (MeasureBounces on the ball's
 // bottom sampled at the camera rate; here interpolated between steps to the exact frame
 // times, so that a change of step size moves no sample). Simulate() is const and
-// thread-safe; a diverging run is ok = false with the reason. docs/MODEL.md "FEM deformable
-// ball" gives the measured figures and the decision.
+// thread-safe; a diverging run is ok = false with the reason. docs/journal/fem-trial.md
+// gives the measured figures and the decision.
 #include <memory>
 #include <string>
 #include <vector>
