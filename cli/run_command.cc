@@ -51,7 +51,11 @@ std::string Summary(const PipelineOutcome& r, const RunConsole& console, const s
           c.name != "restitution" && c.name != "restitution_per_mps" && c.name != "drag_coefficient")
         continue;
       law += fmt::format("  {} {:.4g}", c.name, c.value);
-      law += c.identifiable && std::isfinite(c.sigma) ? fmt::format(" +- {:.2g}", c.sigma) : " (not identifiable)";
+      if (!c.bound.empty())  // at a bound: the uncertainty goes one way, into the range
+        law += std::isfinite(c.sigma) ? fmt::format(" (at its {} bound, {}{:.2g})", c.bound, c.bound == "lower" ? "+" : "-", c.sigma)
+                                      : fmt::format(" (at its {} bound)", c.bound);
+      else
+        law += c.identifiable && std::isfinite(c.sigma) ? fmt::format(" +- {:.2g}", c.sigma) : " (not identifiable)";
     }
     text += fmt::format("\nfitted ball ({}):{}; residual {:.1f} mm over {} bounces", f.model, law, f.residual_m * 1e3,
                         f.recorded_m.size());

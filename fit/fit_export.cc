@@ -4,6 +4,7 @@
 #include "model/model_by_name.h"
 #include "model/soft_ball_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -17,12 +18,26 @@ nlohmann::json Num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlo
 
 }  // namespace
 
+nlohmann::json RestitutionJson(const FitUpdate& u) {
+  const RestitutionConsistency& r = u.restitution;
+  nlohmann::json points = nlohmann::json::array();
+  for (const auto& p : u.restitution_points)
+    points.push_back({{"drop", p.drop}, {"bounce", p.bounce}, {"impact_speed_mps", p.speed_mps}, {"e", p.e},
+                      {"sigma", p.sigma}});
+  std::vector<nlohmann::json> drop_e, drop_sigma;
+  for (size_t d = 0; d < r.drop_e.size(); ++d) drop_e.push_back(Num(r.drop_e[d])), drop_sigma.push_back(Num(r.drop_e_sigma[d]));
+  return {{"points", points},          {"reference_speed_mps", Num(r.reference_mps)},
+          {"scatter", Num(r.scatter)}, {"drop_e", drop_e},
+          {"drop_e_sigma", drop_sigma}, {"drops_agree", r.drops_agree},
+          {"chi2_drops", Num(r.chi2_drops)}, {"suspect", r.suspect}};
+}
+
 nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
   nlohmann::json coeffs = nlohmann::json::object();
   for (const auto& c : u.coefficients)
     coeffs[c.name] = {{"value", Num(c.value)},   {"sigma", Num(c.sigma)},
                       {"identifiable", c.identifiable}, {"unit", c.unit},
-                      {"note", c.note}};
+                      {"note", c.note}, {"at_bound", c.bound.empty() ? nlohmann::json() : nlohmann::json(c.bound)}};
   nlohmann::json values = nlohmann::json::object();
   for (const auto& [name, v] : u.values) values[name] = Num(v);
   return {{"model", u.model},
@@ -53,7 +68,9 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"other_drop_heights_m", u.other_drop_heights_m},
           {"other_drop_bounces", u.other_drop_bounces},
           {"warning", u.warning},
-          {"held_at_preset", u.held_at_preset},
+          {"held", u.held},
+          // Final fit: the bounces' restitution impact by impact, and whether they agree.
+          {"restitution", u.final ? RestitutionJson(u) : nlohmann::json()},
           {"evaluations", u.evaluations},
           {"wall_time_s", u.wall_time_s}};
 }
@@ -103,8 +120,12 @@ FittedBallGltf WriteFitGltf(const std::filesystem::path& path, const FitUpdate& 
   } else {
     model = MakeBallModel(u.model, ball);
   }
+  // The animation ends where the fit's safety drops end: hops of a tenth of the ball's
+  // diameter (at least 1 cm) are contact chatter, not bounces.
+  FittedBallGltfOptions options;
+  options.min_bounce_height_m = std::max(0.01, 0.1 * ball.diameter_m);
   return WriteFittedBallGltf(path, *model, ball, u.values, drop_height_m,
-                             FitGltfExtras(u, ball, context), context.recorded);
+                             FitGltfExtras(u, ball, context), context.recorded, options);
 }
 
 std::vector<std::filesystem::path> WriteFitExports(const std::filesystem::path& dir,

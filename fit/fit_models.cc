@@ -1,6 +1,7 @@
 #include "fit/fit_models.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "fit/restitution_fit.h"
 #include "model/coefficient_table.h"
@@ -10,6 +11,8 @@ namespace bouncefit {
 
 void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
                               FitSessionConfig* config) {
+  // rho A / 2m: the ball's air per unit of drag coefficient, for the restitution points.
+  config->air_per_m_per_cd = 1.2 * M_PI * ball.diameter_m * ball.diameter_m / 4 / (2 * ball.mass_kg);
   const auto* soft = dynamic_cast<const SoftBallModel*>(&model);
   if (!soft) return;
   config->time_step_s = soft->config().time_step_s;

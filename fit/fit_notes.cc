@@ -1,5 +1,7 @@
 #include "fit/fit_notes.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -37,7 +39,15 @@ std::vector<std::string> FinalFitNotices(const FitUpdate& u, const BallPreset& b
   if (u.start_bounce > 0)
     out.push_back("fit: started from apex #" + std::to_string(u.start_bounce) +
                   " (the release was not seen: the ball at that height, at rest vertically)");
-  for (const auto& h : u.held_at_preset) out.push_back("fit: " + h);
+  for (const auto& h : u.held) out.push_back("fit: " + h);
+  for (const auto& b : u.restitution.suspect) out.push_back("fit: doubtful " + b);
+  const RestitutionConsistency& r = u.restitution;
+  if (r.drop_e.size() > 1 && r.drops_agree) {
+    std::string each;
+    for (size_t d = 0; d < r.drop_e.size(); ++d)
+      each += fmt::format("{}drop {} {:.3f} +- {:.3f}", d ? ", " : "", d + 1, r.drop_e[d], r.drop_e_sigma[d]);
+    out.push_back(fmt::format("fit: the drops agree: e at {:.1f} m/s is {}", r.reference_mps, each));
+  }
   if (!u.warning.empty()) out.push_back("fit: warning: " + u.warning);
   const double e1 = FittedRestitutionAt(u.values, 1.0), e4 = FittedRestitutionAt(u.values, 4.0);
   if (std::isfinite(e1)) {

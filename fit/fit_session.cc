@@ -88,7 +88,11 @@ void FitSession::Reset(int sequence) {
 }
 
 void FitSession::KeepDropAndReset(int sequence) {
-  if (CanFit()) kept_.push_back({drop_height_m_, FittedHeights(), FittedFlights()});
+  if (CanFit()) {
+    std::vector<double> sigmas{apexes_.at(start_bounce_).sigma_m};
+    sigmas.insert(sigmas.end(), sigmas_.begin(), sigmas_.begin() + static_cast<long>(FittedHeights().size()));
+    kept_.push_back({drop_height_m_, FittedHeights(), FittedFlights(), sigmas, start_bounce_});
+  }
   Reset(sequence);
 }
 

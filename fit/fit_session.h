@@ -26,6 +26,8 @@
 #include <vector>
 
 #include "fit/fit_objective.h"
+#include "fit/restitution_fit.h"
+#include "fit/restitution_points.h"
 #include "fit/sensitivity.h"
 #include "model/ball_model.h"
 
@@ -81,13 +83,18 @@ struct FitUpdate {
   // Final fit: "" for an answer; else why it is none (its residual is more than the heights'
   // measurement explains): a caller reports "no fit: <why>" and writes no coefficients.
   std::string no_answer;
-  // Coefficients the data could not fit (pinned at a bound, or not identifiable): each holds
-  // the ball preset's value, and this says so, one entry per coefficient.
-  std::vector<std::string> held_at_preset;
+  // The law's coefficients the final fit did not search, one line each with what holds them:
+  // at a bound where the bounces put it, or (not identifiable) the preset's or the data's value.
+  std::vector<std::string> held;
   // A joint fit of several drops: recorded_m / simulated_m / free_run_* hold this drop's
   // bounces, then each other drop's; their release heights and bounce counts (empty: one).
   std::vector<double> other_drop_heights_m;
   std::vector<int> other_drop_bounces;
+  // Final fit: the recorded bounces' restitution impact by impact, every drop (the earlier
+  // ones first, this drop last), and what they say together: the impacts' scatter, each
+  // drop's e at one speed, the bounces to doubt (fit/restitution_points.h).
+  std::vector<RestitutionPoint> restitution_points;
+  RestitutionConsistency restitution;
 };
 
 struct FitSessionConfig {
@@ -139,12 +146,14 @@ struct FitSessionConfig {
   double min_bounce_height_m = 0.01;  // bounces lower than this are not fitted
   double default_sigma_m = 0.002;   // height uncertainty when a peak gives none
   double duration_margin = 1.5;     // simulate this x the free-fall time to bounce k (+0.2 s)
-  // A final fit is an answer only when its RMS residual is at most the largest of these:
-  // the floor, the fraction of the highest recorded apex, and sigmas x the heights'
-  // measurement uncertainty (what the measurement explains); else FitUpdate::no_answer.
+  // A final fit is an answer only when its RMS residual is at most the larger of these: the
+  // floor and the fraction of the highest recorded apex (else FitUpdate::no_answer). Heights
+  // measured badly give no answer rather than a loose one.
   double answer_floor_m = 0.003;
   double answer_fraction = 0.05;
-  double answer_sigmas = 3.0;
+  // The ball's air: rho A / 2m, per metre per unit of drag coefficient (ConfigureSessionForModel;
+  // 0: the restitution points are measured without drag).
+  double air_per_m_per_cd = 0;
   double target_rms_fraction = 0;   // stop early at RMS <= this x drop height (0: never)
   // Coefficients searched (empty: every model coefficient with bounds, minus the
   // never-fitted ones below). The model's other coefficients stay at `start`/defaults.
@@ -222,10 +231,9 @@ class FitSession {
   // The final fit's problems reject candidate answers that diverge from config_.safe_drops_m.
   FitProblem WithSafety(FitProblem p) const;
   // The restitution impact's final fit: the law's curve in two stages; *p its problem.
-  // *held / *held_why: the law's coefficients held at the preset's value, and why.
+  // *held: the law's coefficients stage 1 held, and at what.
   SearchResult FinalRestitutionSearch(int budget, const SearchOptions& options, FitProblem* p,
-                                      std::vector<std::string>* held,
-                                      std::vector<std::string>* held_why) const;
+                                      std::vector<HeldCoefficient>* held) const;
   // The final fit's free-running check: simulated_m and residual_m from one drop as
   // `simulate` runs it, free_run_* from the ensemble.
   void CheckFreeRun(const FitProblem& problem, FitUpdate* update);
@@ -262,7 +270,11 @@ class FitSession {
   struct KeptDrop {
     double drop_height_m = 0;
     std::vector<double> heights_m, flights_s;
+    std::vector<double> sigmas_m;  // the start's, then the heights'
+    int start_bounce = 0;
   };
+  // Every drop's restitution points (kept drops first), the air's drag from `values`.
+  std::vector<RestitutionPoint> RestitutionPoints(const CoefficientValues& values) const;
   std::vector<KeptDrop> kept_;  // earlier drops, fitted with this one in final fits
 };
 

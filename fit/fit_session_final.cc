@@ -84,9 +84,8 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
   FitProblem restitution_problem;
   const bool restitution = UsesRestitutionLaw();
   SearchResult restitution_result;
-  std::vector<std::string> held, held_why;
-  if (restitution)
-    restitution_result = FinalRestitutionSearch(budget * starts, o, &restitution_problem, &held, &held_why);
+  std::vector<HeldCoefficient> held;
+  if (restitution) restitution_result = FinalRestitutionSearch(budget * starts, o, &restitution_problem, &held);
   // The starts' leads: 2, 3, 4... coefficients, never more than the bounces.
   std::vector<int> leads;
   for (int start_index = 0; start_index < starts && !restitution; ++start_index) {
@@ -162,40 +161,93 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
     for (const auto& [e, name] : effect) live_order_.push_back(name);
   }
   FitUpdate u = Finish(p, r, true, jac, extra, Seconds(t0), model_);
-  // The law's coefficients the bounces could not fit: the preset's value, said so.
-  for (size_t i = 0; i < held.size(); ++i) {
-    for (auto& c : u.coefficients)
-      if (c.name == held[i]) {
-        c.note = held_why[i] + "; the ball preset's value is used";
+  // The law's coefficients stage 1 held: at a bound (an answer, one-sided), the preset's
+  // value (a flat direction), or the data's (a flat direction the preset fits worse).
+  for (const HeldCoefficient& h : held) {
+    for (auto& c : u.coefficients) {
+      if (c.name != h.name) continue;
+      c.value = h.value;
+      c.note = h.why;
+      if (h.kind == HeldCoefficient::Kind::kBound) {
+        c.identifiable = true;
+        c.sigma = h.one_sided_sigma;
+        c.bound = h.why.find("upper") != std::string::npos ? "upper" : "lower";
+      } else {
         c.identifiable = false;
         c.sigma = std::numeric_limits<double>::quiet_NaN();
         if (!Contains(u.unidentified, c.name)) u.unidentified.push_back(c.name);
       }
-    u.held_at_preset.push_back(held[i] + " " + held_why[i] + "; the ball preset's value is used");
+    }
+    u.held.push_back(h.name + " " + h.why);
   }
   u.safety_checks = r.safety_checks;
   u.rejected_unsafe = r.rejected_unsafe;
   if (!r.failure.empty() && !r.cancelled)  // every point the search tried failed or was unsafe
     u.warning = "no usable coefficient set found: " + r.failure;
   if (!(cancel && cancel->cancelled())) CheckFreeRun(p, &u);
-  // An answer only when the fitted ball's heights are as close as the measurement explains.
+  // The bounces' own restitution: its scatter between bounces and between drops widens the
+  // law's sigmas, and drops that disagree beyond it are no answer (one ball, one floor).
+  u.restitution_points = RestitutionPoints(u.values);
+  u.restitution = CheckRestitution(u.restitution_points);
+  for (auto& c : u.coefficients) {
+    if (!c.identifiable || !std::isfinite(c.sigma) || !(c.sigma > 0) || !c.bound.empty()) continue;
+    double wider = c.sigma;
+    if (c.name == "rebound_restitution" || c.name == "restitution") wider = std::max(wider, u.restitution.sigma_e0);
+    if ((c.name == "rebound_restitution_per_mps" || c.name == "restitution_per_mps") &&
+        std::isfinite(u.restitution.sigma_k))
+      wider = std::max(wider, u.restitution.sigma_k);
+    // The covariance (what `predict` spreads) widens with it, its correlations kept.
+    const auto it = std::find(u.covariance_names.begin(), u.covariance_names.end(), c.name);
+    if (it != u.covariance_names.end()) {
+      const size_t i = static_cast<size_t>(it - u.covariance_names.begin());
+      const double f = wider / c.sigma;
+      for (size_t j = 0; j < u.covariance.size(); ++j) {
+        u.covariance[i][j] *= f;
+        u.covariance[j][i] *= f;
+      }
+    }
+    c.sigma = wider;
+  }
+  // An answer only when the fitted ball's heights are within the gate.
   if (!u.recorded_m.empty()) {
     const double highest = *std::max_element(u.recorded_m.begin(), u.recorded_m.end());
-    const double sigma = MeasurementSigma();
-    const double limit = std::max({config_.answer_floor_m, config_.answer_fraction * highest,
-                                   config_.answer_sigmas * sigma});
+    const double limit = std::max(config_.answer_floor_m, config_.answer_fraction * highest);
     if (!r.failure.empty() && !r.cancelled)
       u.no_answer = u.warning;
+    else if (!u.restitution.drops_agree)
+      u.no_answer = DropsDisagreement(u.restitution);
     else if (!(u.residual_m <= limit))
       u.no_answer = "the fitted ball's heights are " + FormatMm(u.residual_m) +
-                    " RMS from the recorded ones, more than their measurement explains (" +
-                    FormatMm(limit) + ": the largest of " + FormatMm(config_.answer_floor_m) + ", " +
-                    FormatPercent(config_.answer_fraction) + " of the highest apex and " +
-                    FormatNumber(config_.answer_sigmas) + " x the heights' uncertainty " +
-                    FormatMm(sigma) + ")";
+                    " RMS from the recorded ones, more than " + FormatMm(limit) + " (the larger of " +
+                    FormatMm(config_.answer_floor_m) + " and " + FormatPercent(config_.answer_fraction) +
+                    " of the highest apex)";
   }
   u.wall_time_s = Seconds(t0);
   return u;
+}
+
+std::vector<RestitutionPoint> FitSession::RestitutionPoints(const CoefficientValues& values) const {
+  double cd = 0;
+  for (const char* name : {"drag", "drag_coefficient"})
+    if (values.count(name)) cd = values.at(name);
+  const double c = config_.air_per_m_per_cd * cd;
+  std::vector<RestitutionPoint> out;
+  int drops = 0;
+  auto add = [&](double start_m, const std::vector<double>& heights, const std::vector<double>& sigmas,
+                 int start_bounce) {
+    std::vector<double> apexes{start_m};
+    apexes.insert(apexes.end(), heights.begin(), heights.end());
+    const auto points = MeasureRestitution(apexes, sigmas, c, drops, start_bounce, config_.default_sigma_m);
+    out.insert(out.end(), points.begin(), points.end());
+    drops += !points.empty();
+  };
+  for (const KeptDrop& d : kept_) add(d.drop_height_m, d.heights_m, d.sigmas_m, d.start_bounce);
+  if (CanFit()) {
+    std::vector<double> sigmas{apexes_.at(start_bounce_).sigma_m};
+    sigmas.insert(sigmas.end(), sigmas_.begin(), sigmas_.begin() + static_cast<long>(FittedHeights().size()));
+    add(drop_height_m_, FittedHeights(), sigmas, start_bounce_);
+  }
+  return out;
 }
 
 bool FitSession::UsesRestitutionLaw() const {
@@ -220,8 +272,7 @@ int FitSession::FinalBudget() const {
 }
 
 SearchResult FitSession::FinalRestitutionSearch(int budget, const SearchOptions& options,
-                                               FitProblem* p, std::vector<std::string>* held,
-                                               std::vector<std::string>* held_why) const {
+                                               FitProblem* p, std::vector<HeldCoefficient>* held) const {
   RestitutionFitOptions ro;
   ro.segments = config_.objective == "segments";
   ro.max_evaluations = std::min(budget, ro.max_evaluations);
@@ -230,10 +281,10 @@ SearchResult FitSession::FinalRestitutionSearch(int budget, const SearchOptions&
       FitRestitutionCurve(WithSafety(MakeProblem(FreeSpecs(), final_start_)), *quick_model_, options, ro);
   std::vector<std::string> fitted;
   for (const std::string name : {"rebound_restitution", "rebound_restitution_per_mps", "drag"})
-    if (!Contains(rf.held, name)) fitted.push_back(name);
+    if (std::none_of(rf.held.begin(), rf.held.end(), [&](const HeldCoefficient& h) { return h.name == name; }))
+      fitted.push_back(name);
   *p = MakeProblem(FirstSpecs(fitted, static_cast<int>(fitted.size())), rf.soft.values);
   *held = rf.held;
-  *held_why = rf.held_why;
   return rf.soft;
 }
 

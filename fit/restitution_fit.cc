@@ -67,7 +67,7 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
   const std::vector<CoefficientSpec> all = point_mass.Coefficients();
   CoefficientValues pm_start;
   for (const auto& s : all) pm_start[s.name] = s.default_value;
-  pm.fixed = pm_start;  // a coefficient held: the preset's value
+  pm.fixed = pm_start;  // a coefficient held: the value stage 1 holds it at
   SearchOptions po = options;
   po.max_evaluations = o.point_mass_evaluations;
   po.threads = 1;  // milliseconds each
@@ -75,15 +75,21 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
   // Never more coefficients than heights: restitution, then its slope, then drag.
   const size_t heights = soft.recorded_m.size();
   std::vector<CoefficientSpec> free;
+  auto hold = [&](const CoefficientSpec& s, HeldCoefficient::Kind kind, double value,
+                  double one_sided_sigma, const std::string& why) {
+    pm.fixed[s.name] = pm_start[s.name] = value;
+    out.held.push_back({SoftLawName(s.name), kind, value, one_sided_sigma, why});
+  };
   for (const auto& s : all) {
-    if (free.size() < std::max<size_t>(1, heights)) {
+    if (free.size() < std::max<size_t>(1, heights))
       free.push_back(s);
-    } else {
-      out.held.push_back(SoftLawName(s.name));
-      out.held_why.push_back("not identifiable from " + std::to_string(heights) + " height" +
-                             (heights == 1 ? "" : "s") + " (more coefficients than heights)");
-    }
+    else
+      hold(s, HeldCoefficient::Kind::kPreset, s.default_value, 0,
+           "not identifiable from " + std::to_string(heights) + " height" + (heights == 1 ? "" : "s") +
+               " (more coefficients than heights)");
   }
+  const double sse_sigma = o.measurement_sigma_m * o.measurement_sigma_m;
+  auto sse = [](const SearchResult& r, size_t n) { return r.rms_m * r.rms_m * static_cast<double>(n); };
   for (;;) {
     pm.free = free;
     out.point_mass = LeastSquaresSearch(pm, pm_start, po);
@@ -93,24 +99,46 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
     const auto est = EstimateUncertainty(free, out.point_mass.values, out.point_mass.jacobian,
                                          out.point_mass.rms_m, o.measurement_sigma_m, so);
     // The one to hold: drag before the slope; restitution is always fitted.
-    int hold = -1;
-    std::string why;
-    for (int j = static_cast<int>(free.size()) - 1; j >= 1 && hold < 0; --j) {
+    int j = static_cast<int>(free.size()) - 1;
+    for (; j >= 1; --j) {
       const CoefficientSpec& s = free[j];
       const double v = out.point_mass.values.at(s.name);
       const double range = s.upper - s.lower;
-      if (v <= s.lower + o.pinned_fraction * range || v >= s.upper - o.pinned_fraction * range) {
-        hold = j;
-        why = "pinned at its bound " + Num(v <= s.lower + o.pinned_fraction * range ? s.lower : s.upper);
-      } else if (!est[j].identifiable) {
-        hold = j;
-        why = "not identifiable from these bounces (" + est[j].note + ")";
+      const bool at_lower = v <= s.lower + o.pinned_fraction * range;
+      const bool at_upper = v >= s.upper - o.pinned_fraction * range;
+      if (!est[j].identifiable) {
+        // A flat direction: the preset's value if it fits as well, else the data's.
+        FitProblem at_preset = pm;
+        at_preset.fixed[s.name] = s.default_value;
+        at_preset.free.erase(at_preset.free.begin() + j);
+        CoefficientValues start = pm_start;
+        start[s.name] = s.default_value;
+        const SearchResult r = LeastSquaresSearch(at_preset, start, po);
+        // As well: within one sigma of the heights, or of the fit's own residual where that
+        // is larger (heights the point mass cannot follow to their measurement).
+        const double dof = static_cast<double>(std::max<size_t>(1, heights - std::min(heights - 1, free.size())));
+        const double level = std::max(sse_sigma, sse(out.point_mass, heights) / dof);
+        const double worse = sse(r, heights) - sse(out.point_mass, heights);
+        const std::string why = "not identifiable from these bounces (" + est[j].note + ")";
+        if (r.failure.empty() && worse <= level)
+          hold(s, HeldCoefficient::Kind::kPreset, s.default_value, 0, why + "; the ball preset's value fits as well");
+        else
+          hold(s, HeldCoefficient::Kind::kData, v, 0,
+               why + "; the ball preset's value " + Num(s.default_value) + " fits worse (" +
+                   Num(1000 * r.rms_m) + " mm RMS against " + Num(1000 * out.point_mass.rms_m) +
+                   " mm): the data's value is kept");
+        break;
+      }
+      if (at_lower || at_upper) {
+        const double bound = at_lower ? s.lower : s.upper;
+        hold(s, HeldCoefficient::Kind::kBound, bound, est[j].sigma,
+             std::string("at its ") + (at_lower ? "lower" : "upper") + " bound " + Num(bound) +
+                 ", where the bounces put it");
+        break;
       }
     }
-    if (hold < 0) break;
-    out.held.push_back(SoftLawName(free[hold].name));
-    out.held_why.push_back(why);
-    free.erase(free.begin() + hold);
+    if (j < 1) break;
+    free.erase(free.begin() + j);
   }
   const double e0 = out.point_mass.values.at("restitution");
   const double k = out.point_mass.values.at("restitution_per_mps");

@@ -24,22 +24,36 @@ struct RestitutionFitOptions {
   double restitution_range = 0.08;
   double slope_range = 0.04;
   double drag_factor = 1.6;
-  // Stage 1's honesty: a coefficient the heights cannot fit (pinned at a bound, or its
-  // uncertainty above this fraction of its range, or degenerate with the others) holds the
-  // ball preset's value (the point mass's default) and the fit is redone without it; drag
-  // first, then the speed slope (restitution itself is always fitted). Never more
-  // coefficients than recorded heights.
+  // Stage 1's honesty, drag first, then the speed slope (restitution itself is always
+  // fitted), each time the fit redone without the one held: a coefficient the data put at
+  // its bound (no drag, no slope) stays at that bound, an answer with a one-sided
+  // uncertainty; one the heights cannot determine (its uncertainty above this fraction of
+  // its range, or degenerate with the others: a flat direction) holds the ball preset's
+  // value if that fits as well (within the heights' measurement), else the data's own value.
+  // Never more coefficients than recorded heights.
   double measurement_sigma_m = 0.002;
   double max_sigma_fraction = 0.25;
   double pinned_fraction = 1e-3;  // within this fraction of the range from a bound: pinned
 };
 
+// A law coefficient stage 1 did not leave free, and what it holds.
+struct HeldCoefficient {
+  enum class Kind {
+    kBound,   // the data put it at its bound: an answer (one_sided_sigma into the range)
+    kPreset,  // the data cannot tell; the ball preset's value fits as well
+    kData,    // the data cannot tell, but the preset's value fits worse: the data's value
+  };
+  std::string name;  // the soft ball's name
+  Kind kind = Kind::kPreset;
+  double value = 0;
+  double one_sided_sigma = 0;  // kBound: how far into its range one sigma of the heights allows
+  std::string why;             // one line
+};
+
 struct RestitutionFit {
   SearchResult point_mass;  // stage 1 (point-mass coefficient names)
   SearchResult soft;        // stage 2: every soft-ball coefficient in `values`
-  // Soft-ball coefficient names held at the preset's value, and for each why (one line).
-  std::vector<std::string> held;
-  std::vector<std::string> held_why;
+  std::vector<HeldCoefficient> held;
 };
 
 // The soft ball's name for a point-mass coefficient of the law (restitution ->

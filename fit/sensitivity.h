@@ -20,6 +20,8 @@ struct CoefficientEstimate {
   bool identifiable = false;
   double height_effect_m = 0;  // max |change of a height| across the coefficient's full range (linearised)
   std::string note;            // "no effect on the heights", "degenerate with others", ...
+  // "lower" / "upper": the fit put it at that bound, and sigma is one-sided, into the range.
+  std::string bound;
 };
 
 struct SensitivityOptions {
