@@ -59,7 +59,9 @@ void FitStage::OnPeak(const bounce_peak_t& m) {
   last_wall_us_ = last_peak_wall_us_ = SteadyMicros();
   now_ = std::max(now_, m.utime);
   if (!have_t0_) t0_ = m.utime, have_t0_ = true;  // no STREAM heard: the first peak's time
-  // The rows of peaks.csv and withdrawals come after the drops' final fits: not fitted again.
+  // The rows of peaks.csv and withdrawals come after the drops' final fits: not fitted again
+  // (the rows are, when those gave none: FitRows).
+  if (m.revision == 3 && !stream_done_) rows_.push_back(m);
   if (m.revision >= 3 || stream_done_) return;
   if (m.bounce == 0 && m.revision == 0 && release_utime_ == 0) release_utime_ = m.apex_utime;
   finished_since_peak_ = false;
@@ -112,11 +114,33 @@ void FitStage::Poll() {
     finished_since_peak_ = true;
   }
   if (stream_done_ && !done_ && ready.empty() && !busy()) {
-    std::lock_guard<std::mutex> lock(inbox_mutex_);
-    if (!inbox_.empty()) return;  // a last update came in meanwhile: the next Poll
+    {
+      std::lock_guard<std::mutex> lock(inbox_mutex_);
+      if (!inbox_.empty()) return;  // a last update came in meanwhile: the next Poll
+    }
+    // No final fit from the peaks as they came: the rows may still hold a run to fit.
+    if (!final_ && no_fit_why_.empty() && !rows_fitted_ && FitRows()) return;
     WriteExports();
     done_ = true;
   }
+}
+
+bool FitStage::FitRows() {
+  rows_fitted_ = true;
+  if (rows_.empty()) return false;
+  // A sequence of its own, after every drop's: the session starts it afresh.
+  int sequence = 0;
+  for (const auto& r : rows_) sequence = std::max(sequence, r.sequence + 1);
+  for (bounce_peak_t r : rows_) {
+    if (!std::isfinite(r.fused_height_m)) continue;
+    r.sequence = sequence;
+    r.revision = 0;
+    r.height_m = r.fused_height_m;
+    node_->OnPeak(r);
+  }
+  final_sims_start_ = node_->simulations();
+  node_->Finish();
+  return true;
 }
 
 void FitStage::WaitDone(const std::function<void(int, int)>& progress) {

@@ -94,6 +94,12 @@ class FitStage {
   int64_t last_wall_us_ = 0, last_peak_wall_us_ = 0;
   std::string input_;                    // the clip or camera (STREAM)
   std::vector<ball_box_t> boxes_;        // the frames the ball was found in
+  // The rows of peaks.csv (revision 3): fitted when the peaks as they came gave no final fit
+  // (bounces heard only, or renumbered into a run only at the end).
+  std::vector<bounce_peak_t> rows_;
+  bool rows_fitted_ = false;
+  // Submits the rows as a drop of their own and its final fit; false when there are none.
+  bool FitRows();
   std::optional<calibration_t> calibration_;
 };
 
