@@ -17,6 +17,10 @@ namespace bouncefit::cli {
 RunConsole::RunConsole(ConsoleMode mode, std::FILE* out)
     : mode_(mode), out_(out), tty_(::isatty(::fileno(out)) != 0) {}
 
+RunConsole::~RunConsole() {
+  if (!final_rows_.empty()) SayFinalRows();
+}
+
 void RunConsole::Follow(LcmBus& bus, const Channels& ch, bool fits) {
   bus.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) { OnStream(m); });
   bus.Subscribe<drop_t>(ch.drop, [this](const drop_t& m) { OnDrop(m); });

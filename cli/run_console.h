@@ -31,6 +31,7 @@ enum class ConsoleMode { kHuman, kJson, kQuiet };
 class RunConsole {
  public:
   RunConsole(ConsoleMode mode, std::FILE* out);
+  ~RunConsole();  // says the final rows still held (no DROP "done" came)
 
   // Prints what goes by on `bus` (the session's own): the stream, calibrations, bounces and,
   // with fits, the fit updates.
