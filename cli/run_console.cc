@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -16,14 +17,20 @@ namespace bouncefit::cli {
 RunConsole::RunConsole(ConsoleMode mode, std::FILE* out)
     : mode_(mode), out_(out), tty_(::isatty(::fileno(out)) != 0) {}
 
+RunConsole::~RunConsole() {
+  if (!final_rows_.empty()) SayFinalRows();
+}
+
 void RunConsole::Follow(LcmBus& bus, const Channels& ch, bool fits) {
   bus.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) { OnStream(m); });
+  bus.Subscribe<drop_t>(ch.drop, [this](const drop_t& m) { OnDrop(m); });
   bus.Subscribe<calibration_t>(ch.calibration, [this](const calibration_t& m) { OnCalibration(m); });
   bus.Subscribe<bounce_peak_t>(ch.bounce_peak, [this](const bounce_peak_t& m) { OnPeak(m); });
   if (fits) bus.Subscribe<fit_update_t>(ch.fit_update, [this](const fit_update_t& m) { OnFit(m); });
 }
 
 void RunConsole::Line(const std::string& text) {
+  if (!final_rows_.empty()) SayFinalRows();
   if (progress_open_) {
     std::fputs("\r\033[K", out_);
     progress_open_ = false;
@@ -66,36 +73,97 @@ void RunConsole::OnCalibration(const calibration_t& m) {
 void RunConsole::OnPeak(const bounce_peak_t& m) {
   const double t = SecondsSince(m.apex_utime, t0_);
   if (m.revision == 3) rows_.emplace_back(m.bounce, m.fused_height_m);
+  // e = sqrt(h_k / h_k-1) against the bounce printed before it; above 1 the ball rose higher
+  // than it fell from, which no bounce does: one of the two heights is wrong.
+  double e = NAN;
+  if (m.revision == 0 && m.bounce > 0)
+    if (const auto prev = heights_.find({m.sequence, m.bounce - 1}); prev != heights_.end() && prev->second > 0)
+      e = std::sqrt(m.height_m / prev->second);
+  if (m.revision == 0) heights_[{m.sequence, m.live_bounce}] = m.height_m;
   if (mode_ == ConsoleMode::kJson) {
     auto j = ToJson(m, t0_);
     j["event"] = m.revision == 0 || (m.revision == 3 && m.live_bounce < 0) ? "peak" : "revision";
+    if (std::isfinite(e)) j["e"] = e;
+    if (e > 1) j["suspect"] = "higher than the apex before";
     Line(j.dump());
     return;
   }
   if (mode_ != ConsoleMode::kHuman) return;
-  const auto key = std::make_pair(m.sequence, m.live_bounce);
-  if (m.revision == 0 || (m.revision == 3 && m.live_bounce < 0)) {
-    // A bounce, printed once: as it is emitted (or, heard only, once the stream ended).
-    const double h = m.revision == 0 ? m.height_m : m.fused_height_m;
-    std::string line = fmt::format("peak  #{:<2d}  t={:7.3f} s  height {:.4f} m", m.bounce, t, h);
-    const auto prev = heights_.find({m.sequence, m.bounce - 1});
+  if (m.revision == 3) {
+    final_rows_.push_back(m);
+    return;
+  }
+  if (m.revision == 0) {
+    // A bounce, printed once, as it is emitted (heard only: with the final rows).
+    std::string line = fmt::format("peak  #{:<2d}  t={:7.3f} s  height {:.4f} m", m.bounce, t, m.height_m);
     if (m.bounce == 0)
       line += "  release";
-    else if (prev != heights_.end() && prev->second > 0 && m.revision == 0)
-      line += fmt::format("  e={:.3f}", std::sqrt(h / prev->second));
-    line += m.revision == 0 ? fmt::format("  [+{:.0f} ms]", (m.emitted_utime - m.apex_utime) * 1e-3)
-                            : "  heard only (flight time)";
-    if (m.revision == 0) heights_[key] = h;
+    else if (std::isfinite(e))
+      line += fmt::format("  e={:.3f}{}", e, e > 1 ? " (higher than the apex before: suspect)" : "");
+    line += fmt::format("  [+{:.0f} ms]", (m.emitted_utime - m.apex_utime) * 1e-3);
     ++peak_lines_;
     Line(line);
   } else if (m.revision == 1) {
     Line(fmt::format("  revised #{}: heard end to end, flight-time height {:.4f} m", m.live_bounce, m.height_m));
-  } else if (m.revision == 3 && m.bounce != m.live_bounce) {
-    Line(fmt::format("  revised #{}: is bounce {} (the impacts heard number it)", m.live_bounce, m.bounce));
   } else if (m.revision == 4) {
     Line(fmt::format("  revised #{}: withdrawn (the sound heard one arc where the picture saw two)", m.live_bounce));
   }
   // Revision 2 (the drop's refit) is said in one line by the detect node when the drop ends.
+}
+
+void RunConsole::OnDrop(const drop_t& m) {
+  if (m.state == "done" && !final_rows_.empty()) SayFinalRows();
+}
+
+void RunConsole::SayFinalRows() {
+  const std::vector<bounce_peak_t> rows = std::move(final_rows_);
+  final_rows_.clear();
+  std::vector<std::string> lines;
+  // Rows printed live, in their live order, each with its shift; a run of rows (one drop, live
+  // numbers in a row) shifted alike is one line, a row alone its own.
+  std::vector<const bounce_peak_t*> seen;
+  for (const auto& m : rows)
+    if (m.live_bounce >= 0) seen.push_back(&m);
+  std::stable_sort(seen.begin(), seen.end(), [](const bounce_peak_t* a, const bounce_peak_t* b) {
+    return std::make_pair(a->sequence, a->live_bounce) < std::make_pair(b->sequence, b->live_bounce);
+  });
+  // Why a drop's rows moved up: bounces heard before the first one the picture saw.
+  const auto heard_first = [&](int sequence) {
+    int64_t first_seen = INT64_MAX;
+    for (const bounce_peak_t* m : seen)
+      if (m->sequence == sequence) first_seen = std::min(first_seen, m->apex_utime);
+    return std::count_if(rows.begin(), rows.end(), [&](const bounce_peak_t& h) {
+      return h.live_bounce < 0 && h.sequence == sequence && h.apex_utime < first_seen;
+    });
+  };
+  for (size_t i = 0; i < seen.size();) {
+    const bounce_peak_t& a = *seen[i];
+    const int shift = a.bounce - a.live_bounce;
+    size_t j = i + 1;
+    while (j < seen.size() && seen[j]->sequence == a.sequence &&
+           seen[j]->live_bounce == seen[j - 1]->live_bounce + 1 && seen[j]->bounce - seen[j]->live_bounce == shift)
+      ++j;
+    const bounce_peak_t& b = *seen[j - 1];
+    if (shift != 0 && j - i == 1) {
+      lines.push_back(fmt::format("  revised #{}: is bounce {} (the impacts heard number it)", a.live_bounce, a.bounce));
+    } else if (shift != 0) {
+      const auto heard = heard_first(a.sequence);
+      const std::string why = shift > 0 && heard == shift
+                                  ? heard == 1 ? "a bounce heard before the first one seen"
+                                               : fmt::format("{} bounces heard before the first one seen", heard)
+                                  : "the impacts heard number them";
+      lines.push_back(fmt::format("renumbered: #{}-#{} are #{}-#{} ({})", a.live_bounce, b.live_bounce, a.bounce,
+                                  b.bounce, why));
+    }
+    i = j;
+  }
+  for (const auto& m : rows)
+    if (m.live_bounce < 0) {
+      ++peak_lines_;
+      lines.push_back(fmt::format("peak  #{:<2d}  t={:7.3f} s  height {:.4f} m  heard only (flight time)", m.bounce,
+                                  SecondsSince(m.apex_utime, t0_), m.fused_height_m));
+    }
+  for (const std::string& line : lines) Line(line);
 }
 
 void RunConsole::OnFit(const fit_update_t& m) {
@@ -130,6 +198,7 @@ void RunConsole::Progress(double stream_s, double total_s, int64_t frames, int64
 
 void RunConsole::ShowProgress(const std::string& text) {
   if (tty_) {
+    if (!final_rows_.empty()) SayFinalRows();
     progress_text_ = text;
     std::fputs(("\r\033[K" + text).c_str(), out_);
     std::fflush(out_);

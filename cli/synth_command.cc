@@ -86,7 +86,7 @@ void Run(SynthOptions o) {
   if (!o.clip.drop_heights_m.empty() && o.clip.drop_distances_m.empty())
     o.clip.drop_distances_m = DefaultDropDistances(static_cast<int>(o.clip.drop_heights_m.size()));
   o.clip.out = o.out;
-  if (o.sound || o.audio.chatter || o.audio.hum || o.audio.offset_s != 0) {
+  if (o.sound || o.audio.chatter || o.audio.hum || o.audio.offset_s != 0 || !o.audio.extra_clicks_s.empty()) {
     o.audio.seed = o.clip.seed;
     o.clip.sound = o.audio;
   }
@@ -255,6 +255,10 @@ void AddSynthCommand(CLI::App& app) {
   cmd->add_option("--click-exponent", o->audio.click_exponent,
                   "A click's amplitude grows as the impact speed (m/s) to this power")
       ->capture_default_str();
+  cmd->add_option("--extra-click", o->audio.extra_clicks_s,
+                  "Clicks that are no impact (a hand tapping the ball, a knock) at these picture times, s, "
+                  "comma-separated, each as loud as an impact at 1 m/s (implies --sound)")
+      ->delimiter(',');
   cmd->add_flag("--quiet,-q", o->quiet, "Print only the final summary line");
   cmd->footer("Example:\n  bouncefit synth --ball softball --drop-height 1.6 --roll 1 --out soft.avi");
   cmd->callback([o] { Run(*o); });

@@ -241,6 +241,7 @@ void ApexLedger::CloseDrop(const std::string& reason, std::vector<DetectorEvent>
   SequenceSummary sum;
   sum.sequence = sequence_;
   sum.first_bounce = first_bounce_;
+  sum.released_from_hold = first_bounce_ == 0 && !arcs.empty() && arcs[0].held;
   sum.end_reason = reason;
   sum.peaks = peaks_;
   sum.calibration = fit.calibration;

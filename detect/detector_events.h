@@ -49,6 +49,9 @@ struct SequenceSummary {
   std::string end_reason;
   std::vector<BouncePeak> peaks;         // as emitted
   int first_bounce = 0;                  // bounce number of arc 0 (1: began mid-bounce)
+  // Arc 0 was a release from a hold seen still: bounce 0 is that release, whatever was heard
+  // before it (a hand's knock, a tap: a ball held still is not bouncing).
+  bool released_from_hold = false;
   std::vector<double> final_height_m;    // per arc, after the final refit
   std::vector<double> flight_height_m;   // per arc: g dt^2/8 (NaN for 0 / unknown)
   // Bounce `bounce`'s entry of those per-arc lists (NaN: no arc of this drop).

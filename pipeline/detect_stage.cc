@@ -229,17 +229,20 @@ void DetectStage::Finish() {
   std::vector<double> seen;
   for (const auto& d : summaries)
     for (const auto& i : d.impacts) seen.push_back(SecondsSince(i.utime, t0_));
-  const std::string no_sound = start_.listening ? std::string() : start_.sound.empty() ? "no sound" : start_.sound;
-  const double end_s = SecondsSince(have_end_ ? end_.utime : now_, t0_);
-  notice_("sound: " + sound_->Finish(seen, end_s, no_sound).verdict);
-  // What each emitted bounce became when its drop ended.
+  // What each emitted bounce became when its drop ended, and the releases from a seen hold.
   std::vector<SoundFusion::AfterRefit> after(emitted_.size());
+  std::vector<double> held_releases;
   for (size_t i = 0; i < emitted_.size(); ++i)
     for (const auto& d : summaries)
       if (d.sequence == emitted_[i].sequence) {
         after[i].refit_m = d.FinalHeightOf(emitted_[i].bounce);
         after[i].flight_m = d.FlightHeightOf(emitted_[i].bounce);
+        after[i].released_from_hold = emitted_[i].bounce == 0 && d.released_from_hold;
+        if (after[i].released_from_hold) held_releases.push_back(SecondsSince(emitted_[i].apex_utime, t0_));
       }
+  const std::string no_sound = start_.listening ? std::string() : start_.sound.empty() ? "no sound" : start_.sound;
+  const double end_s = SecondsSince(have_end_ ? end_.utime : now_, t0_);
+  notice_("sound: " + sound_->Finish(seen, end_s, no_sound, held_releases).verdict);
   std::vector<bounce_peak_t> withdrawn;
   const std::vector<bounce_peak_t> rows = sound_->FinalRows(emitted_, after, t0_, now_, &withdrawn);
   for (const bounce_peak_t& m : withdrawn) EmitPeak(m);

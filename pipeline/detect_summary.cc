@@ -83,6 +83,7 @@ void DetectStage::WriteSummary(const std::vector<bounce_peak_t>& rows) {
                      {"scale_method", d.calibration.method},
                      {"ball_radius_px", FiniteOrNull(d.calibration.radius_px)},
                      {"first_bounce", d.first_bounce},
+                     {"released_from_hold", d.released_from_hold},
                      {"final_height_m", final_h},
                      {"flight_height_m", flight_h},
                      {"impacts", impacts},

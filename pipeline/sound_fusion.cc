@@ -83,8 +83,15 @@ std::vector<bounce_peak_t> SoundFusion::HeardPeaks(const std::vector<bounce_peak
 }
 
 const FusionResult& SoundFusion::Finish(const std::vector<double>& seen_t_s, double video_end_s,
-                                        const std::string& no_sound) {
+                                        const std::string& no_sound,
+                                        const std::vector<double>& held_releases_t_s) {
   fused_ = FuseImpacts(heard_, seen_t_s, video_end_s, FusionConfig());
+  // A heard "flight" across a release from a seen hold is none: the ball was in the hand.
+  std::erase_if(fused_.flights, [&](const HeardFlight& fl) {
+    const double from = fused_.impacts[fl.from].t_s, to = from + fl.flight_s;
+    return std::any_of(held_releases_t_s.begin(), held_releases_t_s.end(),
+                       [&](double r) { return from < r && r < to; });
+  });
   if (!no_sound.empty()) fused_.verdict = no_sound + ": impacts from the picture only";
   return fused_;
 }
@@ -128,28 +135,41 @@ std::vector<bounce_peak_t> SoundFusion::FinalRows(const std::vector<bounce_peak_
   // Impacts heard before the picture's first seen one (the tracker locked on late) begin
   // the drop: the seen bounces move up by their count, and the picture's "release" (its
   // bounce 0) is the apex of the arc that ends at its first seen impact.
-  int heard_before = 0;
-  for (const auto& i : fused_.impacts) {
-    if (!std::isnan(i.video_t_s)) break;
-    ++heard_before;
-  }
+  // Those heard before a release from a seen hold are not the drop's (the ball was held).
+  const auto held_release = [&](size_t p) { return p < after_refit.size() && after_refit[p].released_from_hold; };
+  double first_seen_s = std::numeric_limits<double>::infinity();
+  for (const auto& i : fused_.impacts)
+    if (!std::isnan(i.video_t_s)) first_seen_s = std::min(first_seen_s, i.t_s);
+  double held_since = -std::numeric_limits<double>::infinity();
+  for (size_t p = 0; p < peaks.size(); ++p)
+    if (const double t = SecondsSince(peaks[p].apex_utime, t0); held_release(p) && t < first_seen_s)
+      held_since = std::max(held_since, t);
+  const int heard_before = static_cast<int>(std::count_if(
+      fused_.impacts.begin(), fused_.impacts.end(),
+      [&](const FusedImpact& i) { return i.t_s < first_seen_s && i.t_s > held_since; }));
   // One heard arc holds one apex: a second seen apex on it is the picture splitting the arc,
-  // withdrawn, and the bounces after it move down by one.
+  // withdrawn, and the bounces after it move down by one. A release from a seen hold is on
+  // no heard arc.
   std::vector<double> apex_t;
-  for (const auto& m : peaks)
-    apex_t.push_back(m.bounce > 0 || heard_before > 0 ? SecondsSince(m.apex_utime, t0) : NAN);
+  for (size_t p = 0; p < peaks.size(); ++p)
+    apex_t.push_back((peaks[p].bounce > 0 || heard_before > 0) && !held_release(p)
+                         ? SecondsSince(peaks[p].apex_utime, t0)
+                         : NAN);
   const std::vector<ApexOnArc> on_arc = PlaceApexesOnHeardArcs(apex_t, fused_);
   // With the sound checked against the picture, its impacts are the drop's: bounce k is the
   // arc after the k-th impact since the release the picture saw (bounces the picture missed
   // or split, heard before it locked on, are counted right).
-  // A seen "release" with an impact within twice its fall time before it was the apex of a
-  // bounce the picture came in on, not a release (a hand holds a ball still before it lets go).
+  // A seen "release" whose hold was not seen, with an impact within twice its fall time
+  // before it, was the apex of a bounce the picture came in on, not a release (a hand holds a
+  // ball still before it lets go). One from a seen hold is a release.
   std::vector<double> releases;
-  for (const auto& m : peaks) {
+  for (size_t p = 0; p < peaks.size(); ++p) {
+    const bounce_peak_t& m = peaks[p];
     if (m.bounce != 0) continue;
     const double t = SecondsSince(m.apex_utime, t0);
     const double fall_s = std::sqrt(2 * std::max(m.height_m, 0.0) / 9.81);
-    if (std::none_of(fused_.impacts.begin(), fused_.impacts.end(),
+    if (held_release(p) ||
+        std::none_of(fused_.impacts.begin(), fused_.impacts.end(),
                      [&](const FusedImpact& i) { return i.t_s < t && i.t_s >= t - 2 * fall_s; }))
       releases.push_back(t);
   }

@@ -45,17 +45,24 @@ class SoundFusion {
 
   // The stream ended: fuses every impact heard with the seen ones (video clock, s).
   // no_sound: why nothing could be heard ("no sound track", "--no-audio"; "" if it could).
+  // held_releases_t_s: the apexes of the releases from a hold seen still (bounce 0 of their
+  // drop): a ball held still is not bouncing, so a heard "flight" across one is no flight,
+  // and the release stays the drop's bounce 0, whatever was heard before it.
   const FusionResult& Finish(const std::vector<double>& seen_t_s, double video_end_s,
-                             const std::string& no_sound);
+                             const std::string& no_sound,
+                             const std::vector<double>& held_releases_t_s = {});
   const FusionResult& fused() const { return fused_; }
 
   // What each emitted peak became once its drop ended (NaN where nothing).
   struct AfterRefit {
     double refit_m = std::numeric_limits<double>::quiet_NaN();
     double flight_m = std::numeric_limits<double>::quiet_NaN();
+    bool released_from_hold = false;  // bounce 0 of a drop released from a hold seen still
   };
   // After Finish: the rows of peaks.csv as revision-3 messages, in apex order, and the
   // emitted peaks the sound withdrew (revision 4: the picture split one heard arc in two).
+  // A release from a seen hold stays bounce 0, and the impacts heard before it are not its
+  // drop's bounces.
   std::vector<bounce_peak_t> FinalRows(const std::vector<bounce_peak_t>& emitted,
                                        const std::vector<AfterRefit>& after_refit,
                                        int64_t t0_utime, int64_t now_utime,

@@ -88,6 +88,8 @@ std::string SynthAudioConfig::Validate() const {
   if (!(chatter_rms >= 0 && chatter_rms < 0.5)) return "chatter level must be in [0, 0.5)";
   if (!(hum_hz > 0 && hum_hz < 1000)) return "hum frequency must be in (0, 1000) Hz";
   if (!(hum_rms >= 0 && hum_rms < 0.5)) return "hum level must be in [0, 0.5)";
+  for (double t : extra_clicks_s)
+    if (!(std::isfinite(t) && t >= 0)) return "extra clicks must be at 0 s or later";
   return "";
 }
 
@@ -116,6 +118,8 @@ std::vector<float> RenderSynthAudio(const SynthAudioConfig& c, double duration_s
         std::min(0.9, c.click_at_1mps * std::pow(std::abs(impact_speeds_mps[k]), c.click_exponent));
     AddClick(&out, c.sample_rate, impact_times_s[k] + c.offset_s, amp, c.click_decay_s, rng);
   }
+  for (double t : c.extra_clicks_s)
+    AddClick(&out, c.sample_rate, t + c.offset_s, std::min(0.9, c.click_at_1mps), c.click_decay_s, rng);
   for (auto& s : out) s = std::clamp(s, -1.0f, 1.0f);
   return out;
 }

@@ -23,6 +23,9 @@ struct SynthAudioConfig {
   bool hum = false;             // mains hum at hum_hz and its harmonics
   double hum_hz = 50;
   double hum_rms = 0.05;
+  // Clicks that are no impact of the ball (a hand tapping it, a knock), picture time, s: each
+  // as loud as an impact at 1 m/s.
+  std::vector<double> extra_clicks_s;
   uint64_t seed = 1;
 
   std::string Validate() const;  // empty when valid, else a one-line reason

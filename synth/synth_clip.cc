@@ -122,6 +122,7 @@ void AddClipSound(const SynthClipConfig& c, const SynthTrajectory& traj, SynthTr
   truth->sound_hum_rms = c.sound->hum_rms;
   truth->sound_click_at_1mps = c.sound->click_at_1mps;
   truth->sound_click_exponent = c.sound->click_exponent;
+  truth->extra_clicks_s = c.sound->extra_clicks_s;
 }
 
 // The file's time of real time t (s since the first frame), between the frames' stamps.

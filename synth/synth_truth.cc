@@ -78,7 +78,8 @@ void WriteSynthTruth(const SynthTruth& t, const std::filesystem::path& path) {
                   {"hum_rms", t.sound_hum ? t.sound_hum_rms : 0.0},
                   {"click_at_1mps", t.sound_click_at_1mps},
                   {"click_exponent", t.sound_click_exponent},
-                  {"impact_speeds_mps", t.impact_speeds_mps}};
+                  {"impact_speeds_mps", t.impact_speeds_mps},
+                  {"extra_clicks_s", t.extra_clicks_s}};
   if (!t.drops.empty()) {
     j["camera"] = {{"focal_px", t.camera_focal_px}, {"height_m", t.camera_height_m}};
     ojson drops = ojson::array();
@@ -243,6 +244,8 @@ SynthTruth LoadSynthTruth(const std::filesystem::path& path) {
       t.sound_click_exponent = Get<double>(sound, "click_exponent", where + " sound");
     }
     t.impact_speeds_mps = Get<std::vector<double>>(sound, "impact_speeds_mps", where + " sound");
+    if (sound.contains("extra_clicks_s"))  // files written before extra clicks lack them
+      t.extra_clicks_s = Get<std::vector<double>>(sound, "extra_clicks_s", where + " sound");
   }
 
   if (j.contains("drops")) {

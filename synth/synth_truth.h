@@ -94,6 +94,7 @@ struct SynthTruth {
   double sound_noise_rms = 0, sound_chatter_rms = 0, sound_hum_rms = 0;
   double sound_click_at_1mps = 0, sound_click_exponent = 1;
   std::vector<double> impact_speeds_mps;   // one per impact time
+  std::vector<double> extra_clicks_s;      // clicks that are no impact (picture time, s)
   // Several drops in one clip: each drop (the fields above hold all of their apexes and
   // impacts, and the first drop's scale and floor); the pinhole camera that saw them.
   std::vector<SynthTruthDrop> drops;
