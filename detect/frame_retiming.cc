@@ -110,24 +110,29 @@ void FrameRetimer::Decide(bool enough) {
     retiming_.verdict = "frame times as stamped (too little flight to test them)";
     return;
   }
-  // Pooled residual variance of the arcs' parabolas, px^2, on a clock (f = 0: the stamps).
-  const auto variance_for = [&](double f, double c) {
+  // Pooled residual variance of the pieces' parabolas, px^2, on a clock (f = 0: the stamps),
+  // every piece but `skip`.
+  const auto variance_of = [&](const std::vector<std::vector<BallObservation>>& pieces, double f, double c,
+                               size_t skip) {
     double rss = 0;
     int dof = 0;
     std::vector<double> t, y;
-    for (const auto& a : arcs_) {
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      if (k == skip) continue;
       t.clear();
       y.clear();
-      for (const auto& o : a) {
+      for (const auto& o : pieces[k]) {
         t.push_back(f > 0 ? TakenAtSeconds(Seconds(o.utime), f, c) : Seconds(o.utime));
         y.push_back(o.cy);
         if (t.size() > 1 && !(t.back() > t[t.size() - 2])) return 1e300;  // two on one tick
       }
       rss += ParabolaRss(t, y);
-      dof += static_cast<int>(a.size()) - 3;
+      dof += static_cast<int>(pieces[k].size()) - 3;
     }
     return rss / std::max(dof, 1);
   };
+  const size_t all = arcs_.size();
+  const auto variance_for = [&](double f, double c) { return variance_of(arcs_, f, c, all); };
   const double stamped_fps = 1 / period_s_;
   retiming_.stamped_fps = stamped_fps;
   const double as_stamped = variance_for(0, 0);
@@ -149,7 +154,29 @@ void FrameRetimer::Decide(bool enough) {
   retiming_.gain = best > 0 && best < 1e300 ? as_stamped / best : (as_stamped > 0 && best == 0 ? 1e300 : 1.0);
   char line[360];
   const double explained_px = best < as_stamped ? std::sqrt(as_stamped - best) : 0;
+  const auto convinces = [&](double stamped_v, double retimed_v) {
+    return retimed_v < 1e300 && stamped_v >= config_.min_gain * retimed_v &&
+           std::sqrt(std::max(0.0, stamped_v - retimed_v)) >= config_.min_explained_px;
+  };
+  // Dropped pictures misplace the ball in every arc they fall in; a smeared impact or a hand's
+  // throw in one arc is no clock. The re-timing must convince with each piece of the flight
+  // left out in turn (each arc, or the two halves of a lone arc): no one piece carries it.
+  std::vector<std::vector<BallObservation>> pieces = arcs_;
+  if (pieces.size() == 1) {
+    const auto& a = arcs_.front();
+    const auto half = a.begin() + static_cast<std::ptrdiff_t>(a.size() / 2);
+    pieces = {std::vector<BallObservation>(a.begin(), half), std::vector<BallObservation>(half, a.end())};
+  }
+  int carried_by = -1;  // the piece without which the re-timing does not convince
+  double without_stamped = 0, without_retimed = 0;
   if (best_f > 0 && retiming_.gain >= config_.min_gain && explained_px >= config_.min_explained_px) {
+    for (size_t k = 0; k < pieces.size() && carried_by < 0; ++k) {
+      const double vs = variance_of(pieces, 0, 0, k), vr = variance_of(pieces, best_f, best_c, k);
+      if (!convinces(vs, vr)) carried_by = static_cast<int>(k), without_stamped = vs, without_retimed = vr;
+    }
+  }
+  if (best_f > 0 && retiming_.gain >= config_.min_gain && explained_px >= config_.min_explained_px &&
+      carried_by < 0) {
     retiming_.retimed = true;
     retiming_.applied = config_.mode == FrameTimes::kRetimed;
     retiming_.source_fps = best_f;
@@ -160,6 +187,13 @@ void FrameRetimer::Decide(bool enough) {
                   retiming_.applied ? "frames re-timed" : "frame times as stamped (--keep-frame-times), but they look",
                   best_f, stamped_fps, best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
                   retiming_.arcs);
+  } else if (carried_by >= 0) {
+    std::snprintf(line, sizeof line,
+                  "frame times as stamped (the %.4g fps times fit the ball's arcs with %.1f px of residual, "
+                  "%.1f px as stamped, but only through one %s: without it %.1f px at %.4g fps, %.1f px as stamped)",
+                  best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
+                  arcs_.size() == 1 ? "half of its arc" : "arc",
+                  without_retimed < 1e300 ? std::sqrt(without_retimed) : 0.0, best_f, std::sqrt(without_stamped));
   } else {
     std::snprintf(line, sizeof line,
                   "frame times as stamped (no faster source rate fits the ball's arcs by far better: "

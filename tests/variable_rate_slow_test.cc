@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "synth/synth_truth.h"
+#include "tests/synth_run_score.h"
 #include "tests/test_support.h"
 
 namespace bouncefit {
@@ -77,16 +78,9 @@ Score ScoreRun(const SynthTruth& truth, const std::filesystem::path& out) {
       ++s.false_rows;
       s.table += "  false row at " + rows[j].at("t_s") + " s: " + rows[j].at("height_m") + " m\n";
     }
-  // track.csv: every frame in flight (the whole ball in view, after the release, before rest).
-  const auto track = testing::ReadCsv(out / "track.csv");
-  const double rest = truth.comes_to_rest ? truth.rest_t_s : 1e9;
-  for (const auto& f : truth.frames) {
-    if (!f.fully_in_view || f.t_s <= truth.release_t_s + 0.01 || f.t_s >= rest) continue;
-    ++s.in_flight;
-    const auto i = static_cast<size_t>(f.index);
-    if (i >= track.size() || track[i].at("found") != "1")
-      if (++s.lost_in_flight <= 5) s.table += "  frame " + std::to_string(f.index) + " in flight not found\n";
-  }
+  const testing::InFlightScore f = testing::ScoreInFlight(truth, out);
+  s.in_flight = f.in_flight, s.lost_in_flight = f.lost;
+  if (f.lost > 0) s.table += "  frames in flight not found:" + f.lost_frames + "\n";
   std::ifstream cal(out / "calibration.json");
   if (cal) {
     const auto c = nlohmann::json::parse(cal);
