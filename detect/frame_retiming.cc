@@ -110,29 +110,25 @@ void FrameRetimer::Decide(bool enough) {
     retiming_.verdict = "frame times as stamped (too little flight to test them)";
     return;
   }
-  // Pooled residual variance of the pieces' parabolas, px^2, on a clock (f = 0: the stamps),
-  // every piece but `skip`.
-  const auto variance_of = [&](const std::vector<std::vector<BallObservation>>& pieces, double f, double c,
-                               size_t skip) {
+  // Pooled residual variance of the pieces' parabolas, px^2, on a clock (f = 0: the stamps).
+  const auto variance_of = [&](const std::vector<std::vector<BallObservation>>& pieces, double f, double c) {
     double rss = 0;
     int dof = 0;
     std::vector<double> t, y;
-    for (size_t k = 0; k < pieces.size(); ++k) {
-      if (k == skip) continue;
+    for (const auto& piece : pieces) {
       t.clear();
       y.clear();
-      for (const auto& o : pieces[k]) {
+      for (const auto& o : piece) {
         t.push_back(f > 0 ? TakenAtSeconds(Seconds(o.utime), f, c) : Seconds(o.utime));
         y.push_back(o.cy);
         if (t.size() > 1 && !(t.back() > t[t.size() - 2])) return 1e300;  // two on one tick
       }
       rss += ParabolaRss(t, y);
-      dof += static_cast<int>(pieces[k].size()) - 3;
+      dof += static_cast<int>(piece.size()) - 3;
     }
     return rss / std::max(dof, 1);
   };
-  const size_t all = arcs_.size();
-  const auto variance_for = [&](double f, double c) { return variance_of(arcs_, f, c, all); };
+  const auto variance_for = [&](double f, double c) { return variance_of(arcs_, f, c); };
   const double stamped_fps = 1 / period_s_;
   retiming_.stamped_fps = stamped_fps;
   const double as_stamped = variance_for(0, 0);
@@ -154,29 +150,21 @@ void FrameRetimer::Decide(bool enough) {
   retiming_.gain = best > 0 && best < 1e300 ? as_stamped / best : (as_stamped > 0 && best == 0 ? 1e300 : 1.0);
   char line[360];
   const double explained_px = best < as_stamped ? std::sqrt(as_stamped - best) : 0;
-  const auto convinces = [&](double stamped_v, double retimed_v) {
-    return retimed_v < 1e300 && stamped_v >= config_.min_gain * retimed_v &&
-           std::sqrt(std::max(0.0, stamped_v - retimed_v)) >= config_.min_explained_px;
-  };
-  // Dropped pictures misplace the ball in every arc they fall in; a smeared impact or a hand's
-  // throw in one arc is no clock. The re-timing must convince with each piece of the flight
-  // left out in turn (each arc, or the two halves of a lone arc): no one piece carries it.
-  std::vector<std::vector<BallObservation>> pieces = arcs_;
-  if (pieces.size() == 1) {
-    const auto& a = arcs_.front();
-    const auto half = a.begin() + static_cast<std::ptrdiff_t>(a.size() / 2);
-    pieces = {std::vector<BallObservation>(a.begin(), half), std::vector<BallObservation>(half, a.end())};
-  }
-  int carried_by = -1;  // the piece without which the re-timing does not convince
-  double without_stamped = 0, without_retimed = 0;
-  if (best_f > 0 && retiming_.gain >= config_.min_gain && explained_px >= config_.min_explained_px) {
-    for (size_t k = 0; k < pieces.size() && carried_by < 0; ++k) {
-      const double vs = variance_of(pieces, 0, 0, k), vr = variance_of(pieces, best_f, best_c, k);
-      if (!convinces(vs, vr)) carried_by = static_cast<int>(k), without_stamped = vs, without_retimed = vr;
-    }
-  }
-  if (best_f > 0 && retiming_.gain >= config_.min_gain && explained_px >= config_.min_explained_px &&
-      carried_by < 0) {
+  // Dropped pictures misplace the ball all along an arc; a ball smeared over an impact, a
+  // release or a hand misplace it at the arc's ends, where among 130 re-timings one absorbs
+  // much of it. The re-timing must convince on the arcs' interior too: each arc without its
+  // first and last samples.
+  std::vector<std::vector<BallObservation>> interior;
+  for (const auto& a : arcs_)
+    if (a.size() >= 6) interior.emplace_back(a.begin() + 1, a.end() - 1);
+  const double interior_stamped = interior.empty() ? 0 : variance_of(interior, 0, 0);
+  const double interior_retimed = interior.empty() ? 1e300 : variance_of(interior, best_f, best_c);
+  const bool interior_convinces =
+      interior_retimed < 1e300 && interior_stamped >= config_.min_gain * interior_retimed &&
+      std::sqrt(std::max(0.0, interior_stamped - interior_retimed)) >= config_.min_explained_px;
+  const bool pooled_convinces =
+      best_f > 0 && retiming_.gain >= config_.min_gain && explained_px >= config_.min_explained_px;
+  if (pooled_convinces && interior_convinces) {
     retiming_.retimed = true;
     retiming_.applied = config_.mode == FrameTimes::kRetimed;
     retiming_.source_fps = best_f;
@@ -187,13 +175,12 @@ void FrameRetimer::Decide(bool enough) {
                   retiming_.applied ? "frames re-timed" : "frame times as stamped (--keep-frame-times), but they look",
                   best_f, stamped_fps, best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
                   retiming_.arcs);
-  } else if (carried_by >= 0) {
+  } else if (pooled_convinces) {
     std::snprintf(line, sizeof line,
                   "frame times as stamped (the %.4g fps times fit the ball's arcs with %.1f px of residual, "
-                  "%.1f px as stamped, but only through one %s: without it %.1f px at %.4g fps, %.1f px as stamped)",
+                  "%.1f px as stamped, but only at their ends: inside them %.1f px at %.4g fps, %.1f px as stamped)",
                   best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
-                  arcs_.size() == 1 ? "half of its arc" : "arc",
-                  without_retimed < 1e300 ? std::sqrt(without_retimed) : 0.0, best_f, std::sqrt(without_stamped));
+                  interior_retimed < 1e300 ? std::sqrt(interior_retimed) : 0.0, best_f, std::sqrt(interior_stamped));
   } else {
     std::snprintf(line, sizeof line,
                   "frame times as stamped (no faster source rate fits the ball's arcs by far better: "
