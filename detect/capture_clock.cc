@@ -19,15 +19,33 @@ bool CaptureClock::CountSlowed(int64_t step, int64_t pictures) {
   return true;
 }
 
-double CapturePeriodOfStamps(const std::vector<int64_t>& stamps, double rough_us, double one_period) {
-  constexpr size_t kWindow = 12;
+namespace {
+
+// The mean of a window of steps when they are of one period: alike (a container's tick rounds
+// a 1/240 s step on a 1/600 s tick to 3.3 and 5 ms in turn, neither alone within one_period of
+// the period) and their mean within one_period of the reference; else 0.
+template <typename It>
+double OnePeriodMean(It begin, It end, double reference_us, double alike, double one_period) {
+  const auto [lo, hi] = std::minmax_element(begin, end);
+  if (static_cast<double>(*hi) > alike * static_cast<double>(*lo)) return 0;
+  double sum = 0;
+  for (It i = begin; i != end; ++i) sum += static_cast<double>(*i);
+  const double mean = sum / static_cast<double>(end - begin);
+  return mean * one_period >= reference_us && mean <= one_period * reference_us ? mean : 0;
+}
+
+constexpr size_t kPeriodWindow = 12;
+
+}  // namespace
+
+double CapturePeriodOfStamps(const std::vector<int64_t>& stamps, double rough_us, const CaptureClockConfig& config) {
+  std::vector<int64_t> steps;
+  for (size_t i = 1; i < stamps.size(); ++i) steps.push_back(stamps[i] - stamps[i - 1]);
   std::vector<double> means;
-  size_t run = 0;  // steps of one period in a row, ending at step i
-  for (size_t i = 1; i < stamps.size(); ++i) {
-    const double d = static_cast<double>(stamps[i] - stamps[i - 1]);
-    run = d * one_period >= rough_us && d <= one_period * rough_us ? run + 1 : 0;
-    if (run >= kWindow)
-      means.push_back(static_cast<double>(stamps[i] - stamps[i - kWindow]) / kWindow);
+  for (size_t i = 0; i + kPeriodWindow <= steps.size(); ++i) {
+    const auto from = steps.begin() + static_cast<std::ptrdiff_t>(i);
+    if (const double m = OnePeriodMean(from, from + kPeriodWindow, rough_us, config.alike, config.one_period); m > 0)
+      means.push_back(m);
   }
   if (means.empty()) return rough_us;
   std::nth_element(means.begin(), means.begin() + static_cast<std::ptrdiff_t>(means.size() / 2), means.end());
@@ -57,6 +75,7 @@ int64_t CaptureClock::Add(int64_t utime, int64_t index) {
   }
   if (pictures > 1) {  // no step of one picture: neither a period nor slow motion
     recent_.clear();
+    window_.clear();
     CountSlowed(step, pictures);
     taken_us_ += d;
     return last_taken();
@@ -74,21 +93,28 @@ int64_t CaptureClock::Add(int64_t utime, int64_t index) {
       ++period_changes_;
       period_sum_us_ = 0;
       period_steps_ = 0;
+      window_.clear();
     }
   }
   // Until the file is known to hold slow motion, every step as stamped: a lone long step is a
   // picture dropped, and a run's first steps are read again once the run shows.
   taken_us_ += d;
   if (!CountSlowed(step, pictures)) {
-    // The mean of the steps of one period: within a tick's rounding of it, not a ramp's
-    // lengthening steps (which would lengthen the period and shrink every scale with it).
-    // Judged against the period as found, not the mean: a mean pulled by the tick's rounding
-    // must not narrow what it takes in.
-    if (period_us_ > 0 && d * config_.one_period >= anchor_us_ && d <= config_.one_period * anchor_us_) {
-      period_sum_us_ += d;
-      ++period_steps_;
-      if (period_steps_ >= 12) period_us_ = period_sum_us_ / static_cast<double>(period_steps_);
+    // The mean of the last steps when they are of one period: a tick's rounding averages out,
+    // a ramp's lengthening steps (which would lengthen the period and shrink every scale with
+    // it) are not alike or not of one period. Judged against the period as found, not the
+    // mean: a mean pulled by the tick's rounding must not narrow what it takes in.
+    window_.push_back(step);
+    if (window_.size() > kPeriodWindow) window_.pop_front();
+    if (period_us_ > 0 && window_.size() == kPeriodWindow) {
+      if (const double m = OnePeriodMean(window_.begin(), window_.end(), anchor_us_, config_.alike, config_.one_period);
+          m > 0) {
+        period_sum_us_ += m;
+        period_us_ = period_sum_us_ / static_cast<double>(++period_steps_);
+      }
     }
+  } else {
+    window_.clear();
   }
   return last_taken();
 }

@@ -6,9 +6,11 @@
 // span's start slows to a crawl in mid-air and no parabola follows it.
 //
 // The capture period is the shortest step the stamps repeat (min_run steps in a row alike
-// within a container's tick: a 1/240 s step on a 1/600 s tick alternates 3.3 and 5 ms), the
-// mean of every step of one period since, and only a fast one (slow motion is filmed at 90 fps
-// or more): a phone's ordinary video, whose rate wanders between 26 and 30 fps, has none. A
+// within a container's tick: a 1/240 s step on a 1/600 s tick alternates 3.3 and 5 ms), then
+// the mean over every 12 steps in a row of one period since (alike, their mean within
+// one_period of the period found: one step alone is a tick off it), and only a fast one (slow
+// motion is filmed at 90 fps or more): a phone's ordinary video, whose rate wanders between 26
+// and 30 fps, has none. A
 // step at least min_slowdown periods long is a slowed one; min_run of them in a row show slow
 // motion (one alone is a picture dropped). Until then the stamps are read as they are. A clock
 // that knows the period from the start (constant_capture) reads every step as one period: the
@@ -37,11 +39,13 @@ struct CaptureClockConfig {
 };
 
 // The capture period of consecutive stamps (us) to a fraction of a microsecond, given a rough
-// one: the median, over every 12 consecutive steps of one period (within one_period of the
-// rough one), of their mean. A container's tick rounds each step (a 1/240 s step on a 1 ms
-// tick: 4, 4, 4, 4, 4, 5 ms), a ramp into slow motion lengthens a few: neither moves a median
-// of means. The rough period when no 12 steps of one period follow each other.
-double CapturePeriodOfStamps(const std::vector<int64_t>& stamps, double rough_us, double one_period);
+// one: the median, over every 12 consecutive steps of one period (alike, their mean within
+// one_period of the rough one), of their mean. A container's tick rounds each step (a 1/240 s
+// step on a 1 ms tick: 4, 4, 4, 4, 4, 5 ms; on a 1/600 s tick: 3.3 and 5 ms in turn), a ramp
+// into slow motion lengthens a few: neither moves a median of means. The rough period when no
+// 12 steps of one period follow each other.
+double CapturePeriodOfStamps(const std::vector<int64_t>& stamps, double rough_us,
+                             const CaptureClockConfig& config = {});
 
 class CaptureClock {
  public:
@@ -79,8 +83,9 @@ class CaptureClock {
   std::deque<int64_t> recent_;      // the last min_run steps
   double period_us_ = 0;
   double anchor_us_ = 0;            // the period as found (from min_run steps)
-  double period_sum_us_ = 0;        // the steps of one period since it was found
-  int64_t period_steps_ = 0;
+  std::deque<int64_t> window_;      // the last steps of one picture that were not slowed
+  double period_sum_us_ = 0;        // the means of windows of one period since it was found
+  int64_t period_steps_ = 0;        // ... how many
   int period_changes_ = 0;
   int64_t slowed_steps_ = 0, slowed_stamp_us_ = 0;
   int64_t slowed_run_ = 0, longest_slowed_run_ = 0;

@@ -39,7 +39,7 @@ std::vector<DetectorEvent> CaptureClockDetector::Push(const BallObservation& obs
     stamps.push_back(obs.utime);
     CaptureClockConfig known = capture_;
     known.known_period_s =
-        CapturePeriodOfStamps(stamps, clock.capture_period_s() * 1e6, capture_.one_period) * 1e-6;
+        CapturePeriodOfStamps(stamps, clock.capture_period_s() * 1e6, capture_) * 1e-6;
     known.constant_capture = true;
     reader_ = std::make_unique<RetimingDetector>(config_, retiming_, known, true);
     stamped_ = std::make_unique<RetimingDetector>(config_, retiming_, CaptureClockConfig{}, false);

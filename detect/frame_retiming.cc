@@ -110,24 +110,25 @@ void FrameRetimer::Decide(bool enough) {
     retiming_.verdict = "frame times as stamped (too little flight to test them)";
     return;
   }
-  // Pooled residual variance of the arcs' parabolas, px^2, on a clock (f = 0: the stamps).
-  const auto variance_for = [&](double f, double c) {
+  // Pooled residual variance of the pieces' parabolas, px^2, on a clock (f = 0: the stamps).
+  const auto variance_of = [&](const std::vector<std::vector<BallObservation>>& pieces, double f, double c) {
     double rss = 0;
     int dof = 0;
     std::vector<double> t, y;
-    for (const auto& a : arcs_) {
+    for (const auto& piece : pieces) {
       t.clear();
       y.clear();
-      for (const auto& o : a) {
+      for (const auto& o : piece) {
         t.push_back(f > 0 ? TakenAtSeconds(Seconds(o.utime), f, c) : Seconds(o.utime));
         y.push_back(o.cy);
         if (t.size() > 1 && !(t.back() > t[t.size() - 2])) return 1e300;  // two on one tick
       }
       rss += ParabolaRss(t, y);
-      dof += static_cast<int>(a.size()) - 3;
+      dof += static_cast<int>(piece.size()) - 3;
     }
     return rss / std::max(dof, 1);
   };
+  const auto variance_for = [&](double f, double c) { return variance_of(arcs_, f, c); };
   const double stamped_fps = 1 / period_s_;
   retiming_.stamped_fps = stamped_fps;
   const double as_stamped = variance_for(0, 0);
@@ -149,7 +150,21 @@ void FrameRetimer::Decide(bool enough) {
   retiming_.gain = best > 0 && best < 1e300 ? as_stamped / best : (as_stamped > 0 && best == 0 ? 1e300 : 1.0);
   char line[360];
   const double explained_px = best < as_stamped ? std::sqrt(as_stamped - best) : 0;
-  if (best_f > 0 && retiming_.gain >= config_.min_gain && explained_px >= config_.min_explained_px) {
+  // Dropped pictures misplace the ball all along an arc; a ball smeared over an impact, a
+  // release or a hand misplace it at the arc's ends, where among 130 re-timings one absorbs
+  // much of it. The re-timing must convince on the arcs' interior too: each arc without its
+  // first and last samples.
+  std::vector<std::vector<BallObservation>> interior;
+  for (const auto& a : arcs_)
+    if (a.size() >= 6) interior.emplace_back(a.begin() + 1, a.end() - 1);
+  const double interior_stamped = interior.empty() ? 0 : variance_of(interior, 0, 0);
+  const double interior_retimed = interior.empty() ? 1e300 : variance_of(interior, best_f, best_c);
+  const bool interior_convinces =
+      interior_retimed < 1e300 && interior_stamped >= config_.min_gain * interior_retimed &&
+      std::sqrt(std::max(0.0, interior_stamped - interior_retimed)) >= config_.min_explained_px;
+  const bool pooled_convinces =
+      best_f > 0 && retiming_.gain >= config_.min_gain && explained_px >= config_.min_explained_px;
+  if (pooled_convinces && interior_convinces) {
     retiming_.retimed = true;
     retiming_.applied = config_.mode == FrameTimes::kRetimed;
     retiming_.source_fps = best_f;
@@ -160,6 +175,12 @@ void FrameRetimer::Decide(bool enough) {
                   retiming_.applied ? "frames re-timed" : "frame times as stamped (--keep-frame-times), but they look",
                   best_f, stamped_fps, best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
                   retiming_.arcs);
+  } else if (pooled_convinces) {
+    std::snprintf(line, sizeof line,
+                  "frame times as stamped (the %.4g fps times fit the ball's arcs with %.1f px of residual, "
+                  "%.1f px as stamped, but only at their ends: inside them %.1f px at %.4g fps, %.1f px as stamped)",
+                  best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
+                  interior_retimed < 1e300 ? std::sqrt(interior_retimed) : 0.0, best_f, std::sqrt(interior_stamped));
   } else {
     std::snprintf(line, sizeof line,
                   "frame times as stamped (no faster source rate fits the ball's arcs by far better: "

@@ -6,7 +6,11 @@
 // the ball's height turns from falling to rising) and a parabola of time is fitted to each
 // arc, with the stamps as they are and with each frame re-timed to the tick of a faster source
 // it would have come from (floor(t f + c) / f). The pooled residual says whether a re-timing
-// explains the motion by far better (docs/ACCURACY.md, "Frames re-timed by default").
+// explains the motion by far better (docs/ACCURACY.md, "Frames re-timed by default"), on the
+// whole arcs and on their interior (each arc without its first and last samples): dropped
+// pictures misplace the ball all along an arc, while a ball smeared over an impact by a 1/40 s
+// shutter, a release or a hand misplace it at an arc's ends, and among 130 re-timings one
+// absorbs much of that.
 // Whole arcs, not four-sample windows: a window's third difference amplifies a pixel of
 // tracking noise by the frame rate cubed, and the shared tennis clip cropped by 8 px and
 // re-encoded lost its 7x signal that way (1.5x); fitted arcs keep it (5x). A core with no I/O.

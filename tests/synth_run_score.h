@@ -14,6 +14,7 @@
 
 #include "msgs/peaks_csv.h"
 #include "synth/synth_truth.h"
+#include "tests/test_support.h"
 
 namespace bouncefit::testing {
 
@@ -94,6 +95,27 @@ inline SynthRunScore ScoreSynthRun(const SynthTruth& truth, const std::filesyste
   for (size_t k = 0; k < drops.size(); ++k) {
     std::snprintf(line, sizeof line, "  drop %zu: scale %.4f of the truth's\n", k, s.scale_ratio[k]);
     s.table += line;
+  }
+  return s;
+}
+
+// The frames in flight (the whole ball in view, after the release, before it rests) and those
+// of them track.csv does not find; `lost` lists the first few.
+struct InFlightScore {
+  int in_flight = 0, lost = 0;
+  std::string lost_frames;
+};
+
+inline InFlightScore ScoreInFlight(const SynthTruth& truth, const std::filesystem::path& out_dir) {
+  InFlightScore s;
+  const auto track = ReadCsv(out_dir / "track.csv");
+  const double rest = truth.comes_to_rest ? truth.rest_t_s : 1e9;
+  for (const auto& f : truth.frames) {
+    if (!f.fully_in_view || f.t_s <= truth.release_t_s + 0.01 || f.t_s >= rest) continue;
+    ++s.in_flight;
+    const auto i = static_cast<size_t>(f.index);
+    if (i >= track.size() || track[i].at("found") != "1")
+      if (++s.lost <= 5) s.lost_frames.append(" ").append(std::to_string(f.index));
   }
   return s;
 }
