@@ -66,7 +66,7 @@ struct SynthClipConfig {
   // hand_windup_s (an arm's follow-through: it slows as a ball in flight does). Set by tests
   // (tests/tossed_from_the_hand_slow_test.cc); `bouncefit synth` has no flag for it.
   bool hand = false;
-  double hand_windup_s = 0.25;
+  double hand_windup_s = 0.12;
   // Several drops in one clip (synth/synth_drops.h): each drop's distance from the camera, m,
   // and its release height, m (empty: drop_height_m for each). Empty distances: one drop at
   // the scale px_per_m. Between drops the ball rests, rolls for roll_s to the next distance

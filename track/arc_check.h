@@ -23,7 +23,7 @@ class ArcCheck {
   void Reset() { samples_.clear(), ballistic_ = false, moving_s_ = 0; }
   // A found position at time t (s), image pixels (y down), radius r (px). Returns true once
   // the stretch ending at this sample is a ballistic arc (and from then on). `whole`: the
-  // object's outline seen, not a blob running on out of the window or the frame; a stretch
+  // object's outline seen, not a blob running on out of the frame; a stretch
   // with a sample that was not is no arc (an arm reaching in from the edge rises and slows as
   // a tossed ball does: its blob has no shape to tell it by).
   bool Add(double t, double x, double y, double r, bool whole = true);

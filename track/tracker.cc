@@ -452,7 +452,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
     // Ball cut by the frame or ROI border: the blob is all there is.
     bc.cx = cx, bc.cy = cy, bc.r = r0;
     score = 0.2f;
-    shapeless = true;
+    shapeless = CutByRoiBorder(blob.box);
   } else if (radius_ > 0 && std::min(blob.box.width, blob.box.height) > 1.4 * radius_ &&
              std::min(blob.box.width, blob.box.height) < 2.6 * radius_) {
     // Not round but ball-sized across: a ball smeared by motion blur (slow shutters). The

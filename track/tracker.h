@@ -117,7 +117,7 @@ class Tracker {
                           BallObservation* obs, bool replaces = false);
 
   // The last frame's sighting is of an automatic lock not yet confirmed, seen only as a blob
-  // running on out of its window or the frame (an arm reaching in): the ball may be beside it,
+  // running on out of the frame (an arm reaching in from its edge): the ball may be beside it,
   // and a later choice may find it there (the look back waits for it).
   bool tentative() const { return tentative_; }
   bool color_chosen() const { return color_.valid(); }
@@ -200,8 +200,9 @@ class Tracker {
   int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;
   int64_t found_earlier_ = 0;  // frames the ball was found in looking back
   bool looking_back_ = false;  // in FindInEarlierFrame: no colour adaptation
-  // The last sighting was a blob the window or the frame cut, with no rim found: all of it
-  // that is known is that it runs on beyond (an arm reaching in), no shape to be a ball by.
+  // The last sighting was a blob the frame's (or ROI's) border cuts, with no rim found: all
+  // that is known is that it runs on beyond (an arm reaching in), no shape to be a ball by. (A
+  // ball the window alone cuts is a streak or a ball run into its shadow: it stays a ball.)
   bool shapeless_ = false;
   bool tentative_ = false;
   std::vector<Remembered> distractors_;

@@ -84,7 +84,7 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   else if (t - last_found_t_ > config_.auto_drop_lost_s)
     drop = Fmt("not seen for %.1f s", t - last_found_t_, 0);
   const bool still = obs.found && arc_.RecentTravel(0.2) < 0.5 * here_r;
-  // A lock seen only as a blob running on out of its window or the frame (an arm reaching in)
+  // A lock seen only as a blob running on out of the frame (an arm reaching in from its edge)
   // shows no shape to be a ball by: it is reviewed as a still one is, and a ball elsewhere
   // replaces it.
   const bool unsure = still || shapeless;
