@@ -226,18 +226,38 @@ SynthClipResult RenderSynthTrajectoryClip(const SynthClipConfig& c, const SynthT
 
   // Trajectory time (since release) = clip time + offset.
   const double offset = c.start_after_release_s > 0 ? c.start_after_release_s : -c.hold_s;
+  const double windup = c.hand ? c.hand_windup_s : 0;
   auto ball_at = [&](double t_clip) {
-    const double t_flight = std::max(0.0, t_clip + offset);
+    const double t_since = t_clip + offset;  // since the release
+    const double t_flight = std::max(0.0, t_since);
     const TrajectorySample s = traj.at(t_flight);
     double half_h = s.center_height_m - s.bottom_height_m;
     if (!(half_h > 0)) half_h = r_m;
     const double ratio = s.width_height_ratio > 0 ? s.width_height_ratio : 1.0;
     SynthBallAt b;
-    b.bottom_m = s.bottom_height_m;
-    b.shape.x = ball_x_px + c.launch_right_mps * t_flight * scale;
-    b.shape.y = floor_px - (s.bottom_height_m + half_h) * scale;
+    // Carried by the hand before the release: at the launch speed, in a straight line.
+    const double carried = std::clamp(t_since, -windup, 0.0);
+    b.bottom_m = s.bottom_height_m + c.launch_up_mps * carried;
+    b.shape.x = ball_x_px + c.launch_right_mps * (t_flight + carried) * scale;
+    b.shape.y = floor_px - (b.bottom_m + half_h) * scale;
     b.shape.b = half_h * scale;
     b.shape.a = ratio * half_h * scale;
+    if (c.hand) {
+      // The hand's own path: it reaches in to the ball over the first part of the hold, then
+      // the ball's path to the release; after it, slowing evenly to a stop.
+      const double after = std::clamp(t_since, 0.0, windup);
+      const double on = windup > 0 ? after - after * after / (2 * windup) : 0;
+      const bool from_right = c.ball_x > 0.5;
+      const double side = from_right ? 1 : -1, r_px = half_h * scale;
+      const double reach_s = 0.5 * std::max(0.0, c.hold_s - windup);
+      const double reach_u = reach_s > 0 ? std::clamp((t_since + c.hold_s) / reach_s, 0.0, 1.0) : 1.0;
+      const double reach = 1 - reach_u * reach_u * (3 - 2 * reach_u);  // still to go, 1 -> 0
+      b.has_hand = true;
+      b.hand.r = 1.5 * r_px;
+      b.hand.x = ball_x_px + c.launch_right_mps * (carried + on) * scale + side * (1.8 + 6 * reach) * r_px;
+      b.hand.y = floor_px - (c.drop_height_m + c.launch_up_mps * (carried + on)) * scale - (1 - 2 * reach) * r_px;
+      b.hand.edge_x = from_right ? c.width - 1 : 0;
+    }
     return b;
   };
 

@@ -60,6 +60,13 @@ struct SynthClipConfig {
   Bgr floor_bgr = {112, 118, 124};
   FloorPattern floor_pattern = FloorPattern::kPlain;  // pebbles are a ball's diameter across
   bool distractor = false;      // a static sphere of similar hue on the floor
+  // A hand that tosses the ball: an arm reaching in from the frame's nearer side, its hand
+  // beside the ball, carrying it at its launch speed for hand_windup_s before the release
+  // (the hold is where that starts), then rising on and slowing to a stop over
+  // hand_windup_s (an arm's follow-through: it slows as a ball in flight does). Set by tests
+  // (tests/tossed_from_the_hand_slow_test.cc); `bouncefit synth` has no flag for it.
+  bool hand = false;
+  double hand_windup_s = 0.12;
   // Several drops in one clip (synth/synth_drops.h): each drop's distance from the camera, m,
   // and its release height, m (empty: drop_height_m for each). Empty distances: one drop at
   // the scale px_per_m. Between drops the ball rests, rolls for roll_s to the next distance

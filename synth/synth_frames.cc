@@ -180,7 +180,8 @@ SynthRenderCost RenderSynthFrames(const SynthClipConfig& c, const SynthScene& sc
     f.camera_dx = camera.x, f.camera_dy = camera.y;
     truth->frames.push_back(f);
     const double t0 = SynthCpuSeconds();
-    scene.Render(subs, &frame);
+    const SynthBallAt mid = ball_at(t);
+    scene.Render(subs, &frame, mid.has_hand ? &mid.hand : nullptr);
     if (camera != cv::Point2d(0, 0)) {
       // What the scene showed at p, the sensor shows at p + camera (the edges mirrored in).
       const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, camera.x, 0, 1, camera.y);

@@ -15,6 +15,8 @@ namespace bouncefit {
 struct SynthBallAt {
   BallShape shape;
   double bottom_m = 0;
+  bool has_hand = false;  // a hand in the picture (SynthClipConfig::hand)
+  HandShape hand;
 };
 
 // Process CPU time spent per phase, s.

@@ -1,5 +1,7 @@
 #include "synth/synth_scene.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -228,11 +230,27 @@ bool SynthScene::FullyInView(const BallShape& b) const {
          c.y + ey <= config_.height - 0.5;
 }
 
-void SynthScene::Render(const std::vector<BallShape>& subs, cv::Mat* out) const {
+void SynthScene::Render(const std::vector<BallShape>& subs, cv::Mat* out, const HandShape* hand) const {
   background_.copyTo(*out);
+  if (hand) RenderHand(*hand, out);
   if (subs.empty()) return;
   RenderShadow(subs, out);
   RenderBall(subs, config_.ball_bgr, out);
+}
+
+void SynthScene::RenderHand(const HandShape& h, cv::Mat* out) const {
+  // The arm rises from the fist to the edge at a slant, its elbow out of the picture.
+  const double run = std::abs(h.edge_x - h.x) + 2 * h.r;
+  const cv::Point2d fist = ToImage({h.x, h.y});
+  const cv::Point2d edge = ToImage({h.edge_x + (h.edge_x > h.x ? 2 * h.r : -2 * h.r), h.y - 0.4 * run});
+  constexpr int kShift = 4;  // sub-pixel coordinates for the anti-aliased drawing
+  auto fixed = [](cv::Point2d p) { return cv::Point(cv::saturate_cast<int>(p.x * (1 << kShift)),
+                                                    cv::saturate_cast<int>(p.y * (1 << kShift))); };
+  const cv::Scalar skin(105, 128, 178);
+  cv::line(*out, fixed(fist), fixed(edge), skin, std::max(1, static_cast<int>(std::lround(1.4 * h.r))), cv::LINE_AA,
+           kShift);
+  cv::circle(*out, fixed(fist), static_cast<int>(std::lround(h.r * (1 << kShift))), skin, cv::FILLED, cv::LINE_AA,
+             kShift);
 }
 
 void SynthScene::RenderShadow(const std::vector<BallShape>& subs, cv::Mat* out) const {

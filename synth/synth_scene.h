@@ -46,6 +46,13 @@ struct SynthSceneConfig {
   double distractor_radius_px = 10;
 };
 
+// A hand at one instant, in scene px: a fist of radius r at (x, y) on an arm of its width that
+// runs to the picture's side edge at scene x edge_x (where the arm leaves the picture).
+struct HandShape {
+  double x = 0, y = 0, r = 10;
+  double edge_x = 0;
+};
+
 // The ball at one instant, in scene px.
 struct BallShape {
   double x = 0, y = 0;        // centre
@@ -69,9 +76,12 @@ class SynthScene {
 
   // Renders into *out (CV_8UC3, the image size) the scene with the ball's exposure as the
   // average of the given sub-exposure shapes (at least one). Thread-safe.
-  void Render(const std::vector<BallShape>& sub_exposures, cv::Mat* out) const;
+  // A hand (nullptr: none) is drawn behind the ball, at the frame's mid-exposure.
+  void Render(const std::vector<BallShape>& sub_exposures, cv::Mat* out, const HandShape* hand = nullptr) const;
 
  private:
+  // Draws the arm and its fist over *out, skin-coloured, anti-aliased.
+  void RenderHand(const HandShape& hand, cv::Mat* out) const;
   // Darkens *out by the exposure-averaged soft shadow of the shapes on the floor.
   void RenderShadow(const std::vector<BallShape>& subs, cv::Mat* out) const;
   // Composites the exposure-averaged shaded ball of the given colour over *out.

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "msgs/peaks_csv.h"
@@ -118,6 +119,42 @@ inline InFlightScore ScoreInFlight(const SynthTruth& truth, const std::filesyste
       if (++s.lost <= 5) s.lost_frames.append(" ").append(std::to_string(f.index));
   }
   return s;
+}
+
+// Prints the score under `name` and expects what every rendered kind must show: at least
+// `at_least` apexes wanted, each found within max(2 mm, 2%), no false row, the scale within 2%.
+inline void ExpectEveryApex(const char* name, const SynthRunScore& s, int at_least) {
+  std::printf("%s: %d of %d apexes >= 2 cm within max(2 mm, 2%%), %d off, %d missed, %d false\n%s", name, s.found,
+              s.wanted, s.off, s.missed, s.false_rows, s.table.c_str());
+  EXPECT_GE(s.wanted, at_least) << s.table;
+  EXPECT_EQ(s.found, s.wanted) << s.table;
+  EXPECT_EQ(s.false_rows, 0) << s.table;
+  ASSERT_FALSE(s.scale_ratio.empty());
+  EXPECT_NEAR(s.scale_ratio[0], 1.0, 0.02) << s.table;
+}
+
+// A run's track.csv against the truth, frame by frame in flight (released, the ball all in
+// view, not at rest): the frames without the ball where it was (not found, or found further
+// than its radius from its centre: on something else).
+struct FlightFrames {
+  int in_flight = 0, without_ball = 0;
+  std::string which;  // their frame numbers
+};
+
+inline FlightFrames ScoreFramesInFlight(const SynthTruth& truth, const std::filesystem::path& out_dir) {
+  FlightFrames f;
+  const auto rows = ReadCsv(out_dir / "track.csv");
+  const double rest = truth.comes_to_rest ? truth.rest_t_s : 1e9;
+  for (size_t i = 0; i < truth.frames.size() && i < rows.size(); ++i) {
+    const SynthTruthFrame& t = truth.frames[i];
+    if (!t.fully_in_view || t.t_s <= truth.release_t_s + 0.01 || t.t_s >= rest) continue;
+    ++f.in_flight;
+    const auto& r = rows[i];
+    if (r.at("found") != "1" ||
+        std::hypot(std::stod(r.at("cx_px")) - t.cx, std::stod(r.at("cy_px")) - t.cy) > truth.radius_px)
+      ++f.without_ball, f.which += " " + std::to_string(i);
+  }
+  return f;
 }
 
 }  // namespace bouncefit::testing

@@ -43,13 +43,7 @@ TEST_P(ThrownBall, EveryApexFoundAndTheScaleRight) {
                                 &log),
             0)
       << log;
-  const testing::SynthRunScore s = testing::ScoreSynthRun(truth, out);
-  std::printf("%s: %d of %d apexes >= 2 cm within max(2 mm, 2%%), %d off, %d missed, %d false\n%s", c.name, s.found,
-              s.wanted, s.off, s.missed, s.false_rows, s.table.c_str());
-  EXPECT_GE(s.wanted, 3) << s.table;
-  EXPECT_EQ(s.found, s.wanted) << s.table;
-  EXPECT_EQ(s.false_rows, 0) << s.table;
-  EXPECT_NEAR(s.scale_ratio[0], 1.0, 0.02) << s.table;
+  testing::ExpectEveryApex(c.name, testing::ScoreSynthRun(truth, out), 3);
 }
 
 // Balls tracked by their colour (a tennis ball's yellow-green is tracked by its brightness on

@@ -7,7 +7,7 @@
 
 namespace bouncefit {
 
-bool ArcCheck::Add(double t, double x, double y, double r) {
+bool ArcCheck::Add(double t, double x, double y, double r, bool whole) {
   if (!samples_.empty() && t - samples_.back().t > params_.max_gap_s) samples_.clear();
   if (!samples_.empty() && t <= samples_.back().t) return ballistic_;
   if (!samples_.empty()) {
@@ -15,7 +15,7 @@ bool ArcCheck::Add(double t, double x, double y, double r) {
     const double dt = t - p.t;
     if (std::hypot(x - p.x, y - p.y) > std::max(1.0, r) * dt / 0.1) moving_s_ += dt;
   }
-  samples_.push_back({t, x, y, r});
+  samples_.push_back({t, x, y, r, whole});
   if (samples_.size() > 64) samples_.erase(samples_.begin());
   if (!ballistic_ && StretchIsArc()) ballistic_ = true;
   return ballistic_;
@@ -51,6 +51,7 @@ bool ArcCheck::StretchIsArc() const {
   const double t0 = samples_[first].t;
   for (int i = 0; i < m; ++i) {
     const Sample& s = samples_[first + i];
+    if (!s.whole) return false;
     const double dt = s.t - t0;
     A.at<double>(i, 0) = 1, A.at<double>(i, 1) = dt, A.at<double>(i, 2) = dt * dt;
     bx.at<double>(i) = s.x, by.at<double>(i) = s.y;

@@ -22,8 +22,11 @@ class ArcCheck {
   explicit ArcCheck(ArcCheckParams params = {}) : params_(params) {}
   void Reset() { samples_.clear(), ballistic_ = false, moving_s_ = 0; }
   // A found position at time t (s), image pixels (y down), radius r (px). Returns true once
-  // the stretch ending at this sample is a ballistic arc (and from then on).
-  bool Add(double t, double x, double y, double r);
+  // the stretch ending at this sample is a ballistic arc (and from then on). `whole`: the
+  // object's outline seen, not a blob running on out of the frame; a stretch
+  // with a sample that was not is no arc (an arm reaching in from the edge rises and slows as
+  // a tossed ball does: its blob has no shape to tell it by).
+  bool Add(double t, double x, double y, double r, bool whole = true);
   bool ballistic() const { return ballistic_; }
   // Time (s) the object spent moving (more than a radius per 0.1 s) without being ballistic.
   double moving_s() const { return moving_s_; }
@@ -35,6 +38,7 @@ class ArcCheck {
  private:
   struct Sample {
     double t, x, y, r;
+    bool whole;
   };
   bool StretchIsArc() const;
   ArcCheckParams params_;

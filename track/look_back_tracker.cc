@@ -17,12 +17,13 @@ double Seconds(int64_t utime) { return static_cast<double>(utime) * 1e-6; }
 }  // namespace
 
 LookBackTracker::LookBackTracker(Tracker& tracker, LookBackConfig config) : tracker_(tracker), config_(config) {
-  if (!(config_.max_wait_s >= 0) || config_.max_frames < 0)
+  if (!(config_.max_wait_s >= 0) || config_.max_frames < 0 || !(config_.tentative_wait_s >= 0) ||
+      config_.tentative_frames < 0)
     throw std::invalid_argument("look back: the wait must be >= 0 s and >= 0 frames");
 }
 
 std::vector<TrackedFrame> LookBackTracker::Track(const Frame& frame) {
-  TrackedFrame tracked{frame, tracker_.Track(frame)};
+  TrackedFrame tracked{frame, tracker_.Track(frame), tracker_.tentative()};
   // A waiting picture must outlive the source's next one.
   if (!frame.owns_image) tracked.frame.image = frame.image.clone();
   if (!frame.luma.empty() && !frame.luma_owner) tracked.frame.luma = frame.luma.clone();
@@ -36,10 +37,13 @@ std::vector<TrackedFrame> LookBackTracker::Track(const Frame& frame) {
     LookBack(first);
     Settle(waiting_.size(), &out);
   }
-  while (!waiting_.empty() &&
-         (waiting_.size() > static_cast<size_t>(config_.max_frames) ||
-          Seconds(waiting_.back().frame.utime - waiting_.front().frame.utime) > config_.max_wait_s))
+  while (!waiting_.empty()) {
+    const bool tentative = waiting_.front().tentative;
+    const size_t frames = static_cast<size_t>(tentative ? config_.tentative_frames : config_.max_frames);
+    const double wait = tentative ? config_.tentative_wait_s : config_.max_wait_s;
+    if (waiting_.size() <= frames && Seconds(waiting_.back().frame.utime - waiting_.front().frame.utime) <= wait) break;
     Settle(1, &out);
+  }
   return out;
 }
 
@@ -52,7 +56,7 @@ std::vector<TrackedFrame> LookBackTracker::Flush() {
 
 size_t LookBackTracker::FirstFound() const {
   size_t first = 0;
-  while (first < waiting_.size() && !waiting_[first].obs.found) ++first;
+  while (first < waiting_.size() && (!waiting_[first].obs.found || waiting_[first].tentative)) ++first;
   return first;
 }
 
@@ -86,7 +90,7 @@ void LookBackTracker::LookBack(size_t first) {
     const cv::Point2f in_frame(static_cast<float>(centre.x + w.obs.camera_dx),
                                static_cast<float>(centre.y + w.obs.camera_dy));
     BallObservation found = w.obs;
-    if (!tracker_.FindInEarlierFrame(w.frame, in_frame, reach, speed * (ta - tk), &found)) return;
+    if (!tracker_.FindInEarlierFrame(w.frame, in_frame, reach, speed * (ta - tk), &found, w.tentative)) return;
     // Across the picture a ball between two sightings keeps between them (its sideways speed
     // is steady in flight; an impact may slow it, not send it back): a thing of its colour
     // beside its path, where it vanished before a patch of its hue, is not it.
@@ -96,6 +100,7 @@ void LookBackTracker::LookBack(size_t first) {
         return;
     }
     w.obs = found;
+    w.tentative = false;
     b = a;
     a = &w.obs;
   }
@@ -104,7 +109,7 @@ void LookBackTracker::LookBack(size_t first) {
 void LookBackTracker::Settle(size_t n, std::vector<TrackedFrame>* out) {
   for (size_t i = 0; i < n && !waiting_.empty(); ++i) {
     TrackedFrame& f = waiting_.front();
-    before_ = f.obs.found ? std::optional<BallObservation>(f.obs) : std::nullopt;
+    before_ = f.obs.found && !f.tentative ? std::optional<BallObservation>(f.obs) : std::nullopt;
     out->push_back(std::move(f));
     waiting_.pop_front();
   }

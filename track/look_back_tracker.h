@@ -1,11 +1,12 @@
 #pragma once
 // The tracker with a look back. Frames in which it does not find the ball wait (a quarter of a
-// second at most); once it finds the ball again it looks for it in them, newest first, from
-// where it found it. A finder that sees what moves finds a ball held still only once it falls
+// second at most), and so do those of a lock the tracker is not sure of (Tracker::tentative:
+// an arm reaching in, the ball beside it); once it finds the ball again it looks for it in
+// them, newest first, from where it found it. A finder that sees what moves finds a ball held still only once it falls
 // (at 30 fps a 10 cm drop is four frames), and a streak rising from an impact may slip past
 // the window for a frame: such frames are found this way. Every frame still comes out once,
-// in order, with its own time; only frames without the ball wait, so a ball followed frame
-// after frame comes out at once.
+// in order, with its own time; only frames without the ball (or with a tentative lock) wait,
+// so a ball followed frame after frame comes out at once.
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -21,12 +22,17 @@ namespace bouncefit {
 struct LookBackConfig {
   double max_wait_s = 0.25;  // a frame without the ball waits at most this long, s ...
   int max_frames = 16;       // ... and among at most this many (the pictures kept)
+  // A tentative lock's frames (an arm that may hold the ball) wait longer: a toss is carried
+  // for a few tenths of a second before the ball leaves the hand and is chosen, s and frames.
+  double tentative_wait_s = 0.6;
+  int tentative_frames = 32;
 };
 
 // A frame and what the tracker made of it.
 struct TrackedFrame {
   Frame frame;
   BallObservation obs;
+  bool tentative = false;  // Tracker::tentative(): waits as a frame without the ball does
 };
 
 class LookBackTracker {

@@ -181,6 +181,7 @@ BallObservation Tracker::Track(const Frame& frame) {
     const bool keep = still_frames_ <= config_.luma_still_frames;
     luma_->UpdateBackground(last_cx_, last_cy_, keep ? radius_ : 0);
   }
+  tentative_ = ok && auto_ && shapeless_;
   if (auto_) ReviewAutoLock(frame, obs);
   return obs;
 }
@@ -314,6 +315,7 @@ bool Tracker::TryStreak(const Frame& frame, cv::Point2f centre, double half, dou
     const double slope_path = std::atan2(std::abs(arc_dir_y_), std::abs(arc_dir_x_));
     if (std::abs(slope_streak - slope_path) > config_.streak_max_turn_deg * std::numbers::pi / 180) return false;
   }
+  shapeless_ = false;
   obs->found = true;
   obs->x = s.box.x, obs->y = s.box.y, obs->w = s.box.width, obs->h = s.box.height;
   obs->cx = static_cast<float>(s.cx);
@@ -441,6 +443,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
     }
   }
   float score;
+  bool shapeless = false;
   if (bc.ok) {
     if (radius_ > 0 && !bc.cut && !SizeMatches(bc.r, radius_))
       return false;
@@ -449,6 +452,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
     // Ball cut by the frame or ROI border: the blob is all there is.
     bc.cx = cx, bc.cy = cy, bc.r = r0;
     score = 0.2f;
+    shapeless = CutByRoiBorder(blob.box);
   } else if (radius_ > 0 && std::min(blob.box.width, blob.box.height) > 1.4 * radius_ &&
              std::min(blob.box.width, blob.box.height) < 2.6 * radius_) {
     // Not round but ball-sized across: a ball smeared by motion blur (slow shutters). The
@@ -460,6 +464,7 @@ bool Tracker::Refine(const Frame& frame, const Blob& blob, cv::Point2f expected,
   } else {
     return false;
   }
+  shapeless_ = shapeless;
   obs->found = true;
   obs->x = blob.box.x;
   obs->y = blob.box.y;

@@ -112,9 +112,14 @@ class Tracker {
   // sweep more than half its radius over the frame (`sweep_px`). Changes nothing the tracker
   // follows. False when not found, or with nothing to look with: no colour chosen yet, or
   // brightness (its background model is of now, not of then).
+  // `replaces`: the frame had a sighting of its own (a tentative lock's), counted already.
   bool FindInEarlierFrame(const Frame& frame, cv::Point2f centre, double reach_px, double sweep_px,
-                          BallObservation* obs);
+                          BallObservation* obs, bool replaces = false);
 
+  // The last frame's sighting is of an automatic lock not yet confirmed, seen only as a blob
+  // running on out of the frame (an arm reaching in from its edge): the ball may be beside it,
+  // and a later choice may find it there (the look back waits for it).
+  bool tentative() const { return tentative_; }
   bool color_chosen() const { return color_.valid(); }
   const ColorModel& color() const { return color_; }
   int64_t acquisitions() const { return acquisitions_; }
@@ -195,6 +200,11 @@ class Tracker {
   int64_t frames_ = 0, found_ = 0, acquisitions_ = 0;
   int64_t found_earlier_ = 0;  // frames the ball was found in looking back
   bool looking_back_ = false;  // in FindInEarlierFrame: no colour adaptation
+  // The last sighting was a blob the frame's (or ROI's) border cuts, with no rim found: all
+  // that is known is that it runs on beyond (an arm reaching in), no shape to be a ball by. (A
+  // ball the window alone cuts is a streak or a ball run into its shadow: it stays a ball.)
+  bool shapeless_ = false;
+  bool tentative_ = false;
   std::vector<Remembered> distractors_;
   std::vector<Blob> last_candidates_;
   BallFinder finder_;

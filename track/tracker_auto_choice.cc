@@ -69,7 +69,8 @@ void Tracker::RememberLookalikes(const Frame& frame) {
 void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   const double t = static_cast<double>(frame.utime) * 1e-6;
   if (obs.found) last_found_t_ = t;
-  if (obs.found && arc_.Add(t, obs.cx - cam_x_, obs.cy - cam_y_, obs.radius_px)) {
+  const bool shapeless = obs.found && shapeless_;
+  if (obs.found && arc_.Add(t, obs.cx - cam_x_, obs.cy - cam_y_, obs.radius_px, !shapeless)) {
     auto_ = false;
     how_ += Fmt("; confirmed at %.2f s: its track became a ballistic arc", t, 0);
     if (choices_ > 1) how_ += Fmt(" (choice %.0f)", static_cast<double>(choices_), 0);
@@ -83,6 +84,10 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   else if (t - last_found_t_ > config_.auto_drop_lost_s)
     drop = Fmt("not seen for %.1f s", t - last_found_t_, 0);
   const bool still = obs.found && arc_.RecentTravel(0.2) < 0.5 * here_r;
+  // A lock seen only as a blob running on out of the frame (an arm reaching in from its edge)
+  // shows no shape to be a ball by: it is reviewed as a still one is, and a ball elsewhere
+  // replaces it.
+  const bool unsure = still || shapeless;
   // A lock that holds, moves and has its colour looks at no candidate below: the finder only
   // keeps its history then (the search is most of the tracking time until a lock confirms).
   // One that follows brightness looks every frame (the same ball may show a colour of its
@@ -91,7 +96,7 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   // held before the drop, or a decoy while the ball is held), every auto_review_s.
   const bool looks_for_colour = obs.found && chosen_.by_luma && chosen_.weaker_colour <= 0;
   const bool due = t - last_review_t_ >= config_.auto_review_s;
-  if (drop.empty() && !looks_for_colour && (!still || !due)) {
+  if (drop.empty() && !looks_for_colour && (!unsure || !due)) {
     finder_.Remember(frame, roi_);
     still_finder_.Remember(frame, roi_);
     return;
@@ -101,13 +106,14 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   // still lock) or the same ball shows a colour of its own (a brightness lock). Smaller
   // frames look first: only a candidate there that could matter (elsewhere, a quarter of the
   // strength a switch needs; by colour, near a brightness lock) sends the finder to its own
-  // size, which decides as always.
-  if (drop.empty()) {
+  // size, which decides as always. A shapeless lock's review looks at the finder's size at
+  // once: the ball it hides may have left it small and fast (a toss from the hand).
+  if (drop.empty() && !shapeless) {
     bool worth_a_look = false;
     for (const BallCandidate& c : still_finder_.Find(frame, roi_)) {
       const double d = std::hypot(c.x - here_x, c.y - here_y), near = 3 * std::max(here_r, c.r);
       worth_a_look = worth_a_look || (looks_for_colour && !c.by_luma && d < 1.5 * near) ||
-                     (still && !Rejected(c, t) && d >= near && c.score >= 0.25 * 0.5 * chosen_.score);
+                     (unsure && !Rejected(c, t) && d >= near && c.score >= 0.25 * 0.5 * chosen_.score);
     }
     if (!worth_a_look) {
       finder_.Remember(frame, roi_);
@@ -126,7 +132,7 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
       return;
     }
     if (Rejected(c, t) || same) continue;
-    if (drop.empty() && !(still && c.score >= 0.5 * chosen_.score)) break;
+    if (drop.empty() && !(unsure && c.score >= 0.5 * chosen_.score)) break;
     // The lock failed, or stands still while something else moves like a ball: switch.
     if (!drop.empty())
       rejected_.push_back({here_x, here_y, here_r, t + config_.auto_reject_s});

@@ -5,7 +5,7 @@
 namespace bouncefit {
 
 bool Tracker::FindInEarlierFrame(const Frame& frame, cv::Point2f centre, double reach_px, double sweep_px,
-                                 BallObservation* obs) {
+                                 BallObservation* obs, bool replaces) {
   if (!color_.valid() || luma_ || radius_ <= 0 || frame.image.size() != size_) return false;
   // What the search of the frame being tracked set for itself: no prediction here, no box
   // limit from its speed.
@@ -21,6 +21,7 @@ bool Tracker::FindInEarlierFrame(const Frame& frame, cv::Point2f centre, double 
   max_extent_px_ = extent;
   expected_motion_px_ = motion;
   planes_.rect = cv::Rect();  // an earlier frame's pixels: never taken for this one's
+  if (ok && replaces) --found_;
   if (ok) ++found_earlier_;
   return ok;
 }
