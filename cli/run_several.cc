@@ -6,6 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 #include "cli/fit_print.h"
 #include "cli/run_options.h"
 #include "pipeline/fit_stage.h"
@@ -13,6 +16,8 @@
 #include "fit/fit_export.h"
 #include "model/model_by_name.h"
 #include "msgs/msg_json.h"
+#include "pipeline/offline_fit.h"
+#include "report/report_run_data.h"
 
 namespace bouncefit::cli {
 namespace {
@@ -23,35 +28,51 @@ std::string Fixed(double v, int digits) {
   return buf;
 }
 
-// Each drop of a joint fit beside the fitted ball dropped from its release: the clip's
+// Each drop of a joint fit beside the fitted ball dropped from its start apex: the clip's
 // simulated.csv (so `report CLIPDIR` draws it, the paper's Fig. 7) and, for all drops,
-// OUT/drops.csv (clip, release, bounce, recorded and simulated heights).
-void WriteDropsBesideTheirSimulation(const RunOptions& o, const BallPreset& ball, const FitUpdate& fit,
-                                     const std::vector<std::vector<PeakInput>>& drops,
-                                     const std::vector<std::filesystem::path>& dirs,
+// OUT/drops.csv (clip, start height, each fitted bounce by its number in the clip's peaks.csv
+// with its recorded and simulated heights, as coefficients.json's drops hold them). Returns
+// each drop's clock against the simulation (run seconds per real second), in fitted's order.
+// fitted's drop: the clip's index.
+std::vector<double> WriteDropsBesideTheirSimulation(const RunOptions& o, const BallPreset& ball, const FitUpdate& fit,
+                                     const std::vector<FitDrop>& fitted,
                                      const std::filesystem::path& root) {
   auto model = MakeBallModel(fit.model, ball);
   std::ofstream table(root / "drops.csv", std::ios::trunc);
   table << "drop,clip_dir,release_m,bounce,recorded_m,simulated_m\n";
-  for (size_t d = 0; d < drops.size(); ++d) {
-    SimulationOptions so;
-    so.drop_height_m = drops[d].front().height_m;
-    so.record_trajectory = true;
-    so.duration_s = 8.0;
-    const SimulationResult r = model->Simulate(fit.values, so);
-    if (!r.ok) {
-      if (!o.quiet) std::fprintf(stderr, "run: warning: the fitted ball dropped from %.3f m: %s\n",
-                                 so.drop_height_m, r.failure.c_str());
-      continue;
-    }
-    WriteSimulatedCsv(dirs[d], static_cast<double>(drops[d].front().utime) * 1e-6, r.trajectory);
-    for (size_t i = 1; i < drops[d].size(); ++i) {
-      const size_t b = static_cast<size_t>(drops[d][i].bounce);
-      table << d + 1 << ',' << dirs[d].filename().string() << ',' << Fixed(so.drop_height_m, 5) << ','
-            << b << ',' << Fixed(drops[d][i].height_m, 5) << ','
-            << (b >= 1 && b <= r.bounce_heights_m.size() ? Fixed(r.bounce_heights_m[b - 1], 5) : "") << '\n';
-    }
+  std::vector<size_t> by_clip(fitted.size());
+  for (size_t k = 0; k < by_clip.size(); ++k) by_clip[k] = k;
+  std::sort(by_clip.begin(), by_clip.end(), [&](size_t a, size_t b) { return fitted[a].drop < fitted[b].drop; });
+  std::vector<double> clocks(fitted.size(), 1.0);
+  for (size_t k = 0; k < by_clip.size(); ++k) {
+    const FitDrop& d = fitted[by_clip[k]];
+    const std::filesystem::path dir = root / d.clip;
+    double& run_s_per_real_s = clocks[by_clip[k]];
+    const auto simulated = SimulateFitDrops(*model, fit, {d}, {INFINITY}, &run_s_per_real_s);
+    if (simulated.empty() && !o.quiet)
+      std::fprintf(stderr, "run: warning: the fitted ball dropped from %.3f m diverges\n", d.start_height_m);
+    if (!simulated.empty()) WriteSimulatedCsv(dir, simulated, run_s_per_real_s);
+    for (size_t i = 0; i < d.bounces.size(); ++i)
+      table << k + 1 << ',' << d.clip << ',' << Fixed(d.start_height_m, 5) << ',' << d.bounces[i] << ','
+            << Fixed(d.recorded_m[i], 5) << ',' << (std::isfinite(d.simulated_m[i]) ? Fixed(d.simulated_m[i], 5) : "")
+            << '\n';
   }
+  return clocks;
+}
+
+// The tracked ball of a clip's run directory from its drop's start apex, in real seconds since
+// it (the .glb's recorded_ball); empty without a calibration.
+RecordedTrack RecordedFromRunDir(const std::filesystem::path& dir, const FitDrop& d, double run_s_per_real_s) {
+  RecordedTrack r;
+  const ReportRunData run = LoadRunDirectory(dir);
+  if (!run.calibration || !run.calibration->usable() || !std::isfinite(d.start_t_s)) return r;
+  for (const ReportTrackRow& row : run.track) {
+    const double h = BallBottomHeightM(row, *run.calibration);
+    if (row.t_s < d.start_t_s || !std::isfinite(h)) continue;
+    r.t_s.push_back((row.t_s - d.start_t_s) / run_s_per_real_s);
+    r.bottom_height_m.push_back(h);
+  }
+  return r;
 }
 
 }  // namespace
@@ -102,6 +123,7 @@ ExitStatus RunSeveral(RunOptions o) {
       return any_bounce ? kExitNoFit : kExitNoBounce;
     }
     if (talk) std::printf("run: fitting the %zu drops jointly\n", drops.size());
+    std::vector<std::pair<size_t, int>> fitted_drops;  // (clip's drop, the bounce its fit started from)
     const FitUpdate final_fit = FitDropsOffline(drops, FitConfig(o), /*final_only=*/true, [&](const FitUpdate& u) {
       if (o.json)
         std::printf("%s\n", nlohmann::json{{"event", "fit"}, {"fit", ToJson(FitNode::ToMessage(u), 0)}}.dump().c_str());
@@ -110,16 +132,25 @@ ExitStatus RunSeveral(RunOptions o) {
       std::fflush(stdout);
     }, [&](int sims, int budget) {
       if (talk) std::fprintf(stderr, "final fit  %d / %d simulations\n", sims, budget);
-    });
+    }, &fitted_drops);
     if (!final_fit.no_answer.empty()) {
       std::fprintf(stderr, "bouncefit run: no fit: %s\n", final_fit.no_answer.c_str());
       summary["no_fit"] = final_fit.no_answer;
       std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
       return kExitNoFit;
     }
-    WriteFitExports(root, final_fit, ball);
+    // Each drop on its clip's timeline; the drop is the clip's first (its peaks.csv's drop 0).
+    std::vector<FitDrop> fitted = OfflineFitDrops(final_fit, drops, fitted_drops);
+    for (FitDrop& d : fitted) d.clip = fitted_dirs.at(static_cast<size_t>(d.drop)).filename().string();
+    const std::vector<double> clocks = WriteDropsBesideTheirSimulation(o, ball, final_fit, fitted, root);
+    for (FitDrop& d : fitted) d.drop = 0;
+    RecordedTrack recorded;
+    if (!fitted.empty()) recorded = RecordedFromRunDir(root / fitted.front().clip, fitted.front(), clocks.front());
+    FitExportContext context{"", "run", recorded.t_s.empty() ? nullptr : &recorded};
+    context.drops = &fitted;
+    context.run_s_per_real_s = clocks.empty() ? 1 : clocks.front();
+    WriteFitExports(root, final_fit, ball, context);
     summary["final_fit"] = FitUpdateToJson(final_fit, ball);
-    WriteDropsBesideTheirSimulation(o, ball, final_fit, drops, fitted_dirs, root);
   }
   std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
   if (talk) std::printf("run: done: %zu clips, %zu drops fitted; wrote %s\n", o.clips.size(), drops.size(), root.string().c_str());

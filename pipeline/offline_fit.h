@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fit/fit_session.h"
+#include "fit/fit_timeline.h"
 #include "fit/node/fit_node.h"
 
 namespace bouncefit {
@@ -26,9 +27,18 @@ std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& peaks_csv);
 // else its first apex); emit gets every update, the final one last; progress (simulations
 // run, budget) about once a second during the final fit. Returns the final update (its
 // no_answer set when it is no answer). Throws std::runtime_error when no drop has an apex
-// after its start high enough to fit.
+// after its start high enough to fit. fitted (may be null): for the final update's drops in
+// its order (the last drop, then the earlier ones it kept), each one's index in `drops` and
+// the bounce its fit started from.
 FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConfig node, bool final_only,
                           const std::function<void(const FitUpdate&)>& emit,
-                          const std::function<void(int, int)>& progress = {});
+                          const std::function<void(int, int)>& progress = {},
+                          std::vector<std::pair<size_t, int>>* fitted = nullptr);
+
+// The final fit's drops on their peak files' timeline (fit/fit_timeline.h), from what
+// FitDropsOffline said it fitted: each drop numbered by its index in `drops`, its bounces and
+// times those of its peaks.
+std::vector<FitDrop> OfflineFitDrops(const FitUpdate& fit, const std::vector<std::vector<PeakInput>>& drops,
+                                     const std::vector<std::pair<size_t, int>>& fitted);
 
 }  // namespace bouncefit
