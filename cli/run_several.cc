@@ -16,6 +16,7 @@
 #include "fit/fit_export.h"
 #include "model/model_by_name.h"
 #include "msgs/msg_json.h"
+#include "msgs/peaks_csv.h"
 #include "pipeline/offline_fit.h"
 #include "report/report_run_data.h"
 
@@ -33,16 +34,16 @@ std::string Fixed(double v, int digits) {
 // OUT/drops.csv (clip, start height, each fitted bounce by its number in the clip's peaks.csv
 // with its recorded and simulated heights, as coefficients.json's drops hold them). Returns
 // each drop's clock against the simulation (run seconds per real second), in fitted's order.
-// fitted's drop: the clip's index.
+// clip_of: each drop's clip, by its index among the clips fitted.
 std::vector<double> WriteDropsBesideTheirSimulation(const RunOptions& o, const BallPreset& ball, const FitUpdate& fit,
-                                     const std::vector<FitDrop>& fitted,
+                                     const std::vector<FitDrop>& fitted, const std::vector<size_t>& clip_of,
                                      const std::filesystem::path& root) {
   auto model = MakeBallModel(fit.model, ball);
   std::ofstream table(root / "drops.csv", std::ios::trunc);
   table << "drop,clip_dir,release_m,bounce,recorded_m,simulated_m\n";
   std::vector<size_t> by_clip(fitted.size());
   for (size_t k = 0; k < by_clip.size(); ++k) by_clip[k] = k;
-  std::sort(by_clip.begin(), by_clip.end(), [&](size_t a, size_t b) { return fitted[a].drop < fitted[b].drop; });
+  std::sort(by_clip.begin(), by_clip.end(), [&](size_t a, size_t b) { return clip_of[a] < clip_of[b]; });
   std::vector<double> clocks(fitted.size(), 1.0);
   for (size_t k = 0; k < by_clip.size(); ++k) {
     const FitDrop& d = fitted[by_clip[k]];
@@ -91,6 +92,7 @@ ExitStatus RunSeveral(RunOptions o) {
   bool any_bounce = false;
   std::vector<std::vector<PeakInput>> drops;
   std::vector<std::filesystem::path> fitted_dirs;  // the clip directory of each drop
+  std::vector<int> clip_drops;                     // and its number there (peaks.csv's drop)
   nlohmann::json clips = nlohmann::json::array();
   for (size_t k = 0; k < o.clips.size(); ++k) {
     RunOptions one = o;
@@ -107,6 +109,7 @@ ExitStatus RunSeveral(RunOptions o) {
       any_bounce = true;
       drops.push_back(ReadDropPeaks(std::filesystem::path(one.out) / "peaks.csv"));
       fitted_dirs.push_back(one.out);
+      clip_drops.push_back(ReadPeaksCsv(std::filesystem::path(one.out) / "peaks.csv").front().drop);
       entry["release_m"] = drops.back().front().height_m;
       entry["bounces"] = drops.back().size() - 1;
     } catch (const std::exception& e) {  // what that clip recorded stays in its directory
@@ -139,11 +142,15 @@ ExitStatus RunSeveral(RunOptions o) {
       std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
       return kExitNoFit;
     }
-    // Each drop on its clip's timeline; the drop is the clip's first (its peaks.csv's drop 0).
+    // Each drop on its clip's timeline: the clip's first drop, numbered as its peaks.csv does.
     std::vector<FitDrop> fitted = OfflineFitDrops(final_fit, drops, fitted_drops);
-    for (FitDrop& d : fitted) d.clip = fitted_dirs.at(static_cast<size_t>(d.drop)).filename().string();
-    const std::vector<double> clocks = WriteDropsBesideTheirSimulation(o, ball, final_fit, fitted, root);
-    for (FitDrop& d : fitted) d.drop = 0;
+    std::vector<size_t> clip_of(fitted.size());
+    for (size_t k = 0; k < fitted.size(); ++k) {
+      clip_of[k] = static_cast<size_t>(fitted[k].drop);
+      fitted[k].clip = fitted_dirs.at(clip_of[k]).filename().string();
+      fitted[k].drop = clip_drops.at(clip_of[k]);
+    }
+    const std::vector<double> clocks = WriteDropsBesideTheirSimulation(o, ball, final_fit, fitted, clip_of, root);
     RecordedTrack recorded;
     if (!fitted.empty()) recorded = RecordedFromRunDir(root / fitted.front().clip, fitted.front(), clocks.front());
     FitExportContext context{"", "run", recorded.t_s.empty() ? nullptr : &recorded};
