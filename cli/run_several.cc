@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "cli/fit_print.h"
 #include "cli/run_options.h"
@@ -16,7 +17,6 @@
 #include "fit/fit_export.h"
 #include "model/model_by_name.h"
 #include "msgs/msg_json.h"
-#include "msgs/peaks_csv.h"
 #include "pipeline/offline_fit.h"
 #include "report/report_run_data.h"
 
@@ -29,32 +29,41 @@ std::string Fixed(double v, int digits) {
   return buf;
 }
 
-// Each drop of a joint fit beside the fitted ball dropped from its start apex: the clip's
-// simulated.csv (so `report CLIPDIR` draws it, the paper's Fig. 7) and, for all drops,
-// OUT/drops.csv (clip, start height, each fitted bounce by its number in the clip's peaks.csv
-// with its recorded and simulated heights, as coefficients.json's drops hold them). Returns
-// each drop's clock against the simulation (run seconds per real second), in fitted's order.
-// clip_of: each drop's clip, by its index among the clips fitted.
+// Each drop of a joint fit beside the fitted ball dropped from its start apex: each clip's
+// simulated.csv (its drops, so `report CLIPDIR` draws them, the paper's Fig. 7) and, for all
+// drops, OUT/drops.csv (clip, start height, each fitted bounce by its number in the clip's
+// peaks.csv with its recorded and simulated heights, as coefficients.json's drops hold them).
+// order: each drop's place among all drops read (clip by clip). Returns each drop's clock
+// against the simulation (run seconds per real second), in fitted's order.
 std::vector<double> WriteDropsBesideTheirSimulation(const RunOptions& o, const BallPreset& ball, const FitUpdate& fit,
-                                     const std::vector<FitDrop>& fitted, const std::vector<size_t>& clip_of,
-                                     const std::filesystem::path& root) {
+                                                    const std::vector<FitDrop>& fitted, const std::vector<size_t>& order,
+                                                    const std::filesystem::path& root) {
   auto model = MakeBallModel(fit.model, ball);
+  std::vector<size_t> by_order(fitted.size());
+  for (size_t k = 0; k < by_order.size(); ++k) by_order[k] = k;
+  std::sort(by_order.begin(), by_order.end(), [&](size_t a, size_t b) { return order[a] < order[b]; });
+  std::vector<double> clocks(fitted.size(), 1.0);
+  // One simulated.csv per clip, with every drop of it that was fitted.
+  std::map<std::string, std::vector<size_t>> of_clip;
+  for (size_t k : by_order) of_clip[fitted[k].clip].push_back(k);
+  for (const auto& [clip, ks] : of_clip) {
+    std::vector<FitDrop> its;
+    for (size_t k : ks) its.push_back(fitted[k]);
+    std::vector<double> ends(its.size(), INFINITY);  // each drop until the next one starts
+    for (size_t i = 0; i + 1 < its.size(); ++i) ends[i] = its[i + 1].start_t_s;
+    double run_s_per_real_s = 1;
+    const auto simulated = SimulateFitDrops(*model, fit, its, ends, &run_s_per_real_s);
+    if (simulated.size() < its.size() && !o.quiet)
+      std::fprintf(stderr, "run: warning: %s: the fitted ball diverges dropped from a start apex\n", clip.c_str());
+    if (!simulated.empty()) WriteSimulatedCsv(root / clip, simulated, run_s_per_real_s);
+    for (size_t k : ks) clocks[k] = run_s_per_real_s;
+  }
   std::ofstream table(root / "drops.csv", std::ios::trunc);
   table << "drop,clip_dir,release_m,bounce,recorded_m,simulated_m\n";
-  std::vector<size_t> by_clip(fitted.size());
-  for (size_t k = 0; k < by_clip.size(); ++k) by_clip[k] = k;
-  std::sort(by_clip.begin(), by_clip.end(), [&](size_t a, size_t b) { return clip_of[a] < clip_of[b]; });
-  std::vector<double> clocks(fitted.size(), 1.0);
-  for (size_t k = 0; k < by_clip.size(); ++k) {
-    const FitDrop& d = fitted[by_clip[k]];
-    const std::filesystem::path dir = root / d.clip;
-    double& run_s_per_real_s = clocks[by_clip[k]];
-    const auto simulated = SimulateFitDrops(*model, fit, {d}, {INFINITY}, &run_s_per_real_s);
-    if (simulated.empty() && !o.quiet)
-      std::fprintf(stderr, "run: warning: the fitted ball dropped from %.3f m diverges\n", d.start_height_m);
-    if (!simulated.empty()) WriteSimulatedCsv(dir, simulated, run_s_per_real_s);
+  for (size_t n = 0; n < by_order.size(); ++n) {
+    const FitDrop& d = fitted[by_order[n]];
     for (size_t i = 0; i < d.bounces.size(); ++i)
-      table << k + 1 << ',' << d.clip << ',' << Fixed(d.start_height_m, 5) << ',' << d.bounces[i] << ','
+      table << n + 1 << ',' << d.clip << ',' << Fixed(d.start_height_m, 5) << ',' << d.bounces[i] << ','
             << Fixed(d.recorded_m[i], 5) << ',' << (std::isfinite(d.simulated_m[i]) ? Fixed(d.simulated_m[i], 5) : "")
             << '\n';
   }
@@ -79,8 +88,8 @@ RecordedTrack RecordedFromRunDir(const std::filesystem::path& dir, const FitDrop
 }  // namespace
 
 // Several clips of one ball: each run as `run CLIP --no-fit` into
-// OUT/<k>-<name>/ (track, detect, sound, its own peaks), then the drops fitted jointly, the last
-// clip's drop with the earlier ones, into OUT/coefficients.json and OUT/fitted_ball/.
+// OUT/<k>-<name>/ (track, detect, sound, its own peaks), then every drop of every clip fitted
+// jointly (the last one with the earlier ones) into OUT/coefficients.json and OUT/fitted_ball/.
 ExitStatus RunSeveral(RunOptions o) {
   if (o.pick_window)
     throw std::invalid_argument("--pick-window picks on one clip: give --pick or --color, or run the clips one at a time");
@@ -91,8 +100,8 @@ ExitStatus RunSeveral(RunOptions o) {
   ClaimOutputDir(root, {"coefficients.json", "fitted_ball", "fitted_ball.glb", "drops.csv", "summary.json"}, o.overwrite);
   bool any_bounce = false;
   std::vector<std::vector<PeakInput>> drops;
-  std::vector<std::filesystem::path> fitted_dirs;  // the clip directory of each drop
-  std::vector<int> clip_drops;                     // and its number there (peaks.csv's drop)
+  std::vector<std::filesystem::path> drop_dirs;  // the clip directory of each drop
+  std::vector<int> clip_drops;                   // and its number there (peaks.csv's drop)
   nlohmann::json clips = nlohmann::json::array();
   for (size_t k = 0; k < o.clips.size(); ++k) {
     RunOptions one = o;
@@ -107,11 +116,19 @@ ExitStatus RunSeveral(RunOptions o) {
       if (status == kExitInterrupted) return status;
       if (status == kExitNoBounce) throw std::runtime_error("no bounce found");
       any_bounce = true;
-      drops.push_back(ReadDropPeaks(std::filesystem::path(one.out) / "peaks.csv"));
-      fitted_dirs.push_back(one.out);
-      clip_drops.push_back(ReadPeaksCsv(std::filesystem::path(one.out) / "peaks.csv").front().drop);
-      entry["release_m"] = drops.back().front().height_m;
-      entry["bounces"] = drops.back().size() - 1;
+      // Every drop of the clip, each numbered as its peaks.csv does.
+      std::vector<int> numbers;
+      const auto its = ReadPeaksDrops(std::filesystem::path(one.out) / "peaks.csv", &numbers);
+      size_t rebounds = 0;
+      for (size_t d = 0; d < its.size(); ++d) {
+        drops.push_back(its[d]);
+        drop_dirs.push_back(one.out);
+        clip_drops.push_back(numbers[d]);
+        rebounds += its[d].size() - 1;
+      }
+      entry["release_m"] = its.front().front().height_m;
+      entry["drops"] = its.size();
+      entry["bounces"] = rebounds;
     } catch (const std::exception& e) {  // what that clip recorded stays in its directory
       if (!o.quiet) std::fprintf(stderr, "run: warning: %s: %s; not fitted\n", o.clips[k].c_str(), e.what());
       entry["not_fitted"] = e.what();
@@ -142,15 +159,15 @@ ExitStatus RunSeveral(RunOptions o) {
       std::ofstream(root / "summary.json") << summary.dump(2) << "\n";
       return kExitNoFit;
     }
-    // Each drop on its clip's timeline: the clip's first drop, numbered as its peaks.csv does.
+    // Each drop on its clip's timeline, numbered as its peaks.csv does.
     std::vector<FitDrop> fitted = OfflineFitDrops(final_fit, drops, fitted_drops);
-    std::vector<size_t> clip_of(fitted.size());
+    std::vector<size_t> order(fitted.size());
     for (size_t k = 0; k < fitted.size(); ++k) {
-      clip_of[k] = static_cast<size_t>(fitted[k].drop);
-      fitted[k].clip = fitted_dirs.at(clip_of[k]).filename().string();
-      fitted[k].drop = clip_drops.at(clip_of[k]);
+      order[k] = static_cast<size_t>(fitted[k].drop);
+      fitted[k].clip = drop_dirs.at(order[k]).filename().string();
+      fitted[k].drop = clip_drops.at(order[k]);
     }
-    const std::vector<double> clocks = WriteDropsBesideTheirSimulation(o, ball, final_fit, fitted, clip_of, root);
+    const std::vector<double> clocks = WriteDropsBesideTheirSimulation(o, ball, final_fit, fitted, order, root);
     RecordedTrack recorded;
     if (!fitted.empty()) recorded = RecordedFromRunDir(root / fitted.front().clip, fitted.front(), clocks.front());
     FitExportContext context{"", "run", recorded.t_s.empty() ? nullptr : &recorded};

@@ -14,17 +14,24 @@
 
 namespace bouncefit {
 
-std::vector<std::vector<PeakInput>> ReadPeaksDrops(const std::filesystem::path& path) {
+std::vector<std::vector<PeakInput>> ReadPeaksDrops(const std::filesystem::path& path,
+                                                   std::vector<int>* drop_numbers) {
   std::vector<std::vector<PeakInput>> drops;
+  std::vector<int> numbers;
   for (const PeaksCsvRow& r : ReadPeaksCsv(path)) {
     PeakInput p;
     p.bounce = r.bounce;
     p.height_m = r.HeightToUse();
     if (!std::isfinite(p.height_m)) throw std::runtime_error(path.string() + ": bounce " + std::to_string(r.bounce) + " has no height");
     p.utime = static_cast<int64_t>(std::llround(r.t_s * 1e6));
-    if (drops.empty() || r.bounce == 0 || r.bounce <= drops.back().back().bounce) drops.emplace_back();
+    // The detector's drops each have their own scale: never one fit's run across two.
+    if (drops.empty() || r.bounce == 0 || r.bounce <= drops.back().back().bounce || r.drop != numbers.back()) {
+      drops.emplace_back();
+      numbers.push_back(r.drop);
+    }
     drops.back().push_back(p);
   }
+  if (drop_numbers) *drop_numbers = numbers;
   if (drops.empty()) throw std::runtime_error(path.string() + ": no rows (no bounce was found in that run)");
   return drops;
 }

@@ -15,11 +15,12 @@ namespace bouncefit {
 
 // The drops of a peaks.csv (msgs/peaks_csv.h) as the fit's peaks: the height to quote of
 // every row, its bounce and time. A drop starts at its first row, whatever its bounce (the
-// release when seen, else the first apex in view: any apex is a start); a row whose bounce
-// does not follow the one before (bounce 0 again, or a number not above it) starts the
-// next drop. Throws std::runtime_error with a one-line reason (no file, no rows, not a
-// number).
-std::vector<std::vector<PeakInput>> ReadPeaksDrops(const std::filesystem::path& peaks_csv);
+// release when seen, else the first apex in view: any apex is a start); a row of another
+// `drop` than the one before, or whose bounce does not follow it (bounce 0 again, or a number
+// not above it), starts the next drop. drop_numbers (may be null): each drop's `drop` there.
+// Throws std::runtime_error with a one-line reason (no file, no rows, not a number).
+std::vector<std::vector<PeakInput>> ReadPeaksDrops(const std::filesystem::path& peaks_csv,
+                                                   std::vector<int>* drop_numbers = nullptr);
 // The first of them.
 std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& peaks_csv);
 
