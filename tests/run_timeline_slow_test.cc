@@ -6,7 +6,8 @@
 // the recorded one, on the same clock; coefficients.json pairs each fitted height with the
 // peaks.csv row of its bounce; the report's bounce figure shows, per bounce, the simulated
 // minus recorded height coefficients.json holds; fitted_ball.glb has the fitted and the
-// recorded ball, both from the start apex on one real-seconds clock.
+// recorded ball, both from the start apex on one real-seconds clock; `predict` without --drop
+// drops the run's ball from there and numbers and times its bounces as peaks.csv.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -172,6 +173,26 @@ TEST_P(RunTimeline, EveryOutputStartsTheFittedBallAtItsStartApex) {
     ++plotted;
   }
   EXPECT_EQ(plotted, fitted_difference_mm.size());
+
+  // predict without --drop: the run's own drop, its bounces numbered and timed as peaks.csv.
+  ASSERT_EQ(testing::RunCommand(testing::BouncefitExe() + " predict --json --members 2 --coeffs '" +
+                                    (out / "coefficients.json").string() + "'",
+                                &log),
+            0)
+      << log;
+  const nlohmann::json predicted = nlohmann::json::parse(log.substr(log.find('{')));
+  {
+    const auto& d = drops[0];
+    const int start = d["start_bounce"].get<int>();
+    EXPECT_EQ(predicted["start"]["bounce"].get<int>(), start);
+    EXPECT_NEAR(predicted["drop_height_m"].get<double>(), d["start_height_m"].get<double>(), 1e-9);
+    ASSERT_FALSE(predicted["bounces"].empty());
+    EXPECT_EQ(predicted["bounces"][0].get<int>(), start + 1);
+    const auto* rebound = row_of(d["drop"].get<int>(), start + 1);
+    ASSERT_NE(rebound, nullptr);
+    EXPECT_LE(std::abs(predicted["single_run_apex_t_s"][0].get<double>() - Num(*rebound, "t_s")), 2 * frame_s);
+    EXPECT_NEAR(predicted["single_run_heights_m"][0].get<double>(), d["simulated_m"][0].get<double>(), 1e-9);
+  }
 
   // fitted_ball.glb: both balls from the fit's own drop's start apex, in real seconds.
   const tinygltf::Model glb = testing::LoadGlb(out / "fitted_ball.glb");
