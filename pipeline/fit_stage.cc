@@ -179,8 +179,9 @@ void FitStage::WaitDone(const std::function<void(int, int)>& progress) {
 void FitStage::WriteExports() {
   if (config_.out_dir.empty() || !final_) return;
   std::vector<FitDrop> drops = Drops(*final_);
-  // Each drop ends where the next one (in time) starts, the last one with the stream.
-  std::vector<double> ends(drops.size(), SecondsSince(now_, t0_));
+  // Each drop ends where the next one (in time) starts; the last one runs on past the footage
+  // (8 s, or until its bounces are under 1 cm), as a reader expects a whole drop.
+  std::vector<double> ends(drops.size(), INFINITY);
   for (size_t d = 0; d < drops.size(); ++d)
     for (const FitDrop& other : drops)
       if (other.start_t_s > drops[d].start_t_s) ends[d] = std::min(ends[d], other.start_t_s);

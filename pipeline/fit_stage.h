@@ -39,7 +39,7 @@ struct FitStageConfig {
 };
 
 // One drop of simulated.csv: the fitted ball from the drop's start apex, at start_t_s on the
-// run's clock, until end_t_s (the next drop's start, or the stream's end).
+// run's clock, until end_t_s (the next drop's start; infinite for the last).
 struct SimulatedDrop {
   int drop = 0;
   double start_t_s = 0, end_t_s = 0;
