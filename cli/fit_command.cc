@@ -96,15 +96,20 @@ ExitStatus RunOffline(FitOptions o) {
       for (auto& drop : ReadPeaksDrops(path)) drops.push_back(std::move(drop));
   }
   const BallPreset ball = ResolveBallPreset(o.node.ball, o.node.diameter_m, o.node.mass_kg);
+  std::vector<std::pair<size_t, int>> fitted;
   const FitUpdate final_fit = FitDropsOffline(
       drops, o.node, o.final_only, [&](const FitUpdate& u) { Emit(o, FitNode::ToMessage(u), u); },
-      [](int sims, int budget) { std::fprintf(stderr, "final fit  %d / %d simulations\n", sims, budget); });
+      [](int sims, int budget) { std::fprintf(stderr, "final fit  %d / %d simulations\n", sims, budget); }, &fitted);
   if (!final_fit.no_answer.empty()) {
     std::fprintf(stderr, "bouncefit fit: no fit: %s\n", final_fit.no_answer.c_str());
     return kExitNoFit;
   }
   if (!o.export_dir.empty()) {
-    for (const auto& path : WriteFitExports(o.export_dir, final_fit, ball))
+    const std::vector<FitDrop> timeline = OfflineFitDrops(final_fit, drops, fitted);
+    FitExportContext context;
+    context.fitted_by = "fit";
+    context.drops = &timeline;
+    for (const auto& path : WriteFitExports(o.export_dir, final_fit, ball, context))
       std::fprintf(stderr, "wrote %s\n", path.string().c_str());
   }
   return kExitAnswer;

@@ -2,7 +2,9 @@
 // a given height, as the mean (and spread) of an ensemble of tiny perturbations of the release
 // (fit/drop_ensemble.h), for either model; also the single unperturbed run, which is what
 // `simulate` prints and what the fit reported at its own drop. --gltf also writes that
-// single run as an animation (fit/fitted_ball_gltf.h).
+// single run as an animation (fit/fitted_ball_gltf.h). Without --drop, a run's
+// coefficients.json is dropped from the apex its fit started from, its bounces named and
+// timed as that run's peaks.csv names and times them.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -44,6 +46,37 @@ struct FittedUncertainty {
   std::vector<std::string> names;
   std::vector<std::vector<double>> cov;
 };
+
+// Where a run's fit started (coefficients.json's drops: the fit's own drop first), so that the
+// ball dropped from there is told on the run's timeline.
+struct RunStart {
+  bool known = false;
+  int drop = 0, bounce = 0;      // the start apex in peaks.csv
+  double t_s = std::nan(""), height_m = 0;
+  double time_scale = 1;         // real seconds per second of the run's clock
+  std::map<int, double> recorded_m;  // the fit's recorded height by bounce
+};
+
+RunStart ReadRunStart(const std::string& path) {
+  RunStart r;
+  try {
+    const auto j = nlohmann::json::parse(std::ifstream(path));
+    if (!j.contains("drops") || !j["drops"].is_array() || j["drops"].empty()) return r;
+    const auto& d = j["drops"][0];
+    r.drop = d.value("drop", 0);
+    r.bounce = d.value("start_bounce", 0);
+    r.t_s = d["start_t_s"].is_number() ? d["start_t_s"].get<double>() : std::nan("");
+    r.height_m = d.value("start_height_m", 0.0);
+    r.time_scale = j.value("time_scale", 1.0);
+    const auto bounces = d.value("bounces", std::vector<int>());
+    for (size_t i = 0; i < bounces.size() && i < d["recorded_m"].size(); ++i)
+      if (d["recorded_m"][i].is_number()) r.recorded_m[bounces[i]] = d["recorded_m"][i].get<double>();
+    r.known = r.height_m > 0 && r.time_scale > 0;
+  } catch (const std::exception&) {
+    r = {};
+  }
+  return r;
+}
 
 FittedUncertainty ReadUncertainty(const std::string& path) {
   FittedUncertainty out;
@@ -111,7 +144,12 @@ std::vector<double> ParameterSpread(const BallModel& model, const CoefficientVal
   return sd;
 }
 
-void Run(const PredictOptions& o) {
+void Run(PredictOptions o) {
+  // No --drop: a run's own start apex, on its timeline.
+  const RunStart run = o.drop_m == 0 ? ReadRunStart(o.coeffs) : RunStart{};
+  if (o.drop_m == 0 && !run.known)
+    throw std::invalid_argument("--drop is needed: " + o.coeffs + " says no start apex of a run");
+  if (run.known) o.drop_m = run.height_m;
   if (!(o.drop_m > 0 && o.drop_m < 100)) throw std::invalid_argument("--drop must be in (0, 100) m");
   if (o.ensemble.members < 1 || o.ensemble.members > 1000)
     throw std::invalid_argument("--members must be 1..1000");
@@ -150,6 +188,17 @@ void Run(const PredictOptions& o) {
       ParameterSpread(*model, table.values, ReadUncertainty(o.coeffs), drop, e.mean_m.size(), &param_runs);
   std::vector<double> sd(e.mean_m.size());
   for (size_t i = 0; i < sd.size(); ++i) sd[i] = std::hypot(e.sd_m[i], param_sd[i]);
+  // On a run's timeline: each bounce's number and its single run's apex time in peaks.csv's.
+  std::vector<int> numbers;
+  std::vector<double> apex_t_s;
+  if (run.known) {
+    const SimulationResult single = model->Simulate(table.values, drop);
+    for (size_t i = 0; i < e.mean_m.size(); ++i) {
+      numbers.push_back(run.bounce + 1 + static_cast<int>(i));
+      apex_t_s.push_back(i < single.apex_times_s.size() ? run.t_s + single.apex_times_s[i] / run.time_scale
+                                                         : std::nan(""));
+    }
+  }
   if (!o.gltf.empty()) {
     FitUpdate fit;  // the extras say what the file says of its fit
     fit.model = model->name();
@@ -158,10 +207,19 @@ void Run(const PredictOptions& o) {
     fit.residual_m = std::nan("");
     FittedBallGltfOptions gltf_options;
     gltf_options.min_bounce_height_m = std::min(gltf_options.min_bounce_height_m, o.min_height_m);
-    const FittedBallGltf g =
-        WriteFittedBallGltf(o.gltf, *model, ball, table.values, o.drop_m,
-                            FitGltfExtras(fit, ball, {"", "predict --coeffs " + o.coeffs, nullptr}),
-                            nullptr, gltf_options);
+    FitExportContext context{"", "predict --coeffs " + o.coeffs, nullptr};
+    std::vector<FitDrop> start;  // a run's start apex: where the file's t = 0 is in the clip
+    if (run.known) {
+      start.push_back({});
+      start.back().drop = run.drop;
+      start.back().start_bounce = run.bounce;
+      start.back().start_t_s = run.t_s;
+      start.back().start_height_m = run.height_m;
+      context.drops = &start;
+      context.run_s_per_real_s = 1 / run.time_scale;
+    }
+    const FittedBallGltf g = WriteFittedBallGltf(o.gltf, *model, ball, table.values, o.drop_m,
+                                                 FitGltfExtras(fit, ball, context), nullptr, gltf_options);
     std::fprintf(o.json ? stderr : stdout,
                  "wrote %s: %zu keys at %.0f per second (%.2f s), %zu morph targets, %zu bytes\n",
                  o.gltf.c_str(), g.keys, gltf_options.rate_hz,
@@ -180,6 +238,11 @@ void Run(const PredictOptions& o) {
     j["bounce_heights_chaos_sd_m"] = e.sd_m;
     j["bounce_heights_parameter_sd_m"] = param_sd;
     j["single_run_heights_m"] = e.single_m;
+    if (run.known) {  // the run's start apex, and the bounces as its peaks.csv numbers them
+      j["start"] = {{"drop", run.drop}, {"bounce", run.bounce}, {"t_s", run.t_s}};
+      j["bounces"] = numbers;
+      j["single_run_apex_t_s"] = apex_t_s;
+    }
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
@@ -189,10 +252,23 @@ void Run(const PredictOptions& o) {
   if (param_runs > 0)
     std::printf("spread: the runs' and the fitted coefficients' uncertainty (their covariance, %d runs), in quadrature\n",
                 param_runs);
-  std::printf("%6s %12s %10s %10s %10s %14s\n", "bounce", "mean_m", "sd_mm", "chaos_mm", "coeffs_mm", "single_run_m");
-  for (size_t i = 0; i < e.mean_m.size(); ++i)
-    std::printf("%6zu %12.4f %10.2f %10.2f %10.2f %14s\n", i + 1, e.mean_m[i], sd[i] * 1000, e.sd_m[i] * 1000,
-                param_sd[i] * 1000, i < e.single_m.size() ? std::to_string(e.single_m[i]).c_str() : "-");
+  if (run.known)
+    std::printf("from the run's start apex: drop %d, bounce #%d at %.4f s (peaks.csv); bounces numbered and timed as "
+                "there%s\n",
+                run.drop, run.bounce, run.t_s, run.time_scale == 1 ? "" : " (the file's slowed clock)");
+  std::printf("%6s %12s %10s %10s %10s %14s%s\n", "bounce", "mean_m", "sd_mm", "chaos_mm", "coeffs_mm", "single_run_m",
+              run.known ? "   apex_t_s  recorded_m" : "");
+  for (size_t i = 0; i < e.mean_m.size(); ++i) {
+    std::printf("%6d %12.4f %10.2f %10.2f %10.2f %14s", run.known ? numbers[i] : static_cast<int>(i + 1), e.mean_m[i],
+                sd[i] * 1000, e.sd_m[i] * 1000, param_sd[i] * 1000,
+                i < e.single_m.size() ? std::to_string(e.single_m[i]).c_str() : "-");
+    if (run.known) {
+      const auto rec = run.recorded_m.find(numbers[i]);
+      std::printf(" %10.4f  %10s", apex_t_s[i],
+                  rec == run.recorded_m.end() ? "-" : std::to_string(rec->second).substr(0, 6).c_str());
+    }
+    std::printf("\n");
+  }
 }
 
 }  // namespace
@@ -203,22 +279,24 @@ void AddPredictCommand(CLI::App& app) {
       "Expected bounce heights (ball bottom above the floor, m) of a fitted ball dropped from "
       "--drop: the mean and spread of an ensemble of tiny perturbations of the release, and the "
       "single unperturbed run (what `simulate` prints); either model.");
-  cmd->footer("Example:\n  bouncefit predict --coeffs out/sample/coefficients.json --drop 1.6 --gltf ball.glb");
+  cmd->footer("Examples:\n  bouncefit predict --coeffs out/sample/coefficients.json --drop 1.6 --gltf ball.glb\n"
+              "  bouncefit predict --coeffs out/sample/coefficients.json    # the run's own drop, on its timeline");
   auto o = std::make_shared<PredictOptions>();
   cmd->add_option("--coeffs", o->coeffs, "a fit's coefficients.json (or a coefficient table)")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--drop,--drop-height", o->drop_m,
-                  "ball bottom above the floor at release, metres")
-      ->required();
+                  "ball bottom above the floor at release, metres (a run's coefficients.json without it: "
+                  "the apex its fit started from, the bounces numbered and timed as its peaks.csv)");
   cmd->add_option("--ball", o->ball, "ball preset, when the file names none: " + BallPresetNames());
   cmd->add_flag("--json", o->json,
                 "one JSON object: bounce_heights_m (means), bounce_heights_sd_m (the runs' spread and "
                 "the fitted coefficients' uncertainty in quadrature; each also on its own: "
-                "bounce_heights_chaos_sd_m, bounce_heights_parameter_sd_m), single_run_heights_m");
+                "bounce_heights_chaos_sd_m, bounce_heights_parameter_sd_m), single_run_heights_m; "
+                "from a run's start apex also start, bounces (peaks.csv's numbers) and single_run_apex_t_s");
   cmd->add_option("--gltf", o->gltf,
                   "also write the single run as a glTF 2.0 binary (.glb: metres, y up, the floor "
-                  "at y = 0, seconds since the release) for Blender and other tools");
+                  "at y = 0, real seconds since the release) for Blender and other tools");
   cmd->add_option("--members", o->ensemble.members, "runs in the ensemble")->capture_default_str();
   cmd->add_option("--height-jitter", o->ensemble.height_jitter_m,
                   "release heights uniform in +- this, metres")

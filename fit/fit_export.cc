@@ -105,6 +105,11 @@ nlohmann::json FitGltfExtras(const FitUpdate& u, const BallPreset& ball,
               {"warning", u.warning}};
   if (!context.clip.empty()) j["fit"]["clip"] = context.clip;
   if (!context.fitted_by.empty()) j["fit"]["fitted_by"] = context.fitted_by;
+  if (context.drops && !context.drops->empty()) {  // where the animation's t = 0 is in the clip
+    const FitDrop& d = context.drops->front();
+    j["start"] = {{"bounce", d.start_bounce}, {"drop", d.drop}, {"t_s", Num(d.start_t_s)},
+                  {"height_m", Num(d.start_height_m)}, {"time_scale", 1 / context.run_s_per_real_s}};
+  }
   return j;
 }
 
@@ -134,8 +139,20 @@ std::vector<std::filesystem::path> WriteFitExports(const std::filesystem::path& 
   std::filesystem::create_directories(dir);
   const auto json_path = dir / "coefficients.json";
   {
+    nlohmann::json j = FitUpdateToJson(u, ball);
+    if (context.drops && !context.drops->empty()) {
+      // The fit's own drop by peaks.csv's numbers (the fit counts bounces as first emitted).
+      const FitDrop& own = context.drops->front();
+      j["drop"] = own.drop;
+      j["start_bounce"] = own.start_bounce;
+      j["start_t_s"] = Num(own.start_t_s);
+      if (!own.bounces.empty()) j["after_bounce"] = own.bounces.back();
+      j["drops"] = FitDropsToJson(*context.drops);
+      // Real seconds per second of the run's clock (summary.json's clock.time_scale).
+      j["time_scale"] = 1 / context.run_s_per_real_s;
+    }
     std::ofstream out(json_path);
-    out << FitUpdateToJson(u, ball).dump(2) << "\n";
+    out << j.dump(2) << "\n";
     if (!out) throw std::runtime_error("cannot write " + json_path.string());
   }
   std::vector<std::filesystem::path> written{json_path};

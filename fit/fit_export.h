@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fit/fit_session.h"
+#include "fit/fit_timeline.h"
 #include "fit/fitted_ball_gltf.h"
 #include "model/ball_preset.h"
 
@@ -20,7 +21,10 @@ nlohmann::json FitUpdateToJson(const FitUpdate& update, const BallPreset& ball);
 struct FitExportContext {
   std::string clip;       // the clip (or peak file) the fit was made from
   std::string fitted_by;  // "run", "fit", ...
-  const RecordedTrack* recorded = nullptr;  // the tracked ball, on the release's clock
+  const RecordedTrack* recorded = nullptr;  // the tracked ball, real seconds since the start apex
+  // The fit's drops on the run's timeline (fit/fit_timeline.h): coefficients.json's "drops".
+  const std::vector<FitDrop>* drops = nullptr;
+  double run_s_per_real_s = 1;  // seconds of the run's clock per real second
 };
 
 // The fit as the animation's asset extras: the ball, the restitution law, drag, residual,
@@ -34,7 +38,7 @@ FittedBallGltf WriteFitGltf(const std::filesystem::path& path, const FitUpdate& 
                             const BallPreset& ball, double drop_height_m,
                             const FitExportContext& context = {});
 
-// Writes DIR/coefficients.json, DIR/fitted_ball.glb (the fitted ball dropped from the
+// Writes DIR/coefficients.json (with the context's drops and clock), DIR/fitted_ball.glb (the fitted ball dropped from the
 // fit's own drop height; none when that is unknown) and the fitted_ball project (fit/fitted_ball_project.h; for a
 // model without one, DIR/fitted_ball/README.md saying why); returns the paths written.
 std::vector<std::filesystem::path> WriteFitExports(const std::filesystem::path& dir,

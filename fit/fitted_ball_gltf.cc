@@ -274,7 +274,7 @@ FittedBallGltf WriteFittedBallGltf(const std::filesystem::path& path, const Ball
   out.max_error_m = fitted.max_error_m;
   out.max_deformation_m = fitted.max_deformation_m;
   nlohmann::json all = extras.is_object() ? extras : nlohmann::json::object();
-  all["units"] = {{"length", "m"}, {"time", "s since the release"}, {"up", "+y"}};
+  all["units"] = {{"length", "m"}, {"time", "real s since the start apex (the ball at rest at drop_height_m)"}, {"up", "+y"}};
   all["animation"] = {{"model", model.name()},
                       {"drop_height_m", drop_height_m},
                       {"key_rate_hz", options.rate_hz},

@@ -3,7 +3,8 @@
 // web viewers import: the ball dropped from a height and simulated, its surface keyed per
 // sample (translation, rotation where it turns, deformation as morph targets with keyed
 // weights: fit/ball_animation.h), on a floor plane. Metres, y up, the floor at y = 0, time
-// in seconds since the release. Written with tinygltf (Debian's libtinygltf-dev).
+// in real seconds since the ball starts at rest at the drop height (a run's fit: its start
+// apex, extras.fit.start). Written with tinygltf (Debian's libtinygltf-dev).
 //
 // Nodes: `floor`, `fitted_ball` and, given a recorded track, `recorded_ball` (the tracked
 // ball on the same clock, beside the fitted one). docs/FORMATS.md "fitted_ball.glb".
@@ -20,7 +21,7 @@ namespace bouncefit {
 
 // A tracked ball on the simulation's clock.
 struct RecordedTrack {
-  std::vector<double> t_s;              // s since the release
+  std::vector<double> t_s;              // real s since the simulated ball's start
   std::vector<double> bottom_height_m;  // ball bottom above the floor, m
   std::vector<double> horizontal_m;     // horizontal position, m (empty: none)
 };

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -21,6 +22,7 @@
 #include "bouncefit/drop_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
 #include "bouncefit/stream_t.hpp"
+#include "fit/fit_timeline.h"
 #include "fit/fitted_ball_gltf.h"
 #include "fit/node/fit_node.h"
 #include "model/ball_model.h"
@@ -36,10 +38,25 @@ struct FitStageConfig {
   double final_after_s = 0;
 };
 
-// simulated.csv in `dir` (docs/FORMATS.md): a simulated drop's trajectory, its release at
-// t_release_s on the stream clock, beside the recorded one for the report.
-void WriteSimulatedCsv(const std::filesystem::path& dir, double t_release_s,
-                       const std::vector<TrajectorySample>& trajectory);
+// One drop of simulated.csv: the fitted ball from the drop's start apex, at start_t_s on the
+// run's clock, until end_t_s (the next drop's start; infinite for the last).
+struct SimulatedDrop {
+  int drop = 0;
+  double start_t_s = 0, end_t_s = 0;
+  std::vector<TrajectorySample> trajectory;  // s since the start, real seconds
+};
+
+// simulated.csv in `dir` (docs/FORMATS.md): each drop's simulated trajectory on the run's
+// clock (run_s_per_real_s of it per simulated second), beside the recorded one.
+void WriteSimulatedCsv(const std::filesystem::path& dir, const std::vector<SimulatedDrop>& drops,
+                       double run_s_per_real_s);
+
+// Simulates each of the fit's drops from its start apex with the fit's values, for its span of
+// the run's clock (ends: each drop's end, s since the first frame), and measures the run's
+// clock against the simulation (*run_s_per_real_s). Drops whose ball diverges are left out.
+std::vector<SimulatedDrop> SimulateFitDrops(const BallModel& model, const FitUpdate& fit,
+                                            const std::vector<FitDrop>& drops,
+                                            const std::vector<double>& ends_t_s, double* run_s_per_real_s);
 
 class FitStage {
  public:
@@ -74,8 +91,12 @@ class FitStage {
   void OnPeak(const bounce_peak_t& m);
   void OnDrop(const drop_t& m);
   void WriteExports();
-  // The tracked ball in metres above the floor on the release's clock (for the .glb).
-  RecordedTrack Recorded() const;
+  // The final fit's drops on the run's timeline: its own drop first, then the earlier drops it
+  // was fitted with, each with its start apex and its bounces as peaks.csv numbers them.
+  std::vector<FitDrop> Drops(const FitUpdate& u) const;
+  // The tracked ball in metres above the floor from the start apex at start_t_s (s since the
+  // first frame) to end_t_s, in real seconds since it (for the .glb).
+  RecordedTrack Recorded(double start_t_s, double end_t_s, double run_s_per_real_s) const;
 
   FitStageConfig config_;
   LcmBus& bus_;
@@ -87,7 +108,7 @@ class FitStage {
   std::optional<FitUpdate> final_;
   std::string no_fit_why_;
   std::unique_ptr<std::ofstream> fit_jsonl_;
-  int64_t t0_ = 0, now_ = 0, release_utime_ = 0;
+  int64_t t0_ = 0, now_ = 0;
   bool have_t0_ = false;  // t0_ is the stream's first frame (a file's is 0)
   bool stream_done_ = false, done_ = false, finished_since_peak_ = true;
   int final_sims_start_ = 0;
@@ -101,6 +122,11 @@ class FitStage {
   // Submits the rows as a drop of their own and its final fit; false when there are none.
   bool FitRows();
   std::optional<calibration_t> calibration_;
+  // Bounces by (drop, the number they were emitted with: the fit's): the latest apex the fit
+  // took, and the row of peaks.csv it became (its number there and its time).
+  std::map<std::pair<int, int>, bounce_peak_t> fitted_peaks_, row_of_fitted_;
+  // Each drop's start apex (the fit's number) and height, from its latest fit update.
+  std::map<int, std::pair<int, double>> fit_starts_;
 };
 
 }  // namespace bouncefit

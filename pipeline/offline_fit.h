@@ -8,17 +8,19 @@
 #include <vector>
 
 #include "fit/fit_session.h"
+#include "fit/fit_timeline.h"
 #include "fit/node/fit_node.h"
 
 namespace bouncefit {
 
 // The drops of a peaks.csv (msgs/peaks_csv.h) as the fit's peaks: the height to quote of
 // every row, its bounce and time. A drop starts at its first row, whatever its bounce (the
-// release when seen, else the first apex in view: any apex is a start); a row whose bounce
-// does not follow the one before (bounce 0 again, or a number not above it) starts the
-// next drop. Throws std::runtime_error with a one-line reason (no file, no rows, not a
-// number).
-std::vector<std::vector<PeakInput>> ReadPeaksDrops(const std::filesystem::path& peaks_csv);
+// release when seen, else the first apex in view: any apex is a start); a row of another
+// `drop` than the one before, or whose bounce does not follow it (bounce 0 again, or a number
+// not above it), starts the next drop. drop_numbers (may be null): each drop's `drop` there.
+// Throws std::runtime_error with a one-line reason (no file, no rows, not a number).
+std::vector<std::vector<PeakInput>> ReadPeaksDrops(const std::filesystem::path& peaks_csv,
+                                                   std::vector<int>* drop_numbers = nullptr);
 // The first of them.
 std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& peaks_csv);
 
@@ -26,9 +28,18 @@ std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& peaks_csv);
 // else its first apex); emit gets every update, the final one last; progress (simulations
 // run, budget) about once a second during the final fit. Returns the final update (its
 // no_answer set when it is no answer). Throws std::runtime_error when no drop has an apex
-// after its start high enough to fit.
+// after its start high enough to fit. fitted (may be null): for the final update's drops in
+// its order (the last drop, then the earlier ones it kept), each one's index in `drops` and
+// the bounce its fit started from.
 FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConfig node, bool final_only,
                           const std::function<void(const FitUpdate&)>& emit,
-                          const std::function<void(int, int)>& progress = {});
+                          const std::function<void(int, int)>& progress = {},
+                          std::vector<std::pair<size_t, int>>* fitted = nullptr);
+
+// The final fit's drops on their peak files' timeline (fit/fit_timeline.h), from what
+// FitDropsOffline said it fitted: each drop numbered by its index in `drops`, its bounces and
+// times those of its peaks.
+std::vector<FitDrop> OfflineFitDrops(const FitUpdate& fit, const std::vector<std::vector<PeakInput>>& drops,
+                                     const std::vector<std::pair<size_t, int>>& fitted);
 
 }  // namespace bouncefit

@@ -82,6 +82,17 @@ class FigureWriter {
   ReportFigureOptions options_;
 };
 
+// The time axis: real seconds (a slow-motion file's stamps times its time scale).
+std::string TimeAxis(const ReportRunData& run) {
+  return run.time_scale == 1 ? "set xlabel 'time since first frame (s)'\n"
+                             : "set xlabel 'real time since first frame (s)'\n";
+}
+std::string RealTimeNote(const ReportRunData& run) {
+  if (run.time_scale == 1) return "";
+  return " Times in real seconds: the file plays " + Fixed(1 / run.time_scale, 2) +
+         "x slower than real time (its stamps x " + Fixed(run.time_scale, 4) + ").";
+}
+
 bool HasFoundRows(const ReportRunData& run) {
   return std::any_of(run.track.begin(), run.track.end(), [](const auto& r) {
     return r.found && std::isfinite(r.cy_px) && std::isfinite(r.h_px);
@@ -146,7 +157,7 @@ ReportFigure HeightFigure(const ReportRunData& run, FigureWriter& w) {
     if (t1 > t0) gp << "set xrange [" << Num(t0) << ":" << Num(t1) << "]\n";
   }
   gp << "set title 'Tracked height over time with detected apexes'\n"
-     << (strip ? "set format x ''\n" : "set xlabel 'time since first frame (s)'\n")
+     << (strip ? "set format x ''\n" : TimeAxis(run))
      << (metres ? "set ylabel 'ball bottom above floor (m)'\n"
                 : "set ylabel 'ball bottom above lowest tracked point (px)'\n")
      << "set yrange [0:*]\n"
@@ -172,7 +183,7 @@ ReportFigure HeightFigure(const ReportRunData& run, FigureWriter& w) {
     w.Data("impacts_heard.dat", "# t_s 0 0 dy\n" + heard.str());
     w.Data("impacts_seen.dat", "# t_s 0 0 dy\n" + seen.str());
     gp << "set tmargin at screen 0.38\nset bmargin at screen 0.18\n"
-       << "unset title\nset format x '%g'\nset xlabel 'time since first frame (s)'\n"
+       << "unset title\nset format x '%g'\n" << TimeAxis(run)
        << "set ylabel 'sound'\nset yrange [0:" << Num(1.1 * top) << "]\n"
        << "set ytics " << Num(top / 2) << "\nset format y '%.2f'\n"
        << "set key at screen 0.97, screen 0.0 right bottom horizontal nobox\n"
@@ -200,12 +211,16 @@ ReportFigure HeightFigure(const ReportRunData& run, FigureWriter& w) {
 
 ReportFigure TrajectoryFigure(const ReportRunData& run, FigureWriter& w, bool have_recorded) {
   std::ostringstream sim;
-  sim << "# t_s height_m\n";
-  for (const auto& s : run.simulated) sim << Num(s.t_s) << " " << Num(s.height_m) << "\n";
+  sim << "# t_s height_m (a blank line between drops)\n";
+  for (size_t i = 0; i < run.simulated.size(); ++i) {
+    const auto& s = run.simulated[i];
+    if (i > 0 && s.drop != run.simulated[i - 1].drop) sim << "\n";
+    sim << Num(s.t_s) << " " << Num(s.height_m) << "\n";
+  }
   w.Data("simulated.dat", sim.str());
   std::ostringstream gp;
   gp << "set title 'Recorded vs simulated trajectory'\n"
-     << "set xlabel 'time since first frame (s)'\n"
+     << TimeAxis(run)
      << "set ylabel 'ball bottom above floor (m)'\n"
      << "set yrange [0:*]\nplot ";
   if (have_recorded) {
@@ -215,47 +230,45 @@ ReportFigure TrajectoryFigure(const ReportRunData& run, FigureWriter& w, bool ha
         "title 'simulated (final coefficients)'\n";
   return w.Draw("trajectory", "Recorded vs simulated trajectory",
                 "Ball bottom above the floor (m) against time (s): the tracked ball and the "
-                "model with the final coefficients (simulated.csv). The paper's Fig. 7.",
+                "model with the final coefficients (simulated.csv), each drop's simulated ball "
+                "released at the apex its fit started from. The paper's Fig. 7." + RealTimeNote(run),
                 gp.str());
 }
 
 ReportFigure BouncesFigure(const ReportRunData& run, FigureWriter& w) {
-  const ReportFit* fit = run.FinalFit();
-  std::map<int, double> simulated;  // bounce -> simulated apex height, m
-  if (fit) {
-    for (size_t i = 0; i < fit->simulated_m.size(); ++i) {
-      if (std::isfinite(fit->simulated_m[i])) simulated[static_cast<int>(i + 1)] = fit->simulated_m[i];
-    }
-  }
-  std::ostringstream rec, diff;
-  rec << "# bounce height_m sigma_m\n";
-  diff << "# bounce simulated_minus_recorded_mm sigma_mm\n";
-  int max_bounce = 0;
-  for (const auto& p : run.peaks) {
+  // Paired by drop and bounce number, as the fit took them (coefficients.json's drops).
+  const std::map<std::pair<int, int>, ReportFitPair> fitted = FinalFitByBounce(run);
+  bool several = false;
+  for (const auto& p : run.peaks) several = several || p.drop != run.peaks.front().drop;
+  std::ostringstream rec, sim, diff;
+  rec << "# position height_m sigma_m label\n";
+  sim << "# position simulated_m\n";
+  diff << "# position simulated_minus_recorded_mm sigma_mm drop bounce label\n";
+  int position = -1, compared = 0;
+  for (size_t i = 0; i < run.peaks.size(); ++i) {
+    const ReportPeak& p = run.peaks[i];
     // The heights the final fit took (refitted, or heard), against what it simulated.
     const double h = p.HeightToUse();
     if (!std::isfinite(h)) continue;
+    // One position per row; a new drop leaves a gap.
+    position += (i > 0 && p.drop != run.peaks[i - 1].drop) ? 2 : 1;
     double sigma = p.height_sigma_m;
     if (!std::isfinite(sigma) && run.calibration) sigma = ApexHeightSigmaM(h, *run.calibration);
     if (!std::isfinite(sigma)) sigma = 0;
-    rec << Num(p.bounce - 0.08) << " " << Num(h) << " " << Num(sigma) << "\n";
-    auto it = simulated.find(p.bounce);
-    if (it != simulated.end()) {
-      diff << Num(p.bounce) << " " << Num((it->second - h) * 1000) << " "
-           << Num(sigma * 1000) << "\n";
-    }
-    max_bounce = std::max(max_bounce, p.bounce);
+    const std::string label = several ? std::to_string(p.drop) + ":" + std::to_string(p.bounce) : std::to_string(p.bounce);
+    rec << Num(position - 0.08) << " " << Num(h) << " " << Num(sigma) << " \"" << label << "\"\n";
+    auto it = fitted.find({p.drop, p.bounce});
+    if (it == fitted.end() || !std::isfinite(it->second.simulated_m)) continue;
+    sim << Num(position + 0.08) << " " << Num(it->second.simulated_m) << "\n";
+    // The difference the fit minimised: against the height it took.
+    diff << Num(position) << " " << Num((it->second.simulated_m - it->second.recorded_m) * 1000) << " "
+         << Num(sigma * 1000) << " " << p.drop << " " << p.bounce << " \"" << label << "\"\n";
+    ++compared;
   }
   w.Data("bounces_recorded.dat", rec.str());
   w.Data("bounces_difference.dat", diff.str());
-  std::ostringstream sim;
-  sim << "# bounce simulated_m\n";
-  for (const auto& [bounce, h] : simulated) {
-    sim << Num(bounce + 0.08) << " " << Num(h) << "\n";
-    max_bounce = std::max(max_bounce, bounce);
-  }
   w.Data("bounces_simulated.dat", sim.str());
-  const bool compare = !simulated.empty() && diff.str().find('\n') != diff.str().rfind('\n');
+  const bool compare = compared > 0;
   std::ostringstream gp;
   if (compare) {
     gp << "set multiplot layout 2,1 title 'Bounce heights: recorded vs simulated' font ',13'\n"
@@ -263,17 +276,18 @@ ReportFigure BouncesFigure(const ReportRunData& run, FigureWriter& w) {
   } else {
     gp << "set title 'Bounce heights: recorded'\n";
   }
-  gp << "set xlabel 'bounce (0 = release)'\n"
+  gp << (several ? "set xlabel 'drop:bounce, as peaks.csv numbers them (0 = release)'\n"
+                 : "set xlabel 'bounce, as peaks.csv numbers it (0 = release)'\n")
      << "set ylabel 'apex height, ball bottom (m)'\n"
-     << "set xrange [-0.5:" << max_bounce + 0.5 << "]\n"
-     << "set xtics 1\nset yrange [0:*]\n"
-     << "plot 'bounces_recorded.dat' using 1:2:3 with yerrorbars pt 7 ps 1.3 lw 1.5 "
+     << "set xrange [-0.5:" << position + 0.5 << "]\n"
+     << "set yrange [0:*]\n"
+     << "plot 'bounces_recorded.dat' using 1:2:3:xtic(4) with yerrorbars pt 7 ps 1.3 lw 1.5 "
         "lc rgb '#1f77b4' title 'recorded (±1 sigma)'";
   if (compare) {
     gp << ", \\\n  'bounces_simulated.dat' using 1:2 with points pt 5 ps 1.3 lc rgb '#ff7f0e' "
           "title 'simulated (final fit)'\n"
        << "set ylabel 'simulated - recorded (mm)'\nset yrange [*:*]\n"
-       << "plot 'bounces_difference.dat' using 1:2:3 with yerrorbars pt 5 ps 1.2 lw 1.5 "
+       << "plot 'bounces_difference.dat' using 1:2:3:xtic(6) with yerrorbars pt 5 ps 1.2 lw 1.5 "
           "lc rgb '#ff7f0e' title 'simulated - recorded, bars: ±1 sigma of the recorded height', "
           "0 with lines dt 2 lc rgb '#888888' notitle\n"
        << "unset multiplot";
@@ -281,8 +295,10 @@ ReportFigure BouncesFigure(const ReportRunData& run, FigureWriter& w) {
   gp << "\n";
   return w.Draw("bounces", "Bounce heights, recorded vs simulated",
                 "Top: apex height of each bounce (m), recorded (peaks.csv) with error bars of "
-                "one standard uncertainty, and simulated by the final fit (fit.jsonl). Bottom: "
-                "simulated minus recorded (mm) against the recorded uncertainty.",
+                "one standard uncertainty, and simulated by the final fit, each simulated apex "
+                "beside the bounce of the same number (coefficients.json's drops: the fit's "
+                "simulated ball starts at its start apex). Bottom: simulated minus the recorded "
+                "height the fit took (mm), against the recorded uncertainty.",
                 gp.str(), compare ? 640 : 0);
 }
 
@@ -364,7 +380,7 @@ ReportFigure AspectFigure(const ReportRunData& run, FigureWriter& w) {
   w.Data("aspect.dat", s.str());
   std::ostringstream gp;
   gp << "set title 'Width/height ratio of the ball box'\n"
-     << "set xlabel 'time since first frame (s)'\n"
+     << TimeAxis(run)
      << "set ylabel 'box width / box height (-)'\n"
      << "plot 'aspect.dat' using 1:2 with lines lc rgb '#9467bd' title 'w/h', "
         "1 with lines dt 2 lc rgb '#888888' title 'round'\n";

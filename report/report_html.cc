@@ -132,20 +132,21 @@ void PeaksSection(std::ostringstream& h, const ReportRunData& run) {
   }
   const auto e_h = RestitutionFromHeights(run.peaks);
   const auto e_f = RestitutionFromFlights(run.peaks);
-  const ReportFit* fit = run.FinalFit();
+  const auto fitted = FinalFitByBounce(run);
+  bool several = false;
+  for (const auto& p : run.peaks) several = several || p.drop != run.peaks.front().drop;
   h << "<table>\n";
-  Header(h, {"bounce", "apex time (s)", "height (m)", "&plusmn; (m)", "height (px)",
+  Header(h, {several ? "drop:bounce" : "bounce", run.time_scale == 1 ? "apex time (s)" : "apex time (real s)", "height (m)", "&plusmn; (m)", "height (px)",
              "refitted height (m)", "flight-time height (m)", "restitution from heights (-)",
              "restitution from flights (-)", "simulated (m)", "emitted after apex (ms)"});
   for (size_t i = 0; i < run.peaks.size(); ++i) {
     const auto& p = run.peaks[i];
     double sigma = p.height_sigma_m;
     if (!std::isfinite(sigma) && run.calibration) sigma = ApexHeightSigmaM(p.height_m, *run.calibration);
-    double sim = kReportNaN;
-    if (fit && p.bounce >= 1 && static_cast<size_t>(p.bounce) <= fit->simulated_m.size()) {
-      sim = fit->simulated_m[p.bounce - 1];
-    }
-    Row(h, {std::to_string(p.bounce) + (p.bounce == 0 ? " (release)" : ""), Fmt(p.t_s, 4),
+    const auto it = fitted.find({p.drop, p.bounce});  // by its number, as the fit took it
+    const double sim = it == fitted.end() ? kReportNaN : it->second.simulated_m;
+    Row(h, {(several ? std::to_string(p.drop) + ":" : "") + std::to_string(p.bounce) + (p.bounce == 0 ? " (release)" : ""),
+            Fmt(p.t_s, 4),
             Fmt(p.height_m, 4), Fmt(sigma, 4), Fmt(p.height_px, 1), Fmt(p.refit_height_m, 4),
             Fmt(p.flight_height_m, 4),
             Fmt(e_h[i], 3), Fmt(e_f[i], 3), Fmt(sim, 4),

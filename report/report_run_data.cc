@@ -161,6 +161,7 @@ std::vector<ReportPeak> LoadPeaks(const fs::path& file) {
     p.emitted_t_s = r.emitted_t_s;
     p.fused_height_m = r.fused_height_m;
     p.refit_height_m = r.refit_height_m;
+    p.drop = r.drop;
     peaks.push_back(p);
   }
   return peaks;
@@ -170,7 +171,8 @@ std::vector<ReportSimSample> LoadSimulated(const fs::path& file) {
   CsvTable csv(file, {"t_s", "height_m"});
   std::vector<ReportSimSample> out;
   for (size_t i = 0; i < csv.size(); ++i) {
-    out.push_back({csv.Required(i, "t_s"), csv.Required(i, "height_m")});
+    const double drop = csv.Number(i, "drop");
+    out.push_back({std::isfinite(drop) ? static_cast<int>(drop) : 0, csv.Required(i, "t_s"), csv.Required(i, "height_m")});
   }
   return out;
 }
@@ -308,6 +310,24 @@ void RetimeTrack(const nlohmann::json& summary, std::vector<ReportTrackRow>* tra
   for (auto& row : *track) row.t_s = TakenAtSeconds(first + row.t_s, f, c) - first;
 }
 
+// Every time on real seconds: a slow-motion file's rows are on its stamps, its heights and
+// its simulation in real seconds.
+void ReadOnRealTime(ReportRunData* run) {
+  double k = kReportNaN;
+  if (run->summary && run->summary->contains("clock") && (*run->summary)["clock"].is_object())
+    k = JsonNumber((*run->summary)["clock"], "time_scale");
+  if (!(k > 0) && run->coefficients_export) k = JsonNumber(*run->coefficients_export, "time_scale");
+  if (!(k > 0) || k == 1) return;
+  run->time_scale = k;
+  for (auto& r : run->track) r.t_s *= k;
+  for (auto& p : run->peaks) p.t_s *= k, p.emitted_t_s *= k;
+  for (auto& s : run->simulated) s.t_s *= k;
+  for (auto& i : run->impacts) i.t_s *= k;
+  for (auto& w : run->waveform) w.t_s *= k;
+  for (auto& f : run->fits) f.t_s *= k;
+  if (run->calibration) run->calibration->t_s *= k;
+}
+
 }  // namespace
 
 ReportRunData LoadRunDirectory(const fs::path& dir) {
@@ -354,7 +374,36 @@ ReportRunData LoadRunDirectory(const fs::path& dir) {
     }
   }
   if (run.fit_export_cc_name.empty()) run.absent_files.push_back("fitted_ball/README.md");
+  ReadOnRealTime(&run);
   return run;
+}
+
+std::map<std::pair<int, int>, ReportFitPair> FinalFitByBounce(const ReportRunData& run) {
+  std::map<std::pair<int, int>, ReportFitPair> out;
+  const nlohmann::json* c = run.coefficients_export ? &*run.coefficients_export : nullptr;
+  try {
+    if (c && c->contains("drops") && (*c)["drops"].is_array()) {
+      for (const auto& d : (*c)["drops"]) {
+        const auto bounces = d.value("bounces", std::vector<int>());
+        const auto rec = JsonNumbers(d, "recorded_m"), sim = JsonNumbers(d, "simulated_m");
+        for (size_t i = 0; i < bounces.size(); ++i)
+          out[{d.value("drop", 0), bounces[i]}] = {i < rec.size() ? rec[i] : kReportNaN,
+                                                   i < sim.size() ? sim[i] : kReportNaN};
+      }
+      return out;
+    }
+  } catch (const std::exception& e) {
+    Fail(run.dir / "coefficients.json", std::string("drops: ") + e.what());
+  }
+  // An older run: the fit's own drop only, the last of peaks.csv, from its start apex.
+  const ReportFit* fit = run.FinalFit();
+  if (!fit) return out;
+  const int start = c ? c->value("start_bounce", 0) : 0;
+  const int drop = run.peaks.empty() ? 0 : run.peaks.back().drop;
+  const size_t own = fit->simulated_m.size();
+  for (size_t i = 0; i < own && i < fit->recorded_m.size(); ++i)
+    out[{drop, start + 1 + static_cast<int>(i)}] = {fit->recorded_m[i], fit->simulated_m[i]};
+  return out;
 }
 
 double BallBottomHeightM(double cx_px, double cy_px, double h_px,

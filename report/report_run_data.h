@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,7 @@ struct ReportTrackRow {
 
 struct ReportPeak {
   int bounce = 0;
+  int drop = 0;  // peaks.csv's drop (0 in a file without the column)
   double t_s = 0;
   double height_m = kReportNaN;
   double height_px = kReportNaN;
@@ -93,8 +95,14 @@ struct ReportWaveSample {
 };
 
 struct ReportSimSample {
+  int drop = 0;  // simulated.csv's drop (0 in a file without the column)
   double t_s = 0;
   double height_m = 0;
+};
+
+// The final fit's heights of one bounce: the recorded one it fitted and its simulation's.
+struct ReportFitPair {
+  double recorded_m = kReportNaN, simulated_m = kReportNaN;
 };
 
 struct ReportRunData {
@@ -112,10 +120,20 @@ struct ReportRunData {
   std::string fit_export_cc_name;             // its file: fitted_ball/README.md (older runs:
                                               // soft_body_config.cc or fit_export.cc)
   std::vector<std::string> absent_files;      // optional files that were not there
+  // Real seconds per second of the run's clock (summary.json's clock.time_scale, else
+  // coefficients.json's): below 1 for a slow-motion file read on its stamps. Every time above
+  // is read in real seconds (multiplied by it), so the tracked ball, its apexes and the
+  // simulated one share the clock the heights were measured on.
+  double time_scale = 1;
 
   // The last fit marked final, else the last fit, else null.
   const ReportFit* FinalFit() const;
 };
+
+// The final fit's heights by (drop, bounce) as peaks.csv numbers them: coefficients.json's
+// drops; an older run's coefficients.json without them, its own drop (the last) from its
+// start_bounce. Empty without a final fit.
+std::map<std::pair<int, int>, ReportFitPair> FinalFitByBounce(const ReportRunData& run);
 
 // Reads every file of docs/FORMATS.md that `report` uses from `dir`.
 ReportRunData LoadRunDirectory(const std::filesystem::path& dir);
