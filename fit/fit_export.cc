@@ -128,7 +128,7 @@ FittedBallGltf WriteFitGltf(const std::filesystem::path& path, const FitUpdate& 
   // The animation ends where the fit's safety drops end: hops of a tenth of the ball's
   // diameter (at least 1 cm) are contact chatter, not bounces.
   FittedBallGltfOptions options;
-  options.min_bounce_height_m = std::max(0.01, 0.1 * ball.diameter_m);
+  options.min_bounce_height_m = ball.chatter_hop_m();
   return WriteFittedBallGltf(path, *model, ball, u.values, drop_height_m,
                              FitGltfExtras(u, ball, context), context.recorded, options);
 }

@@ -20,7 +20,7 @@ void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
   // Soft-ball sets can diverge (through the floor, exploding): candidate answers are
   // checked from the safe drop heights inside the final fit's search.
   config->safe_search = true;
-  config->safe_min_bounce_m = std::max(config->safe_min_bounce_m, 0.1 * ball.diameter_m);
+  config->safe_min_bounce_m = std::max(config->safe_min_bounce_m, ball.chatter_hop_m());
   if (config->impact == "restitution") {
     // The rebound law's curve and the air are what the heights and flights tell; the
     // boost is the other law. Start: the model's defaults (the stored tables' stiff

@@ -18,6 +18,9 @@ struct BallPreset {
   double color_bgr[3] = {0, 0, 0};
 
   double radius_m() const { return diameter_m / 2; }
+  // Hops lower than this are contact chatter, not bounces: a tenth of the diameter, at least
+  // 1 cm (a basketball's 1 cm hops; their apexes noisy by a millimetre).
+  double chatter_hop_m() const { return diameter_m > 0.1 ? 0.1 * diameter_m : 0.01; }
   // Restitution at impact speed v (m/s), clamped to [0, 1].
   double RestitutionAt(double speed_mps) const;
 };
