@@ -255,6 +255,11 @@ FlightFit FitGlobals(const FlightGlobals& init, const std::vector<FlightArcParam
 // The ball size's scale is known to a few percent (edge blur, the threshold): the share
 // within which a free-fall scale agrees with it.
 constexpr double kSizeRelSigma = 0.05;
+// Drag per metre (deceleration k v^2, v in m/s) that only the lightest balls have: a ping-pong
+// ball's is 0.14 /m (falling at most 8.4 m/s), a tennis ball's 0.02, a basketball's 0.01. A
+// fit that says more of another ball (a phone's tennis drop: 0.14-0.46 /m) has taken up
+// something else; a 4 cm ball's 0.07-0.08 /m (red_ball_ceiling) is its own.
+constexpr double kMaxDragPerM = 0.1;
 
 bool WithinSize(double gravity_px, double g_mps2, double size_px_per_m) {
   return std::abs(gravity_px / g_mps2 / size_px_per_m - 1) <= kSizeRelSigma;
@@ -359,11 +364,13 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
     // Drag freed may take up what is no drag: a release pushed by the hand, a ball going away
     // from the camera as it falls (its picture shrinking slows it in pixels). It then reads a
     // stronger gravity: 790 px/m where a tennis ball's size gave 667 and its rebounds 610-675.
-    // When the scale so fitted is further from the ball size's than the size is uncertain, and
-    // the fit with drag held at none is within it, that one is the scale.
+    // When the drag so fitted is more than only the lightest balls have (kMaxDragPerM), the
+    // scale further from the ball size's than the size is uncertain, and the fit with drag held
+    // at none is within it, that one is the scale. A light ball's own drag keeps its free fit.
     const double size_px_per_m =
         config_.ball_diameter_m > 0 && in.radius_px > 0 ? 2 * in.radius_px / config_.ball_diameter_m : 0;
     if (global.ok && opt.fit_drag && size_px_per_m > 0 &&
+        global.globals.drag_per_px * global.globals.gravity_px / config_.g_mps2 > kMaxDragPerM &&
         !WithinSize(global.globals.gravity_px, config_.g_mps2, size_px_per_m)) {
       std::vector<FlightArcData> arcs0 = chosen0;
       std::vector<size_t> index0 = chosen_index0;
