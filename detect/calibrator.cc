@@ -232,39 +232,6 @@ FlightFit WithReleaseSpeed(const std::vector<FlightArcData>& arcs,
   return cost_rest - cost_pushed > kSigmas * kSigmas * sigma2 * freed ? pushed : from_rest;
 }
 
-// The globals from the chosen arcs: the shared fit, without a drag that came out negative,
-// without an arc far off its fit, with the held arcs' release speed when it explains them.
-FlightFit FitGlobals(const FlightGlobals& init, const std::vector<FlightArcParams>& init_arcs,
-                     double radius_px, FlightFitOptions opt, bool fit_release_speed,
-                     std::vector<FlightArcData>* arcs, std::vector<size_t>* index,
-                     std::vector<ArcAccel>* accels) {
-  FlightFit global = FitFlight(*arcs, init, init_arcs, opt);
-  // Drag must slow the ball: a negative fit is noise, refit without it.
-  if (global.ok && global.globals.drag_per_px < 0) {
-    FlightGlobals g0 = global.globals;
-    g0.drag_per_px = 0;
-    opt.fit_drag = false;
-    global = FitFlight(*arcs, g0, global.arcs, opt);
-  }
-  if (global.ok) global = WithoutArcFarOffItsFit(global, radius_px, opt, arcs, index, accels);
-  if (global.ok && fit_release_speed && arcs->size() >= 2)
-    global = WithReleaseSpeed(*arcs, *accels, global, 4 * radius_px, opt);
-  return global;
-}
-
-// The ball size's scale is known to a few percent (edge blur, the threshold): the share
-// within which a free-fall scale agrees with it.
-constexpr double kSizeRelSigma = 0.05;
-// Drag per metre (deceleration k v^2, v in m/s) that only the lightest balls have: a ping-pong
-// ball's is 0.14 /m (falling at most 8.4 m/s), a tennis ball's 0.02, a basketball's 0.01. A
-// fit that says more of another ball (a phone's tennis drop: 0.14-0.46 /m) has taken up
-// something else; a 4 cm ball's 0.07-0.08 /m (red_ball_ceiling) is its own.
-constexpr double kMaxDragPerM = 0.1;
-
-bool WithinSize(double gravity_px, double g_mps2, double size_px_per_m) {
-  return std::abs(gravity_px / g_mps2 / size_px_per_m - 1) <= kSizeRelSigma;
-}
-
 }  // namespace
 
 bool CalibratorConfig::IsValid(std::string* error) const {
@@ -350,59 +317,23 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
       else
         init_arcs.push_back(InitialArcParams(chosen[c], init));
     }
-    const std::vector<FlightArcData> chosen0 = chosen;
-    const std::vector<size_t> chosen_index0 = chosen_index;
-    const std::vector<ArcAccel> accels_0 = accels;
     FlightFitOptions opt;
     // One arc seen from neither a hold nor its vertex (it entered the view falling) does
     // not tell gravity from drag: the fit trades one for the other (40% off seen on a
     // 0.16 s fall). Drag waits for a second arc.
     opt.fit_drag = config_.fit_drag && (chosen.size() >= 2 || chosen[0].held_before_apex ||
                                         ApexInside(chosen[0], init));
-    FlightFit global = FitGlobals(init, init_arcs, in.radius_px, opt, config_.fit_release_speed,
-                                  &chosen, &chosen_index, &accels);
-    // Drag freed may take up what is no drag: a release pushed by the hand, a ball going away
-    // from the camera as it falls (its picture shrinking slows it in pixels). It then reads a
-    // stronger gravity: 790 px/m where a tennis ball's size gave 667 and its rebounds 610-675.
-    // When the drag so fitted is more than only the lightest balls have (kMaxDragPerM), the
-    // scale further from the ball size's than the size is uncertain, and the fit with drag held
-    // at none is within it, that one is the scale. A light ball's own drag keeps its free fit.
-    const double size_px_per_m =
-        config_.ball_diameter_m > 0 && in.radius_px > 0 ? 2 * in.radius_px / config_.ball_diameter_m : 0;
-    if (global.ok && opt.fit_drag && size_px_per_m > 0 &&
-        global.globals.drag_per_px * global.globals.gravity_px / config_.g_mps2 > kMaxDragPerM &&
-        !WithinSize(global.globals.gravity_px, config_.g_mps2, size_px_per_m)) {
-      std::vector<FlightArcData> arcs0 = chosen0;
-      std::vector<size_t> index0 = chosen_index0;
-      std::vector<ArcAccel> accels0 = accels_0;
-      FlightGlobals init0 = init;
-      init0.drag_per_px = 0;
-      FlightFitOptions opt0 = opt;
-      opt0.fit_drag = false;
-      FlightFit fixed =
-          FitGlobals(init0, init_arcs, in.radius_px, opt0, config_.fit_release_speed, &arcs0,
-                     &index0, &accels0);
-      // A fall alone has no rebound to tell a push from gravity (WithReleaseSpeed): held at
-      // no drag, its release speed freed too; the closer of the two to its samples.
-      if (fixed.ok && arcs0.size() == 1 && arcs0[0].held_before_apex) {
-        std::vector<FlightArcParams> start = fixed.arcs;
-        FlightFitOptions lead = opt0;
-        lead.fit_release_lead = true;
-        if (ReleaseStart(arcs0[0], fixed.globals, 4 * in.radius_px, &start[0])) {
-          const FlightFit pushed = FitFlight(arcs0, fixed.globals, start, lead);
-          const bool rest_fits = WithinSize(fixed.globals.gravity_px, config_.g_mps2, size_px_per_m);
-          if (pushed.ok && WithinSize(pushed.globals.gravity_px, config_.g_mps2, size_px_per_m) &&
-              (!rest_fits || pushed.rms_px < fixed.rms_px))
-            fixed = pushed;
-        }
-      }
-      if (fixed.ok && WithinSize(fixed.globals.gravity_px, config_.g_mps2, size_px_per_m)) {
-        global = std::move(fixed);
-        chosen = std::move(arcs0);
-        chosen_index = std::move(index0);
-        accels = std::move(accels0);
-      }
+    FlightFit global = FitFlight(chosen, init, init_arcs, opt);
+    // Drag must slow the ball: a negative fit is noise, refit without it.
+    if (global.ok && global.globals.drag_per_px < 0) {
+      FlightGlobals g0 = global.globals;
+      g0.drag_per_px = 0;
+      opt.fit_drag = false;
+      global = FitFlight(chosen, g0, global.arcs, opt);
     }
+    if (global.ok) global = WithoutArcFarOffItsFit(global, in.radius_px, opt, &chosen, &chosen_index, &accels);
+    if (global.ok && config_.fit_release_speed && chosen.size() >= 2)
+      global = WithReleaseSpeed(chosen, accels, global, 4 * in.radius_px, opt);
     if (!global.ok) {
       res.problem = "the free-flight fit failed";
     } else {
@@ -501,7 +432,7 @@ CalibrationResult Calibrator::Calibrate(const CalibrationInput& in) const {
   } else if ((!(cal.px_per_m > 0) || !cal.FreeFallMeasured(config_.max_free_fall_rel_sigma)) &&
              config_.ball_diameter_m > 0 && in.radius_px > 0) {
     cal.px_per_m = 2 * in.radius_px / config_.ball_diameter_m;
-    cal.px_per_m_sigma = kSizeRelSigma * cal.px_per_m;
+    cal.px_per_m_sigma = 0.05 * cal.px_per_m;  // edge blur and threshold: a few percent
     cal.method = "ball-diameter";
   }
   if (config_.ball_diameter_m > 0 && in.radius_px > 0 && cal.free_fall_px_per_m > 0)

