@@ -88,12 +88,15 @@ void FitSession::Reset(int sequence) {
 }
 
 void FitSession::KeepDropAndReset(int sequence) {
-  if (CanFit()) {
-    std::vector<double> sigmas{apexes_.at(start_bounce_).sigma_m};
-    sigmas.insert(sigmas.end(), sigmas_.begin(), sigmas_.begin() + static_cast<long>(FittedHeights().size()));
-    kept_.push_back({drop_height_m_, FittedHeights(), FittedFlights(), sigmas, start_bounce_});
-  }
+  if (CanFit()) kept_.push_back(ThisDrop());
   Reset(sequence);
+}
+
+FitSession::KeptDrop FitSession::ThisDrop() const {
+  const std::vector<double> heights = FittedHeights();
+  std::vector<double> sigmas{apexes_.at(start_bounce_).sigma_m};
+  sigmas.insert(sigmas.end(), sigmas_.begin(), sigmas_.begin() + static_cast<long>(heights.size()));
+  return {drop_height_m_, heights, FittedFlights(), sigmas, start_bounce_};
 }
 
 bool FitSession::AddPeak(const PeakInput& p) {

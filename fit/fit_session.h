@@ -273,6 +273,8 @@ class FitSession {
     std::vector<double> sigmas_m;  // the start's, then the heights'
     int start_bounce = 0;
   };
+  // This drop as a joint fit keeps it (CanFit() must hold).
+  KeptDrop ThisDrop() const;
   // Every drop's restitution points (kept drops first), the air's drag from `values`.
   std::vector<RestitutionPoint> RestitutionPoints(const CoefficientValues& values) const;
   std::vector<KeptDrop> kept_;  // earlier drops, fitted with this one in final fits

@@ -171,7 +171,7 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
       if (h.kind == HeldCoefficient::Kind::kBound) {
         c.identifiable = true;
         c.sigma = h.one_sided_sigma;
-        c.bound = h.why.find("upper") != std::string::npos ? "upper" : "lower";
+        c.bound = h.bound;
       } else {
         c.identifiable = false;
         c.sigma = std::numeric_limits<double>::quiet_NaN();
@@ -233,20 +233,15 @@ std::vector<RestitutionPoint> FitSession::RestitutionPoints(const CoefficientVal
   const double c = config_.air_per_m_per_cd * cd;
   std::vector<RestitutionPoint> out;
   int drops = 0;
-  auto add = [&](double start_m, const std::vector<double>& heights, const std::vector<double>& sigmas,
-                 int start_bounce) {
-    std::vector<double> apexes{start_m};
-    apexes.insert(apexes.end(), heights.begin(), heights.end());
-    const auto points = MeasureRestitution(apexes, sigmas, c, drops, start_bounce, config_.default_sigma_m);
+  auto add = [&](const KeptDrop& d) {
+    std::vector<double> apexes{d.drop_height_m};
+    apexes.insert(apexes.end(), d.heights_m.begin(), d.heights_m.end());
+    const auto points = MeasureRestitution(apexes, d.sigmas_m, c, drops, d.start_bounce, config_.default_sigma_m);
     out.insert(out.end(), points.begin(), points.end());
     drops += !points.empty();
   };
-  for (const KeptDrop& d : kept_) add(d.drop_height_m, d.heights_m, d.sigmas_m, d.start_bounce);
-  if (CanFit()) {
-    std::vector<double> sigmas{apexes_.at(start_bounce_).sigma_m};
-    sigmas.insert(sigmas.end(), sigmas_.begin(), sigmas_.begin() + static_cast<long>(FittedHeights().size()));
-    add(drop_height_m_, FittedHeights(), sigmas, start_bounce_);
-  }
+  for (const KeptDrop& d : kept_) add(d);
+  if (CanFit()) add(ThisDrop());
   return out;
 }
 

@@ -76,9 +76,9 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
   const size_t heights = soft.recorded_m.size();
   std::vector<CoefficientSpec> free;
   auto hold = [&](const CoefficientSpec& s, HeldCoefficient::Kind kind, double value,
-                  double one_sided_sigma, const std::string& why) {
+                  double one_sided_sigma, const std::string& why, const std::string& bound = "") {
     pm.fixed[s.name] = pm_start[s.name] = value;
-    out.held.push_back({SoftLawName(s.name), kind, value, one_sided_sigma, why});
+    out.held.push_back({SoftLawName(s.name), kind, value, one_sided_sigma, why, bound});
   };
   for (const auto& s : all) {
     if (free.size() < std::max<size_t>(1, heights))
@@ -131,9 +131,9 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
       }
       if (at_lower || at_upper) {
         const double bound = at_lower ? s.lower : s.upper;
+        const std::string side = at_lower ? "lower" : "upper";
         hold(s, HeldCoefficient::Kind::kBound, bound, est[j].sigma,
-             std::string("at its ") + (at_lower ? "lower" : "upper") + " bound " + Num(bound) +
-                 ", where the bounces put it");
+             "at its " + side + " bound " + Num(bound) + ", where the bounces put it", side);
         break;
       }
     }

@@ -48,6 +48,7 @@ struct HeldCoefficient {
   double value = 0;
   double one_sided_sigma = 0;  // kBound: how far into its range one sigma of the heights allows
   std::string why;             // one line
+  std::string bound;           // kBound: "lower" or "upper"
 };
 
 struct RestitutionFit {
