@@ -263,7 +263,8 @@ int FitSession::FinalBudget() const {
   if (!UsesRestitutionLaw()) return config_.max_evaluations_final;
   const RestitutionFitOptions ro;
   const int search = std::min(ro.max_evaluations, config_.max_evaluations_final - AfterSearchSimulations());
-  return ro.point_mass_evaluations + std::max(1, search) + AfterSearchSimulations();
+  // Stage 1's point-mass runs (microseconds each) are not counted: they are not the wait.
+  return std::max(1, search) + AfterSearchSimulations();
 }
 
 SearchResult FitSession::FinalRestitutionSearch(int budget, const SearchOptions& options,

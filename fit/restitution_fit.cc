@@ -71,6 +71,7 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
   SearchOptions po = options;
   po.max_evaluations = o.point_mass_evaluations;
   po.threads = 1;  // milliseconds each
+  po.simulations = nullptr;  // nor counted in the fit's progress, which counts the soft ball's runs
   po.target_rms_m = 0;
   // Never more coefficients than heights: restitution, then its slope, then drag.
   const size_t heights = soft.recorded_m.size();
