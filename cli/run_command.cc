@@ -7,6 +7,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "capture/v4l2_camera.h"
@@ -61,7 +62,8 @@ std::string Summary(const PipelineOutcome& r, const RunConsole& console, const s
                         f.recorded_m.size());
   }
   text += "\nwrote " + out_dir + ": track.csv, peaks.csv, impacts.csv, summary.json, fit.jsonl" +
-          (r.final_fit ? ", coefficients.json, fitted_ball/ (Bullet), fitted_ball.glb (Blender), simulated.csv" : "") +
+          (r.final_fit ? ", coefficients.json, fitted_ball/ (Bullet), fitted_ball.glb (Blender)" : "") +
+          (std::filesystem::exists(std::filesystem::path(out_dir) / "simulated.csv") ? ", simulated.csv" : "") +
           " (`bouncefit report " + out_dir + "` draws them)";
   if (!s.tracker.empty()) text += "\n" + s.tracker;
   return text;

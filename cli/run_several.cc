@@ -52,7 +52,7 @@ std::vector<double> WriteDropsBesideTheirSimulation(const RunOptions& o, const B
     std::vector<double> ends(its.size(), INFINITY);  // each drop until the next one starts
     for (size_t i = 0; i + 1 < its.size(); ++i) ends[i] = its[i + 1].start_t_s;
     double run_s_per_real_s = 1;
-    const auto simulated = SimulateFitDrops(*model, fit, its, ends, &run_s_per_real_s);
+    const auto simulated = SimulateFitDrops(*model, fit, its, ends, ball.chatter_hop_m(), &run_s_per_real_s);
     if (simulated.size() < its.size() && !o.quiet)
       std::fprintf(stderr, "run: warning: %s: the fitted ball diverges dropped from a start apex\n", clip.c_str());
     if (!simulated.empty()) WriteSimulatedCsv(root / clip, simulated, run_s_per_real_s);

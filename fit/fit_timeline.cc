@@ -63,9 +63,11 @@ double RunSecondsPerRealSecond(const std::vector<FitDrop>& drops,
 }
 
 SimulationResult SimulateFromStart(const BallModel& model, const CoefficientValues& values,
-                                   double start_height_m, double duration_s, double rate_hz) {
+                                   double start_height_m, double duration_s, double min_hop_m,
+                                   double rate_hz) {
   SimulationOptions so;
   so.drop_height_m = start_height_m;
+  so.min_bounce_height_m = min_hop_m;
   so.record_trajectory = true;
   so.trajectory_rate_hz = rate_hz;
   so.duration_s = duration_s;

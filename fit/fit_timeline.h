@@ -44,8 +44,10 @@ double RunSecondsPerRealSecond(const std::vector<FitDrop>& drops,
                                const std::vector<std::vector<double>>& simulated_apex_times_s);
 
 // The fitted ball dropped from a drop's start apex, its trajectory sampled at rate_hz for
-// duration_s (s, real) or until its bounces fall under 1 cm.
+// duration_s (s, real) or until its hops fall under min_hop_m (the ball's contact chatter,
+// BallPreset::chatter_hop_m: a big ball's centimetre hops are not flights).
 SimulationResult SimulateFromStart(const BallModel& model, const CoefficientValues& values,
-                                   double start_height_m, double duration_s, double rate_hz = 120);
+                                   double start_height_m, double duration_s, double min_hop_m,
+                                   double rate_hz = 120);
 
 }  // namespace bouncefit

@@ -27,14 +27,15 @@ void WriteSimulatedCsv(const std::filesystem::path& dir, const std::vector<Simul
 
 std::vector<SimulatedDrop> SimulateFitDrops(const BallModel& model, const FitUpdate& fit,
                                             const std::vector<FitDrop>& drops,
-                                            const std::vector<double>& ends_t_s, double* run_s_per_real_s) {
+                                            const std::vector<double>& ends_t_s, double min_hop_m,
+                                            double* run_s_per_real_s) {
   std::vector<SimulatedDrop> out;
   std::vector<FitDrop> simulated;
   std::vector<std::vector<double>> apex_times;
   for (size_t d = 0; d < drops.size(); ++d) {
     if (!std::isfinite(drops[d].start_t_s) || !(drops[d].start_height_m > 0)) continue;
     // 8 s at most: long enough for every drop filmed; cut to the drop's span below.
-    const SimulationResult r = SimulateFromStart(model, fit.values, drops[d].start_height_m, 8.0);
+    const SimulationResult r = SimulateFromStart(model, fit.values, drops[d].start_height_m, 8.0, min_hop_m);
     if (!r.ok) continue;
     out.push_back({drops[d].drop, drops[d].start_t_s, d < ends_t_s.size() ? ends_t_s[d] : INFINITY, r.trajectory});
     simulated.push_back(drops[d]);
@@ -187,7 +188,11 @@ void FitStage::WriteExports() {
       if (other.start_t_s > drops[d].start_t_s) ends[d] = std::min(ends[d], other.start_t_s);
   double run_s_per_real_s = 1;
   const std::vector<SimulatedDrop> simulated =
-      SimulateFitDrops(node_->model(), *final_, drops, ends, &run_s_per_real_s);
+      SimulateFitDrops(node_->model(), *final_, drops, ends, node_->ball().chatter_hop_m(), &run_s_per_real_s);
+  if (simulated.size() < drops.size())
+    notice_("fit: warning: the fitted ball diverges dropped from " +
+            std::to_string(drops.size() - simulated.size()) + " of the " + std::to_string(drops.size()) +
+            " start apexes: simulated.csv leaves those drops out");
   const RecordedTrack recorded =
       drops.empty() ? RecordedTrack{} : Recorded(drops.front().start_t_s, ends.front(), run_s_per_real_s);
   FitExportContext context{input_, "run", recorded.t_s.empty() ? nullptr : &recorded};

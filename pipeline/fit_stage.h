@@ -54,9 +54,11 @@ void WriteSimulatedCsv(const std::filesystem::path& dir, const std::vector<Simul
 // Simulates each of the fit's drops from its start apex with the fit's values, for its span of
 // the run's clock (ends: each drop's end, s since the first frame), and measures the run's
 // clock against the simulation (*run_s_per_real_s). Drops whose ball diverges are left out.
+// min_hop_m: where each simulated drop ends (SimulateFromStart).
 std::vector<SimulatedDrop> SimulateFitDrops(const BallModel& model, const FitUpdate& fit,
                                             const std::vector<FitDrop>& drops,
-                                            const std::vector<double>& ends_t_s, double* run_s_per_real_s);
+                                            const std::vector<double>& ends_t_s, double min_hop_m,
+                                            double* run_s_per_real_s);
 
 class FitStage {
  public:

@@ -19,7 +19,7 @@ struct Stamped {
 };
 Stamped DropOnClock(double run_per_real) {
   const PointMassModel model(*FindBallPreset("tennis"));
-  const SimulationResult r = SimulateFromStart(model, {}, 1.0, 6.0);
+  const SimulationResult r = SimulateFromStart(model, {}, 1.0, 6.0, 0.01);
   EXPECT_TRUE(r.ok) << r.failure;
   Stamped s;
   s.drop.start_t_s = 2.0;
