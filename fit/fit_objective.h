@@ -8,6 +8,7 @@
 // simulation (for benchmarks), and stops on a cancellation token or an evaluation budget.
 // Evaluations are checked for cancellation between simulations, never inside one.
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -61,6 +62,11 @@ struct FitProblem {
   // 0 or none: heights only.
   std::vector<double> recorded_flight_s;
   double flight_weight_mps = 0;
+  // The first fall: from the drop height at rest to the first impact, seconds on the
+  // heights' clock, and its standard uncertainty (NaN: not timed). Where the heights cannot
+  // tell the air's drag, this duration can (fit/restitution_fit.h).
+  double start_fall_s = std::nan("");
+  double start_fall_sigma_s = 0;
   // Further drops of the same ball fitted with this one: each from its own
   // release height, its recorded heights (and flights) appended after this drop's in
   // recorded_m (recorded_flight_s); the objective sums over every drop.

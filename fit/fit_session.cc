@@ -103,7 +103,7 @@ bool FitSession::AddPeak(const PeakInput& p) {
   if (p.sequence != sequence_) return false;
   if (!std::isfinite(p.height_m) || p.bounce < 0) return true;  // nothing usable
   last_utime_ = p.utime;
-  apexes_[p.bounce] = {p.height_m, p.sigma_m, p.impact_before_s};
+  apexes_[p.bounce] = {p.height_m, p.sigma_m, p.impact_before_s, p.apex_s};
   ChooseStart();
   return true;
 }
@@ -191,6 +191,14 @@ std::vector<double> FitSession::FittedFlights() const {
   return f;
 }
 
+double FitSession::StartFall() const {
+  if (impacts_before_.empty() || !apexes_.count(start_bounce_)) return std::nan("");
+  const double fall = impacts_before_[0] - apexes_.at(start_bounce_).apex_s;  // NaN when either is
+  if (!(fall > 0)) return std::nan("");
+  // On the flights' clock when it is not the heights' (FittedFlights: a slow-motion file).
+  return std::isfinite(flight_clock_ratio_) ? fall / flight_clock_ratio_ : fall;
+}
+
 double FitSession::MeasurementSigma() const {
   double sum = 0;
   int n = 0;
@@ -227,6 +235,8 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
   p.recorded_m = FittedHeights();
   p.recorded_flight_s = FittedFlights();
   p.flight_weight_mps = config_.impact == "restitution" ? config_.flight_weight_mps : 0;
+  p.start_fall_s = StartFall();
+  p.start_fall_sigma_s = config_.time_sigma_s * (std::isfinite(flight_clock_ratio_) ? 1 / flight_clock_ratio_ : 1);
   p.segments = config_.objective == "segments";
   for (const auto& [name, step] : config_.grid) p.grid[name] = step;
   if (p.recorded_m.empty()) throw std::logic_error("no bounce to fit yet");
@@ -288,7 +298,8 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
   u.no_effect = r.inactive;
   if (std::isfinite(flight_clock_ratio_))
     AddWarning(&u, "the flight times between impacts are " + FormatNumber(flight_clock_ratio_, 2) +
-                       "x what the heights give (the impacts on another clock?): the heights alone are fitted");
+                       "x what the heights give (the impacts on another clock?): the heights are fitted, not the "
+                       "flights; the first fall is read on the flights' clock");
 
   std::vector<CoefficientEstimate> est;
   if (!jacobian.empty())

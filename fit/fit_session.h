@@ -42,6 +42,9 @@ struct PeakInput {
   // When the impact that starts this arc happened, seconds on any clock the drop shares
   // (NaN: unknown); consecutive ones give the flight times the fit's timing uses.
   double impact_before_s = std::nan("");
+  // When the ball was at this apex, on the impacts' clock (NaN: unknown): with the impact
+  // after it, the fall from the start apex that times the air's drag.
+  double apex_s = std::nan("");
 };
 
 struct FitUpdate {
@@ -112,6 +115,9 @@ struct FitSessionConfig {
   // Timing: flight times (impact to impact) in the objective with this weight, m/s (0: off).
   // With the restitution law only: the boost's soft contact puts every impact ~15 ms late.
   double flight_weight_mps = 1.0;
+  // The standard uncertainty of an interval between an apex and an impact, seconds on the
+  // stream's clock: each timed to about a quarter of a 30 fps frame.
+  double time_sigma_s = 0.008;
   int ensemble_members = 8;         // the final fit's free-running check (0: none)
   // A stream's later drops (the person drops the ball again) are fitted jointly with the
   // earlier ones in the final fits; false: each drop on its own.
@@ -246,12 +252,14 @@ class FitSession {
   FitSessionConfig config_;
   // Every apex of the drop by bounce index; the start and the vectors below follow from it.
   struct Apex {
-    double height_m = 0, sigma_m = 0, impact_before_s = 0;
+    double height_m = 0, sigma_m = 0, impact_before_s = 0, apex_s = std::nan("");
   };
   std::map<int, Apex> apexes_;
   // FittedFlights(): the recorded flights over those the heights give, when they disagree
   // so much that they are not used (NaN: used, or none).
   mutable double flight_clock_ratio_ = std::nan("");
+  // The start apex to the impact after it (seconds on the heights' clock; NaN: unknown).
+  double StartFall() const;
   void ChooseStart();
   int sequence_ = 0;
   int start_bounce_ = 0;

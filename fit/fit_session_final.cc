@@ -172,6 +172,9 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
         c.identifiable = true;
         c.sigma = h.one_sided_sigma;
         c.bound = h.bound;
+      } else if (h.kind == HeldCoefficient::Kind::kTimed) {
+        c.identifiable = true;
+        c.sigma = h.sigma;
       } else {
         c.identifiable = false;
         c.sigma = std::numeric_limits<double>::quiet_NaN();

@@ -31,6 +31,40 @@ std::string Num(double v) {
 
 }  // namespace
 
+TimedDrag DragFromFall(const FitProblem& p, const BallModel& point_mass, const CoefficientValues& at,
+                       const CoefficientSpec& drag) {
+  const double t = p.start_fall_s, sigma_t = p.start_fall_sigma_s, h = p.simulation.drop_height_m;
+  if (!(t > 0) || !(sigma_t > 0) || !(h > 0)) return {};
+  auto fall = [&](double cd) {
+    CoefficientValues v = at;
+    v[drag.name] = cd;
+    SimulationOptions o;
+    o.drop_height_m = h;
+    o.duration_s = 3 * std::sqrt(2 * h / 9.81) + 0.5;  // a fall to the floor, and its rebound
+    o.max_bounces = 1;
+    const SimulationResult r = SimulateSafely(point_mass, v, o);
+    return r.ok && !r.impact_times_s.empty() ? r.impact_times_s.front() : std::nan("");
+  };
+  const double fastest = fall(drag.lower), slowest = fall(drag.upper);
+  if (!(std::isfinite(fastest) && std::isfinite(slowest) && slowest > fastest)) return {};
+  if (t < fastest - 2 * sigma_t || t > slowest + 2 * sigma_t) return {};
+  // The fall lengthens with the drag: bisection inside the range.
+  double lo = drag.lower, hi = drag.upper;
+  if (t <= fastest) hi = lo;
+  else if (t >= slowest) lo = hi;
+  for (int i = 0; i < 50 && hi - lo > 1e-6 * (drag.upper - drag.lower); ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (fall(mid) < t ? lo : hi) = mid;
+  }
+  TimedDrag out;
+  out.value = 0.5 * (lo + hi);
+  const double step = 0.02 * (drag.upper - drag.lower);
+  const double a = std::max(drag.lower, out.value - step), b = std::min(drag.upper, out.value + step);
+  const double slope = (fall(b) - fall(a)) / (b - a);
+  out.sigma = slope > 0 ? sigma_t / slope : std::nan("");
+  return out;
+}
+
 std::string SoftLawName(const std::string& n) {
   if (n == "restitution") return "rebound_restitution";
   if (n == "restitution_per_mps") return "rebound_restitution_per_mps";
@@ -79,18 +113,53 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
   auto hold = [&](const CoefficientSpec& s, HeldCoefficient::Kind kind, double value,
                   double one_sided_sigma, const std::string& why, const std::string& bound = "") {
     pm.fixed[s.name] = pm_start[s.name] = value;
-    out.held.push_back({SoftLawName(s.name), kind, value, one_sided_sigma, why, bound});
+    out.held.push_back({SoftLawName(s.name), kind, value, one_sided_sigma, 0, why, bound});
+  };
+  const double sse_sigma = o.measurement_sigma_m * o.measurement_sigma_m;
+  auto sse = [](const SearchResult& r, size_t n) { return r.rms_m * r.rms_m * static_cast<double>(n); };
+  // The heights' fit (sum of squares) with coefficient s held at value, the others in `free`.
+  auto sse_held_at = [&](const CoefficientSpec& s, double value) {
+    FitProblem q = pm;
+    q.free.clear();
+    for (const auto& f : free)
+      if (f.name != s.name) q.free.push_back(f);
+    q.fixed[s.name] = value;
+    CoefficientValues start = pm_start;
+    start[s.name] = value;
+    const SearchResult r = LeastSquaresSearch(q, start, po);
+    return std::make_pair(r.failure.empty() ? sse(r, heights) : INFINITY, q.free.size());
+  };
+  // Where the heights leave the drag at the preset's value, the first fall's duration
+  // measures it, if it tells it from the preset's (beyond 2 sigma) and the heights fit it as
+  // well (else the fall was not from rest at that apex time: a push, a late release).
+  auto hold_preset = [&](const CoefficientSpec& s, const std::string& why) {
+    if (s.name == "drag_coefficient") {
+      const TimedDrag timed = DragFromFall(soft, point_mass, pm_start, s);
+      bool fits = std::isfinite(timed.sigma) && std::abs(timed.value - s.default_value) > 2 * timed.sigma;
+      if (fits) {
+        const auto [at_preset, n] = sse_held_at(s, s.default_value);
+        const double dof = static_cast<double>(std::max<size_t>(1, heights - std::min(heights - 1, n)));
+        fits = sse_held_at(s, timed.value).first - at_preset <= std::max(sse_sigma, at_preset / dof);
+      }
+      if (fits) {
+        pm.fixed[s.name] = pm_start[s.name] = timed.value;
+        out.held.push_back({SoftLawName(s.name), HeldCoefficient::Kind::kTimed, timed.value, 0, timed.sigma,
+                            why + "; timed by the first fall (" + Num(soft.start_fall_s) + " s from " +
+                                Num(soft.simulation.drop_height_m) + " m) instead of the ball preset's " +
+                                Num(s.default_value),
+                            ""});
+        return;
+      }
+    }
+    hold(s, HeldCoefficient::Kind::kPreset, s.default_value, 0, why);
   };
   for (const auto& s : all) {
     if (free.size() < std::max<size_t>(1, heights))
       free.push_back(s);
     else
-      hold(s, HeldCoefficient::Kind::kPreset, s.default_value, 0,
-           "not identifiable from " + std::to_string(heights) + " height" + (heights == 1 ? "" : "s") +
-               " (more coefficients than heights)");
+      hold_preset(s, "not identifiable from " + std::to_string(heights) + " height" + (heights == 1 ? "" : "s") +
+                         " (more coefficients than heights)");
   }
-  const double sse_sigma = o.measurement_sigma_m * o.measurement_sigma_m;
-  auto sse = [](const SearchResult& r, size_t n) { return r.rms_m * r.rms_m * static_cast<double>(n); };
   for (;;) {
     pm.free = free;
     out.point_mass = LeastSquaresSearch(pm, pm_start, po);
@@ -122,7 +191,7 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
         const double worse = sse(r, heights) - sse(out.point_mass, heights);
         const std::string why = "not identifiable from these bounces (" + est[j].note + ")";
         if (r.failure.empty() && worse <= level)
-          hold(s, HeldCoefficient::Kind::kPreset, s.default_value, 0, why + "; the ball preset's value fits as well");
+          hold_preset(s, why + "; the ball preset's value fits as well");
         else
           hold(s, HeldCoefficient::Kind::kData, v, 0,
                why + "; the ball preset's value " + Num(s.default_value) + " fits worse (" +

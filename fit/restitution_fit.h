@@ -11,6 +11,8 @@
 //     from the recorded apex i-1 (multiple shooting) or one free drop.
 // What Bullet's other coefficients do (the contact's length, the ball's squash) is left to
 // the timing stage (fit/flight_time_fit.h) and the rest of the final fit.
+#include <cmath>
+
 #include "fit/fit_objective.h"
 
 namespace bouncefit {
@@ -42,11 +44,13 @@ struct HeldCoefficient {
     kBound,   // the data put it at its bound: an answer (one_sided_sigma into the range)
     kPreset,  // the data cannot tell; the ball preset's value fits as well
     kData,    // the data cannot tell, but the preset's value fits worse: the data's value
+    kTimed,   // the heights cannot tell the drag; the first fall's duration does (sigma)
   };
   std::string name;  // the soft ball's name
   Kind kind = Kind::kPreset;
   double value = 0;
   double one_sided_sigma = 0;  // kBound: how far into its range one sigma of the heights allows
+  double sigma = 0;            // kTimed: its standard uncertainty from the fall's timing
   std::string why;             // one line
   std::string bound;           // kBound: "lower" or "upper"
 };
@@ -56,6 +60,17 @@ struct RestitutionFit {
   SearchResult soft;        // stage 2: every soft-ball coefficient in `values`
   std::vector<HeldCoefficient> held;
 };
+
+// The drag at which the point mass, released at rest from the problem's drop height, meets
+// the floor after problem.start_fall_s, and its standard uncertainty from
+// start_fall_sigma_s. NaN (both) when the fall is not timed, or no drag in the coefficient's
+// range comes within 2 sigma of it (not a fall from rest: a throw, a misplaced apex time).
+struct TimedDrag {
+  double value = std::nan("");
+  double sigma = std::nan("");
+};
+TimedDrag DragFromFall(const FitProblem& problem, const BallModel& point_mass,
+                       const CoefficientValues& at, const CoefficientSpec& drag);
 
 // The soft ball's name for a point-mass coefficient of the law (restitution ->
 // rebound_restitution, restitution_per_mps -> rebound_restitution_per_mps,

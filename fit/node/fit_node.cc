@@ -57,6 +57,7 @@ PeakInput FitNode::FromMessage(const bounce_peak_t& m) {
   p.sigma_m = m.height_sigma_m > 0 ? m.height_sigma_m : 0;
   p.utime = m.utime;
   if (m.impact_before_utime != 0) p.impact_before_s = 1e-6 * static_cast<double>(m.impact_before_utime);
+  if (m.apex_utime != 0) p.apex_s = 1e-6 * static_cast<double>(m.apex_utime);
   return p;
 }
 
