@@ -288,6 +288,11 @@ class FitSession {
   std::vector<KeptDrop> kept_;  // earlier drops, fitted with this one in final fits
 };
 
+// A joint fit's answer holds for every drop: "" when each drop's fitted heights are within
+// max(floor_m, fraction x its highest apex) RMS of its recorded ones, else which drop is not
+// (numbered in time: the kept drops, then the fit's own).
+std::string DropOutsideItsGate(const FitUpdate& u, double floor_m, double fraction);
+
 // Where the coefficients of a model hold: time step and solver iterations, read from
 // coefficient values whose names contain "time_step" / "iterations" (0 when absent).
 double TimeStepOf(const CoefficientValues& values);

@@ -224,9 +224,35 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
                     " RMS from the recorded ones, more than " + FormatMm(limit) + " (the larger of " +
                     FormatMm(config_.answer_floor_m) + " and " + FormatPercent(config_.answer_fraction) +
                     " of the highest apex)";
+    else
+      u.no_answer = DropOutsideItsGate(u, config_.answer_floor_m, config_.answer_fraction);
   }
   u.wall_time_s = Seconds(t0);
   return u;
+}
+
+std::string DropOutsideItsGate(const FitUpdate& u, double floor_m, double fraction) {
+  // recorded_m holds this drop's bounces, then each kept drop's (the earlier ones, in order).
+  std::vector<size_t> sizes{u.recorded_m.size()};
+  for (int n : u.other_drop_bounces) sizes.front() -= static_cast<size_t>(n), sizes.push_back(static_cast<size_t>(n));
+  if (sizes.size() < 2 || u.simulated_m.size() != u.recorded_m.size()) return "";
+  size_t from = 0;
+  for (size_t k = 0; k < sizes.size(); from += sizes[k], ++k) {
+    const std::vector<double> rec(u.recorded_m.begin() + static_cast<long>(from),
+                                  u.recorded_m.begin() + static_cast<long>(from + sizes[k]));
+    const std::vector<double> sim(u.simulated_m.begin() + static_cast<long>(from),
+                                  u.simulated_m.begin() + static_cast<long>(from + sizes[k]));
+    if (rec.empty()) continue;
+    const double rms = RmsResidual(rec, sim);
+    const double limit = std::max(floor_m, fraction * *std::max_element(rec.begin(), rec.end()));
+    if (rms <= limit) continue;
+    const size_t number = k == 0 ? sizes.size() : k;  // in time: the kept drops, then this one
+    return "drop " + std::to_string(number) + " of " + std::to_string(sizes.size()) + ": the fitted ball's heights are " +
+           FormatMm(rms) + " RMS from its recorded ones, more than " + FormatMm(limit) + " (the larger of " +
+           FormatMm(floor_m) + " and " + FormatPercent(fraction) +
+           " of its highest apex): one ball's coefficients do not describe every drop";
+  }
+  return "";
 }
 
 std::vector<RestitutionPoint> FitSession::RestitutionPoints(const CoefficientValues& values) const {
