@@ -136,11 +136,11 @@ int main(int argc, char** argv) {
     }
     // Each bounce's change in percent, lowest..highest ("0": none), over the sweep and locally.
     std::string swept_changes, local_changes;
-    for (int b = 0; b < 3; ++b) {
-      swept_changes += fmt::format("{}{}", b ? " | " : "",
-                                   lo[b] == 0 && hi[b] == 0 ? "0" : fmt::format("{:+.1f}..{:+.1f}", 100 * lo[b], 100 * hi[b]));
-      local_changes += fmt::format("{}{}", b ? ", " : "",
-                                   llo[b] == 0 && lhi[b] == 0 ? "0" : fmt::format("{:+.1f}..{:+.1f}", 100 * llo[b], 100 * lhi[b]));
+    for (int i = 0; i < 3; ++i) {
+      swept_changes += fmt::format("{}{}", i ? " | " : "",
+                                   lo[i] == 0 && hi[i] == 0 ? "0" : fmt::format("{:+.1f}..{:+.1f}", 100 * lo[i], 100 * hi[i]));
+      local_changes += fmt::format("{}{}", i ? ", " : "",
+                                   llo[i] == 0 && lhi[i] == 0 ? "0" : fmt::format("{:+.1f}..{:+.1f}", 100 * llo[i], 100 * lhi[i]));
     }
     if (lfailed) local_changes += fmt::format(" ({} failed)", lfailed);
     const std::string swept = fmt::format("{:g}..{:g} ({})", s.lower, s.upper, values.size());
