@@ -15,6 +15,8 @@
 // transfer: E and damping fitted to a 1.0 m drop of synth's physics, predicting 1.6 m,
 //          beside the classic ball's stored set (fitted to the same 1.0 m heights).
 // Every run is single-threaded and short (a drop of 1 m, at most 3 s simulated).
+#include <fmt/format.h>
+
 #include <time.h>
 
 #include <algorithm>
@@ -59,11 +61,8 @@ Run Timed(const BallModel& model, const CoefficientValues& v, const SimulationOp
 std::string Heights(const SimulationResult& r, size_t n = 5) {
   if (!r.ok) return "FAILED: " + r.failure;
   std::string s;
-  char buf[32];
-  for (size_t i = 0; i < std::min(n, r.bounce_heights_m.size()); ++i) {
-    std::snprintf(buf, sizeof buf, "%s%.4f", s.empty() ? "" : " ", r.bounce_heights_m[i]);
-    s += buf;
-  }
+  for (size_t i = 0; i < std::min(n, r.bounce_heights_m.size()); ++i)
+    s += fmt::format("{}{:.4f}", s.empty() ? "" : " ", r.bounce_heights_m[i]);
   return s.empty() ? "(no bounce)" : s + " m";
 }
 
@@ -88,7 +87,7 @@ void Rebound() {
                                    ? r.result.bounce_heights_m[0] / o.drop_height_m : -1;
           if (ratio >= 0) lo = std::min(lo, ratio), hi = std::max(hi, ratio);
           std::printf("| %s | %.0e | %.2f | %.0e | %.2e | %s | %.2f |\n", name, E, nu, d, m.TimeStep(v),
-                      ratio >= 0 ? std::to_string(ratio).substr(0, 5).c_str()
+                      ratio >= 0 ? fmt::format("{:f}", ratio).substr(0, 5).c_str()
                                  : (r.result.ok ? "no bounce" : r.result.failure.c_str()),
                       r.cpu_s);
           std::fflush(stdout);
@@ -125,15 +124,12 @@ void Steps() {
 std::string Change(const SimulationResult& base, const SimulationResult& r) {
   if (!base.ok || !r.ok) return "FAILED: " + (base.ok ? r.failure : base.failure);
   std::string s;
-  char buf[32];
   for (size_t i = 0; i < 5; ++i) {
     if (i >= base.bounce_heights_m.size() || i >= r.bounce_heights_m.size()) {
       s += " -";
       continue;
     }
-    std::snprintf(buf, sizeof buf, " %+.3f%%",
-                  100 * (r.bounce_heights_m[i] / base.bounce_heights_m[i] - 1));
-    s += buf;
+    s += fmt::format(" {:+.3f}%", 100 * (r.bounce_heights_m[i] / base.bounce_heights_m[i] - 1));
   }
   return s;
 }
@@ -232,7 +228,7 @@ void Cost() {
       const double rate = r.cpu_s / simulated;
       std::printf("| %.0e | %d | %zu | %zu | %.2e | %.3f | %.2f | %.0f |%s\n", E, res, mesh->nodes.size(),
                   mesh->tetras.size(), fem.TimeStep(v), rate, 1 / rate, rate / (base.cpu_s / o.duration_s),
-                  r.result.ok ? "" : (" (" + std::to_string(simulated).substr(0, 5) + " s simulated: " +
+                  r.result.ok ? "" : (" (" + fmt::format("{:f}", simulated).substr(0, 5) + " s simulated: " +
                                       r.result.failure + ")").c_str());
       std::fflush(stdout);
     }
@@ -285,11 +281,9 @@ std::vector<double> TruthHeights(const BallPreset& p, double drop) {
 std::string Errors(const SimulationResult& r, const std::vector<double>& truth) {
   if (!r.ok) return "FAILED: " + r.failure;
   std::string s;
-  char buf[32];
   for (size_t i = 0; i < truth.size(); ++i) {
     if (i >= r.bounce_heights_m.size()) { s += " missing"; continue; }
-    std::snprintf(buf, sizeof buf, " %+.1f%%", 100 * (r.bounce_heights_m[i] / truth[i] - 1));
-    s += buf;
+    s += fmt::format(" {:+.1f}%", 100 * (r.bounce_heights_m[i] / truth[i] - 1));
   }
   return s;
 }

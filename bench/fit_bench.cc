@@ -31,6 +31,8 @@
 // Realtime: the peaks of a drop are replayed on the wall clock (each emitted
 // --detector-delay after its apex) into the live fit worker; prints, per bounce, the time
 // from apex to its update and whether it was out before the next apex.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -195,11 +197,10 @@ int Searches(const Args& a) {
         reach = static_cast<int>(i) + 1;
         break;
       }
-    char ratio[32] = "never";
-    if (reach > 0) std::snprintf(ratio, sizeof ratio, "%.1fx", double(paper.evaluations) / reach);
+    const std::string ratio = reach > 0 ? fmt::format("{:.1f}x", double(paper.evaluations) / reach) : "never";
     std::printf("%-9s | %-6s %6d %10.3f %8.1f | %-6s %6d %10.3f %8.1f %8d | %s\n", name.c_str(),
                 "", paper.evaluations, paper.rms_m * 1000, paper.wall_time_s, "",
-                fast.evaluations, fast.rms_m * 1000, fast.wall_time_s, reach, ratio);
+                fast.evaluations, fast.rms_m * 1000, fast.wall_time_s, reach, ratio.c_str());
     for (const auto* res : {&paper, &fast}) {
       std::printf("          %-6s:", res == &paper ? "paper" : "nlopt");
       for (const auto& spec : p.free) std::printf(" %s=%.4g", spec.name.c_str(), res->values.at(spec.name));
@@ -301,10 +302,8 @@ int LawSearches(const Args& a) {
     std::sort(ratios.begin(), ratios.end());
     const double median = ratios[ratios.size() / 2];
     all = all && median <= 1.0 / 3;
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%s: median ratio %.3f over %zu inputs (%s 1/3)", name.c_str(),
-                  median, ratios.size(), median <= 1.0 / 3 ? "within" : "NOT within");
-    summary.push_back(buf);
+    summary.push_back(fmt::format("{}: median ratio {:.3f} over {} inputs ({} 1/3)", name, median, ratios.size(),
+                                  median <= 1.0 / 3 ? "within" : "NOT within"));
   }
   std::printf("\n");
   for (const auto& line : summary) std::printf("%s\n", line.c_str());

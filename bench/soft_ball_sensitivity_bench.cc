@@ -8,6 +8,8 @@
 //
 // Prints a markdown table. "identical" means every sweep point gave bit-identical heights:
 // the coefficient does not reach the simulation at all.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -37,13 +39,6 @@ CoefficientValues Stored(const std::string& ball) {
   CoefficientValues v;
   for (const auto& [k, x] : j.at("coefficients").items()) v[k] = x.get<double>();
   return v;
-}
-
-std::string Range(double lo, double hi) {
-  char buf[64];
-  if (lo == 0 && hi == 0) return "0";
-  std::snprintf(buf, sizeof buf, "%+.1f..%+.1f", 100 * lo, 100 * hi);
-  return buf;
 }
 
 }  // namespace
@@ -139,20 +134,22 @@ int main(int argc, char** argv) {
       v[s.name] = std::clamp(base.at(s.name) + sign * step, s.lower, s.upper);
       if (!record(model.Simulate(v, o), llo, lhi)) ++lfailed;
     }
-    char local[128];
-    std::snprintf(local, sizeof local, "%s, %s, %s%s", Range(llo[0], lhi[0]).c_str(),
-                  Range(llo[1], lhi[1]).c_str(), Range(llo[2], lhi[2]).c_str(),
-                  lfailed ? (" (" + std::to_string(lfailed) + " failed)").c_str() : "");
-    char start[32], swept[64];
-    std::snprintf(start, sizeof start, "%.4g", base.at(s.name));
-    std::snprintf(swept, sizeof swept, "%g..%g (%zu)", s.lower, s.upper, values.size());
+    // Each bounce's change in percent, lowest..highest ("0": none), over the sweep and locally.
+    std::string swept_changes, local_changes;
+    for (int i = 0; i < 3; ++i) {
+      swept_changes += fmt::format("{}{}", i ? " | " : "",
+                                   lo[i] == 0 && hi[i] == 0 ? "0" : fmt::format("{:+.1f}..{:+.1f}", 100 * lo[i], 100 * hi[i]));
+      local_changes += fmt::format("{}{}", i ? ", " : "",
+                                   llo[i] == 0 && lhi[i] == 0 ? "0" : fmt::format("{:+.1f}..{:+.1f}", 100 * llo[i], 100 * lhi[i]));
+    }
+    if (lfailed) local_changes += fmt::format(" ({} failed)", lfailed);
+    const std::string swept = fmt::format("{:g}..{:g} ({})", s.lower, s.upper, values.size());
     if (identical)
-      std::printf("| %s | %s | %s | identical | identical | identical | 0 | identical |\n",
-                  s.name.c_str(), start, swept);
+      fmt::print("| {} | {:.4g} | {} | identical | identical | identical | 0 | identical |\n", s.name, base.at(s.name),
+                 swept);
     else
-      std::printf("| %s | %s | %s | %s | %s | %s | %d | %s |\n", s.name.c_str(), start, swept,
-                  Range(lo[0], hi[0]).c_str(), Range(lo[1], hi[1]).c_str(),
-                  Range(lo[2], hi[2]).c_str(), failed, local);
+      fmt::print("| {} | {:.4g} | {} | {} | {} | {} |\n", s.name, base.at(s.name), swept, swept_changes, failed,
+                 local_changes);
     std::fflush(stdout);
   }
   return 0;

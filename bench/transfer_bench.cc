@@ -20,6 +20,8 @@
 //   point-mass   the quick model alone (stage 1 of the restitution design), beside them.
 // Prints one row per ball, direction and design; the baseline is the point mass in the same
 // run.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -115,7 +117,6 @@ Verdict Judge(const std::vector<double>& truth, const DropEnsemble& e) {
     return v;
   }
   v.ok = true;
-  char buf[32];
   for (size_t i = 0; i < truth.size() && truth[i] >= 0.02; ++i) {
     ++v.bounces;
     const double sim = i < e.mean_m.size() ? e.mean_m[i] : 0;
@@ -123,8 +124,7 @@ Verdict Judge(const std::vector<double>& truth, const DropEnsemble& e) {
     const double pct = 100 * err / truth[i];
     v.worst_pct = std::max(v.worst_pct, std::abs(pct));
     if (std::abs(err) > std::max(0.005, 0.03 * truth[i])) v.ok = false;
-    std::snprintf(buf, sizeof buf, "%s%+.1f", v.errors.empty() ? "" : " ", pct);
-    v.errors += buf;
+    v.errors += fmt::format("{}{:+.1f}", v.errors.empty() ? "" : " ", pct);
   }
   return v;
 }

@@ -1,5 +1,7 @@
 #include "capture/v4l2_camera.h"
 
+#include <fmt/format.h>
+
 #include <fcntl.h>
 #include <linux/videodev2.h>
 #include <sys/mman.h>
@@ -10,7 +12,6 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -23,12 +24,6 @@ std::string ErrnoText(int err) {
   if (err == ENODEV) return "No such device (ENODEV)";
   if (err == EAGAIN) return "Resource temporarily unavailable (EAGAIN)";
   return std::strerror(err);
-}
-
-std::string Fixed(double value, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, value);
-  return buf;
 }
 
 std::string CString(const uint8_t* text, std::size_t max) {
@@ -233,7 +228,7 @@ uint32_t V4l2Camera::ChooseFormat(const std::vector<V4l2FormatInfo>& formats) {
   if (config_.fps <= 0 || yuyv_fps <= 0) return yuyv->fourcc;  // unknown: prefer YUYV
   if (yuyv_fps >= config_.fps * 0.99) return yuyv->fourcc;
   if (mjpeg_fps >= config_.fps * 0.99 || mjpeg_fps > yuyv_fps) {
-    format_reason_ = "YUYV reaches only " + Fixed(yuyv_fps, 2) + " fps at this size";
+    format_reason_ = fmt::format("YUYV reaches only {:.2f} fps at this size", yuyv_fps);
     return mjpeg->fourcc;
   }
   return yuyv->fourcc;
@@ -296,16 +291,14 @@ void V4l2Camera::Negotiate() {
   std::ostringstream s;
   s << config_.device << " (" << card_ << "): " << FourccToString(got) << " "
     << negotiated_.width << "x" << negotiated_.height << " at "
-    << (negotiated_.interval.fps() > 0 ? Fixed(negotiated_.interval.fps(), 2) + " fps"
+    << (negotiated_.interval.fps() > 0 ? fmt::format("{:.2f} fps", negotiated_.interval.fps())
                                        : std::string("an unknown rate"));
   std::vector<std::string> notes;
   if (config_.fps > 0) {
     if (!negotiated_.interval_settable)
-      notes.push_back("asked " + Fixed(config_.fps, 2) +
-                      " fps: the driver cannot set the frame rate");
+      notes.push_back(fmt::format("asked {:.2f} fps: the driver cannot set the frame rate", config_.fps));
     else if (std::fabs(negotiated_.interval.fps() - config_.fps) > 0.005 * config_.fps)
-      notes.push_back("asked " + Fixed(config_.fps, 2) + " fps: the driver granted " +
-                      Fixed(negotiated_.interval.fps(), 2));
+      notes.push_back(fmt::format("asked {:.2f} fps: the driver granted {:.2f}", config_.fps, negotiated_.interval.fps()));
   }
   if (config_.width > 0 && (config_.width != negotiated_.width || config_.height != negotiated_.height))
     notes.push_back("asked " + std::to_string(config_.width) + "x" + std::to_string(config_.height) +
@@ -478,10 +471,8 @@ std::optional<Frame> V4l2Camera::Next() {
         ++eagain_;
         if (std::chrono::steady_clock::now() > deadline) {
           failed_ = true;
-          throw std::runtime_error(config_.device + ": no frame for " +
-                                   Fixed(config_.timeout_ms / 1000.0, 1) +
-                                   " s, the driver only says EAGAIN (after " +
-                                   std::to_string(delivered_) + " frames)");
+          throw std::runtime_error(fmt::format("{}: no frame for {:.1f} s, the driver only says EAGAIN (after {} frames)",
+                                               config_.device, config_.timeout_ms / 1000.0, delivered_));
         }
         continue;
       }
@@ -540,9 +531,8 @@ void V4l2Camera::WaitReadable() {
       Fail("poll", errno);
     }
     failed_ = true;
-    throw std::runtime_error(config_.device + ": no frame for " +
-                             Fixed(config_.timeout_ms / 1000.0, 1) + " s (after " +
-                             std::to_string(delivered_) + " frames)");
+    throw std::runtime_error(
+        fmt::format("{}: no frame for {:.1f} s (after {} frames)", config_.device, config_.timeout_ms / 1000.0, delivered_));
   }
 }
 

@@ -2,6 +2,8 @@
 // one ball_box_t per frame on BALL_BOX (track/node/capture_node.h). Beside it, the sound: the
 // clip's own track, or a live ALSA microphone beside the camera; each impact heard goes out
 // on IMPACT (source "audio") as the stream reaches it (pipeline/capture_stage.h).
+#include <fmt/format.h>
+
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -55,12 +57,6 @@ struct CaptureOptions {
 std::atomic<bool> g_stop{false};
 extern "C" void OnSignal(int) { g_stop = true; }
 
-std::string Fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-
 void ParseSize(const std::string& text, int* w, int* h) {
   char x = 0;
   std::istringstream in(text);
@@ -86,7 +82,7 @@ void ListFormats(const std::string& device) {
                 f.compressed ? " (compressed)" : "");
     for (const auto& s : f.sizes) {
       std::string rates;
-      for (const auto& i : s.intervals) rates += (rates.empty() ? "" : ", ") + Fixed(i.fps(), 2);
+      for (const auto& i : s.intervals) rates += fmt::format("{}{:.2f}", rates.empty() ? "" : ", ", i.fps());
       if (s.interval_range) rates = "any from " + rates;
       std::printf("  %dx%d%s  fps: %s\n", s.width, s.height, f.size_range ? " (range end)" : "",
                   rates.empty() ? "?" : rates.c_str());
@@ -142,10 +138,9 @@ void Run(CaptureOptions& o) {
   CaptureStage stage(c, bus, [](const std::string& s) { std::printf("%s\n", s.c_str()); });
   const stream_t& st = stage.stream();
   if (!o.quiet) {
-    std::printf("capture: %s, %s fps nominal%s; publishing %s on %s%s; sound: %s\n", st.description.c_str(),
-                Fixed(st.nominal_fps, 2).c_str(),
-                st.is_file ? (o.speed > 0 ? ", paced at speed " + Fixed(o.speed, 2) : std::string(", as fast as possible")).c_str() : "",
-                o.channels.ball_box.c_str(), o.lcm_url.c_str(), o.loop ? " (looping)" : "", st.sound.c_str());
+    fmt::print("capture: {}, {:.2f} fps nominal{}; publishing {} on {}{}; sound: {}\n", st.description, st.nominal_fps,
+               st.is_file ? (o.speed > 0 ? fmt::format(", paced at speed {:.2f}", o.speed) : ", as fast as possible") : "",
+               o.channels.ball_box, o.lcm_url, o.loop ? " (looping)" : "", st.sound);
     std::fflush(stdout);
   }
 
@@ -159,21 +154,20 @@ void Run(CaptureOptions& o) {
   while (!g_stop && stage.Step()) {
     if (!o.quiet && std::chrono::steady_clock::now() - last > std::chrono::seconds(1)) {
       last = std::chrono::steady_clock::now();
-      std::printf("capture: so far %lld frames (%s s of stream), %lld found\n", static_cast<long long>(stage.frames()),
-                  Fixed(stage.stream_s(), 1).c_str(), static_cast<long long>(stage.found()));
+      fmt::print("capture: so far {} frames ({:.1f} s of stream), {} found\n", stage.frames(), stage.stream_s(),
+                 stage.found());
       std::fflush(stdout);
     }
   }
   stage.End(g_stop);
   const stream_t& s = stage.end_message();
-  std::printf("capture: %s%lld frames, %lld dropped, %lld found, %lld published, wall %s s, stream %s s (read %s s, track %s s)%s%s\n",
-              g_stop ? "stopped: " : (s.failure.empty() ? "done: " : "failed after "),
-              static_cast<long long>(s.frames), static_cast<long long>(s.dropped), static_cast<long long>(s.found),
-              static_cast<long long>(s.frames - bus.publish_failures()), Fixed(s.wall_s, 3).c_str(),
-              Fixed(s.frames > 0 ? (s.utime - stage.stream().utime) * 1e-6 : 0.0, 3).c_str(), Fixed(s.read_s, 2).c_str(),
-              Fixed(s.track_s, 2).c_str(),
-              o.out.empty() ? "" : ("; wrote " + o.out).c_str(),
-              bus.publish_failures() ? ("; " + std::to_string(bus.publish_failures()) + " publish failures").c_str() : "");
+  fmt::print("capture: {}{} frames, {} dropped, {} found, {} published, wall {:.3f} s, stream {:.3f} s (read {:.2f} s, "
+             "track {:.2f} s){}{}\n",
+             g_stop ? "stopped: " : (s.failure.empty() ? "done: " : "failed after "), s.frames, s.dropped, s.found,
+             s.frames - bus.publish_failures(), s.wall_s,
+             s.frames > 0 ? (s.utime - stage.stream().utime) * 1e-6 : 0.0, s.read_s, s.track_s,
+             o.out.empty() ? "" : "; wrote " + o.out,
+             bus.publish_failures() ? fmt::format("; {} publish failures", bus.publish_failures()) : "");
   std::fflush(stdout);
   if (!s.failure.empty()) throw std::runtime_error(s.failure);
   if (g_stop) throw CLI::RuntimeError(kExitInterrupted);

@@ -1,5 +1,7 @@
 #include "cli/fit_print.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,62 +17,58 @@
 namespace bouncefit::cli {
 namespace {
 
-std::string Fmt(double v, int digits = 4) {
-  if (!std::isfinite(v)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
+// A number the fit could not give (NaN: no uncertainty, no residual) prints as "n/a".
+constexpr const char* kUnknown = "n/a";
 
 }  // namespace
 
 void PrintFitUpdate(const FitUpdate& u) {
-  std::printf("%s fit after bounce %d  [%s, %s]: RMS residual %s mm over %zu bounces, "
-              "%d simulations, %.2f s%s\n",
-              u.final ? "FINAL" : (u.model == "point-mass" ? "quick" : "bounce"),
-              u.after_bounce, u.model.c_str(), u.method.c_str(), Fmt(u.residual_m * 1000, 3).c_str(),
-              u.recorded_m.size(), u.evaluations, u.wall_time_s, u.cancelled ? " (cut short)" : "");
+  const double residual_mm = u.residual_m * 1000;
+  fmt::print("{} fit after bounce {}  [{}, {}]: RMS residual {} mm over {} bounces, {} simulations, {:.2f} s{}\n",
+             u.final ? "FINAL" : (u.model == "point-mass" ? "quick" : "bounce"), u.after_bounce, u.model, u.method,
+             std::isfinite(residual_mm) ? fmt::format("{:.3g}", residual_mm) : kUnknown, u.recorded_m.size(),
+             u.evaluations, u.wall_time_s, u.cancelled ? " (cut short)" : "");
   for (const auto& c : u.coefficients) {
     const std::string unit = c.unit.empty() ? "" : " " + c.unit;
+    const std::string value = std::isfinite(c.value) ? fmt::format("{:.6g}", c.value) : kUnknown;
     if (c.identifiable)
-      std::printf("  %-28s %12s +- %-10s%s\n", c.name.c_str(), Fmt(c.value, 6).c_str(),
-                  Fmt(c.sigma, 2).c_str(), unit.c_str());
+      fmt::print("  {:<28} {:>12} +- {:<10}{}\n", c.name, value,
+                 std::isfinite(c.sigma) ? fmt::format("{:.2g}", c.sigma) : kUnknown, unit);
     else
-      std::printf("  %-28s %12s %s  (%s)\n", c.name.c_str(), Fmt(c.value, 6).c_str(),
-                  unit.c_str(), c.note.empty() ? "not identifiable" : c.note.c_str());
+      fmt::print("  {:<28} {:>12} {}  ({})\n", c.name, value, unit, c.note.empty() ? "not identifiable" : c.note);
   }
-  std::printf("  recorded  (m):");
-  for (double r : u.recorded_m) std::printf(" %.4f", r);
-  std::printf("\n  simulated (m):");
-  for (double s : u.simulated_m) std::printf(" %.4f", s);
-  std::printf("\n");
+  fmt::print("  recorded  (m):");
+  for (double r : u.recorded_m) fmt::print(" {:.4f}", r);
+  fmt::print("\n  simulated (m):");
+  for (double s : u.simulated_m) fmt::print(" {:.4f}", s);
+  fmt::print("\n");
   if (!u.other_drop_heights_m.empty()) {  // a joint fit: which bounces are which drop's
     size_t first = u.recorded_m.size();
     for (int n : u.other_drop_bounces) first -= static_cast<size_t>(n);
-    std::printf("  drops: %.4f m (bounces 1-%zu)", u.drop_height_m, first);
+    fmt::print("  drops: {:.4f} m (bounces 1-{})", u.drop_height_m, first);
     size_t at = first;
     for (size_t d = 0; d < u.other_drop_heights_m.size(); ++d) {
-      std::printf(", %.4f m (%zu-%zu)", u.other_drop_heights_m[d], at + 1,
-                  at + static_cast<size_t>(u.other_drop_bounces[d]));
+      fmt::print(", {:.4f} m ({}-{})", u.other_drop_heights_m[d], at + 1,
+                 at + static_cast<size_t>(u.other_drop_bounces[d]));
       at += static_cast<size_t>(u.other_drop_bounces[d]);
     }
-    std::printf("\n");
+    fmt::print("\n");
   }
   if (!u.segment_simulated_m.empty()) {
-    std::printf("  segments  (m):");  // bounce i from the recorded apex i-1
-    for (double s : u.segment_simulated_m) std::printf(" %.4f", s);
-    std::printf("   RMS %s mm\n", Fmt(u.segment_residual_m * 1000, 3).c_str());
+    fmt::print("  segments  (m):");  // bounce i from the recorded apex i-1
+    for (double s : u.segment_simulated_m) fmt::print(" {:.4f}", s);
+    const double rms_mm = u.segment_residual_m * 1000;
+    fmt::print("   RMS {} mm\n", std::isfinite(rms_mm) ? fmt::format("{:.3g}", rms_mm) : kUnknown);
   }
   if (!u.free_run_mean_m.empty()) {
-    std::printf("  free drop, ensemble mean +- sd (m):");
+    fmt::print("  free drop, ensemble mean +- sd (m):");
     for (size_t i = 0; i < u.free_run_mean_m.size(); ++i)
-      std::printf(" %.4f+-%.4f", u.free_run_mean_m[i], u.free_run_sd_m[i]);
-    std::printf("   RMS %s mm\n", Fmt(u.free_run_residual_m * 1000, 3).c_str());
+      fmt::print(" {:.4f}+-{:.4f}", u.free_run_mean_m[i], u.free_run_sd_m[i]);
+    const double rms_mm = u.free_run_residual_m * 1000;
+    fmt::print("   RMS {} mm\n", std::isfinite(rms_mm) ? fmt::format("{:.3g}", rms_mm) : kUnknown);
   }
-  if (!u.warning.empty()) std::printf("  warning: %s\n", u.warning.c_str());
-  if (u.time_step_s > 0)
-    std::printf("  holds for time step %.6g s, %d position iterations\n", u.time_step_s,
-                u.iterations);
+  if (!u.warning.empty()) fmt::print("  warning: {}\n", u.warning);
+  if (u.time_step_s > 0) fmt::print("  holds for time step {:.6g} s, {} position iterations\n", u.time_step_s, u.iterations);
   std::fflush(stdout);
 }
 

@@ -1,10 +1,10 @@
 #include "cli/pick_window.h"
 
 #include <X11/Xlib.h>
+#include <fmt/format.h>
 #include <opencv2/highgui.hpp>
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <memory>
@@ -58,12 +58,6 @@ void OnMouse(int event, int x, int y, int, void* data) {
     s.dragging = false;
     s.dirty = true;
   }
-}
-
-std::string Fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
 }
 
 std::string RoiText(const cv::Rect& r) {
@@ -122,12 +116,12 @@ std::string PickInWindow(const Frame& frame, const std::string& title, TrackerCo
         status += "; the click is outside the region";
     }
     const std::string where =
-        s.click ? "ball at " + Fixed(s.click->x, 0) + "," + Fixed(s.click->y, 0) + " px" : "no click yet";
+        s.click ? fmt::format("ball at {:.0f},{:.0f} px", s.click->x, s.click->y) : "no click yet";
     cv::imshow(title, ComposePickView(frame, s.layout, preview.get(), s.roi,
                                       {"click the ball; drag a region of interest (r: whole frame); "
                                        "+/-: colour tolerance; Enter or space: confirm; Esc: cancel",
-                                       where + "; region " + RoiText(s.roi) + "; tolerance " +
-                                           Fixed(tolerance, 2) + " of the ball's chroma",
+                                       fmt::format("{}; region {}; tolerance {:.2f} of the ball's chroma", where,
+                                                   RoiText(s.roi), tolerance),
                                        status}));
     shown = true;
   };
@@ -160,7 +154,7 @@ std::string PickInWindow(const Frame& frame, const std::string& title, TrackerCo
   }
   close();
 
-  const std::string at = Fixed(s.click->x, 0) + "," + Fixed(s.click->y, 0);
+  const std::string at = fmt::format("{:.0f},{:.0f}", s.click->x, s.click->y);
   if (preview->picked.grey) {
     config->luma_mode = true;
     config->luma.polarity = preview->picked.polarity;
@@ -174,8 +168,8 @@ std::string PickInWindow(const Frame& frame, const std::string& title, TrackerCo
   config->color.tolerance_rel = tolerance;
   config->roi_x = s.roi.x, config->roi_y = s.roi.y;  // all 0: the whole frame
   config->roi_w = s.roi.width, config->roi_h = s.roi.height;
-  return "pick-window: ball at " + at + " px, region " + RoiText(s.roi) + ", tolerance " +
-         Fixed(tolerance, 2) + ": " + DescribePick(*preview);
+  return fmt::format("pick-window: ball at {} px, region {}, tolerance {:.2f}: {}", at, RoiText(s.roi), tolerance,
+                     DescribePick(*preview));
 }
 
 std::string PickOnFirstFrame(const std::function<std::unique_ptr<FrameSource>()>& open,

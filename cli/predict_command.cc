@@ -5,6 +5,8 @@
 // single run as an animation (fit/fitted_ball_gltf.h). Without --drop, a run's
 // coefficients.json is dropped from the apex its fit started from, its bounces named and
 // timed as that run's peaks.csv names and times them.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -256,18 +258,19 @@ void Run(PredictOptions o) {
     std::printf("from the run's start apex: drop %d, bounce #%d at %.4f s (peaks.csv); bounces numbered and timed as "
                 "there%s\n",
                 run.drop, run.bounce, run.t_s, run.time_scale == 1 ? "" : " (the file's slowed clock)");
-  std::printf("%6s %12s %10s %10s %10s %14s%s\n", "bounce", "mean_m", "sd_mm", "chaos_mm", "coeffs_mm", "single_run_m",
-              run.known ? "   apex_t_s  recorded_m" : "");
+  fmt::print("{:>6} {:>12} {:>10} {:>10} {:>10} {:>14}{}\n", "bounce", "mean_m", "sd_mm", "chaos_mm", "coeffs_mm",
+             "single_run_m", run.known ? "   apex_t_s  recorded_m" : "");
   for (size_t i = 0; i < e.mean_m.size(); ++i) {
-    std::printf("%6d %12.4f %10.2f %10.2f %10.2f %14s", run.known ? numbers[i] : static_cast<int>(i + 1), e.mean_m[i],
-                sd[i] * 1000, e.sd_m[i] * 1000, param_sd[i] * 1000,
-                i < e.single_m.size() ? std::to_string(e.single_m[i]).c_str() : "-");
+    // single_run_m as "{:f}"; recorded_m cut (not rounded) to six characters.
+    fmt::print("{:6} {:>12.4f} {:>10.2f} {:>10.2f} {:>10.2f} {:>14}", run.known ? numbers[i] : static_cast<int>(i + 1),
+               e.mean_m[i], sd[i] * 1000, e.sd_m[i] * 1000, param_sd[i] * 1000,
+               i < e.single_m.size() ? fmt::format("{:f}", e.single_m[i]) : "-");
     if (run.known) {
       const auto rec = run.recorded_m.find(numbers[i]);
-      std::printf(" %10.4f  %10s", apex_t_s[i],
-                  rec == run.recorded_m.end() ? "-" : std::to_string(rec->second).substr(0, 6).c_str());
+      fmt::print(" {:>10.4f}  {:>10}", apex_t_s[i],
+                 rec == run.recorded_m.end() ? "-" : fmt::format("{:f}", rec->second).substr(0, 6));
     }
-    std::printf("\n");
+    fmt::print("\n");
   }
 }
 

@@ -1,5 +1,7 @@
 // bouncefit replay-log: republish an LCM log with its original pacing (scaled), so detect
 // and fit can be rerun without video (replay/node/lcm_log_replay.h).
+#include <fmt/format.h>
+
 #include <csignal>
 #include <cstdio>
 #include <memory>
@@ -24,11 +26,6 @@ struct ReplayLogOptions {
 
 std::atomic<bool> g_stop{false};
 
-std::string Fixed(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 extern "C" void OnReplaySignal(int) { g_stop = true; }
 
 void Run(const ReplayLogOptions& o) {
@@ -47,10 +44,8 @@ void Run(const ReplayLogOptions& o) {
   ::sigaction(SIGINT, &sa, nullptr);
   ::sigaction(SIGTERM, &sa, nullptr);
   if (!o.quiet) {
-    std::printf("replay-log: %s -> %s, channels /%s/, %s\n", o.log.c_str(), o.lcm_url.c_str(),
-                o.replay.channels_regex.c_str(),
-                o.replay.speed > 0 ? ("speed " + Fixed(o.replay.speed)).c_str()
-                                   : "as fast as possible");
+    fmt::print("replay-log: {} -> {}, channels /{}/, {}\n", o.log, o.lcm_url, o.replay.channels_regex,
+               o.replay.speed > 0 ? fmt::format("speed {:g}", o.replay.speed) : "as fast as possible");
     std::fflush(stdout);
   }
   LogReplayStats stats;
@@ -63,13 +58,10 @@ void Run(const ReplayLogOptions& o) {
     failure = e.what();
   }
   if (stats.events > 0 || failure.empty())
-    std::printf("replay-log: %s%lld of %lld messages republished, log span %.3f s, wall %.3f s%s\n",
-                g_stop ? "stopped: " : (failure.empty() ? "done: " : "before the error: "),
-                static_cast<long long>(stats.published), static_cast<long long>(stats.events),
-                stats.log_s(), stats.wall_s,
-                stats.publish_failures
-                    ? (", " + std::to_string(stats.publish_failures) + " publish failures").c_str()
-                    : "");
+    fmt::print("replay-log: {}{} of {} messages republished, log span {:.3f} s, wall {:.3f} s{}\n",
+               g_stop ? "stopped: " : (failure.empty() ? "done: " : "before the error: "), stats.published,
+               stats.events, stats.log_s(), stats.wall_s,
+               stats.publish_failures ? fmt::format(", {} publish failures", stats.publish_failures) : "");
   std::fflush(stdout);
   if (!failure.empty()) throw std::runtime_error(failure);
 }

@@ -1,5 +1,7 @@
 // `bouncefit run a.mp4 b.mp4 ...`: several clips of one ball, each run on its
 // own, their drops fitted jointly, and each drop written beside its simulation.
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -22,12 +24,6 @@
 
 namespace bouncefit::cli {
 namespace {
-
-std::string Fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
 
 // Each drop of a joint fit beside the fitted ball dropped from its start apex: each clip's
 // simulated.csv (its drops, so `report CLIPDIR` draws them, the paper's Fig. 7) and, for all
@@ -63,9 +59,8 @@ std::vector<double> WriteDropsBesideTheirSimulation(const RunOptions& o, const B
   for (size_t n = 0; n < by_order.size(); ++n) {
     const FitDrop& d = fitted[by_order[n]];
     for (size_t i = 0; i < d.bounces.size(); ++i)
-      table << n + 1 << ',' << d.clip << ',' << Fixed(d.start_height_m, 5) << ',' << d.bounces[i] << ','
-            << Fixed(d.recorded_m[i], 5) << ',' << (std::isfinite(d.simulated_m[i]) ? Fixed(d.simulated_m[i], 5) : "")
-            << '\n';
+      table << fmt::format("{},{},{:.5f},{},{:.5f},{}\n", n + 1, d.clip, d.start_height_m, d.bounces[i], d.recorded_m[i],
+                           std::isfinite(d.simulated_m[i]) ? fmt::format("{:.5f}", d.simulated_m[i]) : "");
   }
   return clocks;
 }

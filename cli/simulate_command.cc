@@ -1,6 +1,8 @@
 // bouncefit simulate: run the Bullet soft-body ball (model/soft_ball_model.h) for given
 // coefficients and print its bounce heights and trajectory; optionally render it as a clip
 // with synth's renderer.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -31,12 +33,6 @@ struct SimulateOptions {
   std::string render;
 };
 
-std::string G(double v, int digits = 6) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-
 // --coeffs: "preset" (the ball's stored table, fit/fit_models.h), a JSON file, or k=v,k=v.
 CoefficientValues ReadCoefficients(const std::string& text, const std::string& ball,
                                    const SoftBallModel& model) {
@@ -52,9 +48,8 @@ CoefficientValues ReadCoefficients(const std::string& text, const std::string& b
   // The table's time step and iterations, when it names them, must be the model's: the
   // coefficients hold for those only.
   if (table->time_step_s && std::abs(*table->time_step_s - model.config().time_step_s) > 1e-12)
-    throw std::runtime_error(table->source + ": coefficients for time step " +
-                             G(*table->time_step_s) + " s, the model steps " +
-                             G(model.config().time_step_s) + " s");
+    throw std::runtime_error(fmt::format("{}: coefficients for time step {:.6g} s, the model steps {:.6g} s",
+                                         table->source, *table->time_step_s, model.config().time_step_s));
   if (table->position_iterations &&
       *table->position_iterations != model.config().position_iterations)
     throw std::runtime_error(table->source + ": coefficients for " +
@@ -66,16 +61,12 @@ CoefficientValues ReadCoefficients(const std::string& text, const std::string& b
 }
 
 void ListCoefficients(const SoftBallModel& model) {
-  std::printf("%-28s %-14s %10s %10s %10s  %s\n", "name", "unit", "default", "lower", "upper",
-              "what it is");
+  fmt::print("{:<28} {:<14} {:>10} {:>10} {:>10}  {}\n", "name", "unit", "default", "lower", "upper", "what it is");
   for (const auto& s : model.Coefficients())
-    std::printf("%-28s %-14s %10s %10s %10s  %s%s\n", s.name.c_str(),
-                s.unit.empty() ? "-" : s.unit.c_str(), G(s.default_value).c_str(),
-                G(s.lower).c_str(), G(s.upper).c_str(), s.discrete ? "(integer) " : "",
-                s.description.c_str());
-  std::printf("fixed for this model: time step %s s, %d position iterations, gravity %s m/s^2\n",
-              G(model.config().time_step_s).c_str(), model.config().position_iterations,
-              G(model.config().gravity_mps2).c_str());
+    fmt::print("{:<28} {:<14} {:>10.6g} {:>10.6g} {:>10.6g}  {}{}\n", s.name, s.unit.empty() ? "-" : s.unit,
+               s.default_value, s.lower, s.upper, s.discrete ? "(integer) " : "", s.description);
+  fmt::print("fixed for this model: time step {:.6g} s, {} position iterations, gravity {:.6g} m/s^2\n",
+             model.config().time_step_s, model.config().position_iterations, model.config().gravity_mps2);
 }
 
 void Run(const SimulateOptions& o) {
@@ -175,12 +166,10 @@ void Run(const SimulateOptions& o) {
                     s.width_height_ratio);
     }
   } else {
-    std::printf("%s, %s (%s m, %s kg) dropped from %s m; time step %s s, %d iterations; "
-                "%s s in %.3f s\n",
-                model.name().c_str(), ball.name.c_str(), G(ball.diameter_m).c_str(),
-                G(ball.mass_kg).c_str(), G(o.drop_m).c_str(),
-                G(model.config().time_step_s).c_str(), model.config().position_iterations,
-                G(o.duration_s).c_str(), r.wall_time_s);
+    fmt::print("{}, {} ({:.6g} m, {:.6g} kg) dropped from {:.6g} m; time step {:.6g} s, {} iterations; {:.6g} s in "
+               "{:.3f} s\n",
+               model.name(), ball.name, ball.diameter_m, ball.mass_kg, o.drop_m, model.config().time_step_s,
+               model.config().position_iterations, o.duration_s, r.wall_time_s);
     std::printf("bounce heights (m):");
     for (double h : r.bounce_heights_m) std::printf(" %.4f", h);
     std::printf("%s\n", r.bounce_heights_m.empty() ? " none" : "");

@@ -1,4 +1,6 @@
 // bouncefit synth: render a ball-drop clip with known ground truth (synth/synth_clip.h).
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -59,12 +61,6 @@ void ParseSize(const std::string& text, int* w, int* h) {
     throw std::invalid_argument("--size must be WxH in pixels, got '" + text + "'");
 }
 
-std::string Fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-
 void Run(SynthOptions o) {
   o.clip.ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);
   if (o.diameter_m < 0) throw std::invalid_argument("--diameter must be > 0 m");
@@ -97,19 +93,15 @@ void Run(SynthOptions o) {
     if (quiet) return;
     const int per_second = std::max(1, static_cast<int>(std::lround(fps)));
     if (done % per_second == 0 || done == total)
-      std::printf("synth: %s s of %s s rendered (%d/%d frames)\n", Fixed(done / fps, 1).c_str(),
-                  Fixed(total / fps, 1).c_str(), done, total), std::fflush(stdout);
+      fmt::print("synth: {:.1f} s of {:.1f} s rendered ({}/{} frames)\n", done / fps, total / fps, done, total),
+          std::fflush(stdout);
   });
   std::string apexes;
-  for (double h : r.truth.apex_heights_m) apexes += (apexes.empty() ? "" : " ") + Fixed(h, 3);
-  std::printf(
-      "synth: wrote %s and %s: %d frames %dx%d at %g fps in %s s (cpu %s s: draw %s, noise %s, "
-      "encode %s); apex heights (m): %s\n",
-      r.clip_path.string().c_str(), r.truth_path.filename().string().c_str(),
-      r.truth.frame_count, r.truth.width, r.truth.height, r.truth.fps,
-      Fixed(r.render_wall_s, 2).c_str(), Fixed(r.render_cpu_s, 2).c_str(),
-      Fixed(r.scene_s, 2).c_str(),
-      Fixed(r.noise_s, 2).c_str(), Fixed(r.encode_s, 2).c_str(), apexes.c_str());
+  for (double h : r.truth.apex_heights_m) apexes += fmt::format("{}{:.3f}", apexes.empty() ? "" : " ", h);
+  fmt::print("synth: wrote {} and {}: {} frames {}x{} at {:g} fps in {:.2f} s (cpu {:.2f} s: draw {:.2f}, noise {:.2f}, "
+             "encode {:.2f}); apex heights (m): {}\n",
+             r.clip_path.string(), r.truth_path.filename().string(), r.truth.frame_count, r.truth.width, r.truth.height,
+             r.truth.fps, r.render_wall_s, r.render_cpu_s, r.scene_s, r.noise_s, r.encode_s, apexes);
 }
 
 }  // namespace

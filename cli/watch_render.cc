@@ -1,23 +1,16 @@
 #include "cli/watch_render.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 namespace bouncefit::cli {
 namespace {
 
-std::string Format(const char* fmt, auto... args) {
-  char buf[512];
-  std::snprintf(buf, sizeof buf, fmt, args...);
-  return buf;
-}
-
-std::string Num(double v, const char* fmt) {
-  if (!std::isfinite(v)) return "-";
-  return Format(fmt, v);
-}
+// A number the watch does not know yet (NaN: no stream start, no flight time) shows as "-".
+constexpr const char* kUnknown = "-";
 
 std::string Pad(std::string s, size_t width) {
   if (s.size() > width) s.resize(width);
@@ -93,12 +86,13 @@ std::string ImpactSummary(const WatchState& s) {
     both += m.source == "both";
     seen += m.source == "video";
   }
-  std::string line = Format("impacts  %d: %d heard (%d also seen), %d seen only",
-                            static_cast<int>(s.impacts().size()), heard, both, seen);
+  std::string line = fmt::format("impacts  {}: {} heard ({} also seen), {} seen only", s.impacts().size(), heard, both,
+                                 seen);
   if (!s.impacts().empty()) {
     const impact_t& last = s.impacts().back();
-    line += "; last at t=" + Num(StreamSeconds(s, last.utime), "%.3f") + " s, " +
-            (last.source == "video" ? "seen" : "heard");
+    const double t = StreamSeconds(s, last.utime);
+    line += fmt::format("; last at t={} s, {}", std::isfinite(t) ? fmt::format("{:.3f}", t) : kUnknown,
+                        last.source == "video" ? "seen" : "heard");
   }
   return line;
 }
@@ -127,26 +121,28 @@ std::string Sparkline(const WatchState& state, int width, bool unicode) {
 }
 
 std::string WatchCalibrationLine(const calibration_t& c) {
-  return Format("calibration  %.2f +- %.2f px/m  roll %.2f +- %.2f deg  floor %.1f +- %.1f px  (%s, %d frames)",
-                c.px_per_m, c.px_per_m_sigma, c.roll_rad * 180 / M_PI,
-                c.roll_sigma_rad * 180 / M_PI, c.floor_px, c.floor_sigma_px, c.method.c_str(),
-                c.samples);
+  return fmt::format("calibration  {:.2f} +- {:.2f} px/m  roll {:.2f} +- {:.2f} deg  floor {:.1f} +- {:.1f} px  ({}, {} "
+                     "frames)",
+                     c.px_per_m, c.px_per_m_sigma, c.roll_rad * 180 / M_PI, c.roll_sigma_rad * 180 / M_PI, c.floor_px,
+                     c.floor_sigma_px, c.method, c.samples);
 }
 
 std::string WatchPeakLine(const WatchState& s, const bounce_peak_t& m) {
   // A row of peaks.csv (the stream ended) shows the height to quote.
   const double h = m.revision == 3 ? m.fused_height_m : m.height_m;
-  std::string line = Format("peak  #%-2d  t=%s s  height %s m  +- %s m", m.bounce,
-                            Num(StreamSeconds(s, m.apex_utime), "%7.3f").c_str(),
-                            Num(h, "%.4f").c_str(), Num(m.height_sigma_m, "%.4f").c_str());
-  if (std::isfinite(m.flight_height_m)) line += Format("  (flight time: %.4f m)", m.flight_height_m);
+  const double t = StreamSeconds(s, m.apex_utime);
+  std::string line = fmt::format("peak  #{:<2}  t={} s  height {} m  +- {} m", m.bounce,
+                                 std::isfinite(t) ? fmt::format("{:7.3f}", t) : kUnknown,
+                                 std::isfinite(h) ? fmt::format("{:.4f}", h) : kUnknown,
+                                 std::isfinite(m.height_sigma_m) ? fmt::format("{:.4f}", m.height_sigma_m) : kUnknown);
+  if (std::isfinite(m.flight_height_m)) line += fmt::format("  (flight time: {:.4f} m)", m.flight_height_m);
   if (m.bounce == 0) {
     line += "  release";
   } else {
     for (const auto& p : s.peaks()) {
       const double hp = p.revision == 3 ? p.fused_height_m : p.height_m;
       if (p.bounce == m.bounce - 1 && hp > 0 && h >= 0) {
-        line += Format("  e=%.3f", std::sqrt(h / hp));
+        line += fmt::format("  e={:.3f}", std::sqrt(h / hp));
       }
     }
   }
@@ -154,22 +150,21 @@ std::string WatchPeakLine(const WatchState& s, const bounce_peak_t& m) {
 }
 
 std::string WatchFitLine(const fit_update_t& m) {
-  std::string line = Format("fit   after #%d%s  %s/%s", m.after_bounce, m.final ? " (final)" : "",
-                            m.model.c_str(), m.method.c_str());
-  for (int i = 0; i < m.num_coeffs; ++i) line += Format("  %s=%.6g", m.names[i].c_str(), m.values[i]);
-  line += Format("  residual %.2f mm  %d sims  %.2f s", m.residual_m * 1e3, m.evaluations,
-                 m.wall_time_s);
+  std::string line =
+      fmt::format("fit   after #{}{}  {}/{}", m.after_bounce, m.final ? " (final)" : "", m.model, m.method);
+  for (int i = 0; i < m.num_coeffs; ++i) line += fmt::format("  {}={:.6g}", m.names[i], m.values[i]);
+  line += fmt::format("  residual {:.2f} mm  {} sims  {:.2f} s", m.residual_m * 1e3, m.evaluations, m.wall_time_s);
   return line;
 }
 
 std::string WatchImpactLine(const WatchState& s, const impact_t& m) {
-  std::string line = Format("impact #%-2d  t=%s s  %s", m.index,
-                            Num(StreamSeconds(s, m.utime), "%7.3f").c_str(),
-                            m.source == "audio"  ? "heard"
-                            : m.source == "both" ? "heard and seen"
-                                                 : "seen");
+  const double t = StreamSeconds(s, m.utime);
+  std::string line = fmt::format("impact #{:<2}  t={} s  {}", m.index, std::isfinite(t) ? fmt::format("{:7.3f}", t) : kUnknown,
+                                 m.source == "audio"  ? "heard"
+                                 : m.source == "both" ? "heard and seen"
+                                                      : "seen");
   if (m.source != "video")
-    line += Format("  strength %.4f (full scale 1)  confidence %.2f", m.strength, m.confidence);
+    line += fmt::format("  strength {:.4f} (full scale 1)  confidence {:.2f}", m.strength, m.confidence);
   return line;
 }
 
@@ -178,15 +173,10 @@ std::string WatchStatusLine(const WatchState& s, int64_t now, const WatchRenderO
   const char* kinds[] = {"box", "calibration", "peak", "fit", "impact"};
   std::string line;
   for (size_t i = 0; i < 5 && i < ch.size(); ++i) {
-    line += Format("%s %.1f/s (%lld)  ", ch[i].c_str(), s.Rate(kinds[i], now),
-                   static_cast<long long>(s.Count(kinds[i])));
+    line += fmt::format("{} {:.1f}/s ({})  ", ch[i], s.Rate(kinds[i], now), s.Count(kinds[i]));
   }
-  line += Format("| frame gaps %lld  ball not found %lld  decode failures %lld  "
-                 "handler failures %lld  restarts %lld",
-                 static_cast<long long>(s.frame_gaps()), static_cast<long long>(s.lost_frames()),
-                 static_cast<long long>(o.decode_failures),
-                 static_cast<long long>(o.handler_failures),
-                 static_cast<long long>(s.restarts()));
+  line += fmt::format("| frame gaps {}  ball not found {}  decode failures {}  handler failures {}  restarts {}",
+                      s.frame_gaps(), s.lost_frames(), o.decode_failures, o.handler_failures, s.restarts());
   return line;
 }
 
@@ -200,13 +190,13 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
   if (!s.AnyData()) {
     status = "waiting for data (nothing received yet)";
   } else if (s.Waiting(now)) {
-    status = Format("waiting for data (no message for %.1f s)", s.SilenceS(now));
+    status = fmt::format("waiting for data (no message for {:.1f} s)", s.SilenceS(now));
   } else {
     status = "LIVE";
   }
   std::string title = "bouncefit watch  " + o.source + "  [" + status + "]";
   const double stream_t = StreamSeconds(s, s.last_box_utime());
-  if (std::isfinite(stream_t)) title += Format("  stream t=%.2f s", stream_t);
+  if (std::isfinite(stream_t)) title += fmt::format("  stream t={:.2f} s", stream_t);
   lines.push_back(Pad(title, cols));
 
   // Height trace.
@@ -222,7 +212,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
   lines.push_back(Rule(cols,
                        (metres ? "height of the ball bottom above the floor (m), last "
                                : "height (px above the lowest point seen; no calibration yet), last ") +
-                           Format("%.1f s", window_s),
+                           fmt::format("{:.1f} s", window_s),
                        o.unicode));
   static const char* kBlocks[] = {" ", "\u2581", "\u2582", "\u2583", "\u2584",
                                   "\u2585", "\u2586", "\u2587", "\u2588"};
@@ -230,7 +220,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
   for (int r = 0; r < rows; ++r) {
     const int from_bottom = rows - 1 - r;
     std::string label(label_w, ' ');
-    if (r == 0) label = Pad(Format(metres ? "%7.3f " : "%7.0f ", top), label_w);
+    if (r == 0) label = Pad(metres ? fmt::format("{:7.3f} ", top) : fmt::format("{:7.0f} ", top), label_w);
     if (r == rows - 1) label = Pad(metres ? "  0.000 " : "      0 ", label_w);
     std::string row = label;
     for (double v : b) {
@@ -261,7 +251,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
 
   // Peaks (left) and coefficients (right), side by side when wide enough.
   std::vector<std::string> left, right;
-  left.push_back(Format("peaks, drop %d", std::max(s.current_sequence(), 0)));
+  left.push_back(fmt::format("peaks, drop {}", std::max(s.current_sequence(), 0)));
   left.push_back(" #    t (s)  height (m)  +- (mm)  flight (m)  e (-)");
   const auto& peaks = s.peaks();
   const size_t max_peaks = 12;
@@ -271,19 +261,22 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
     std::string e = p.bounce == 0 ? "release" : "-";
     if (i > 0 && peaks[i - 1].bounce == p.bounce - 1 && peaks[i - 1].height_m > 0 &&
         p.height_m >= 0) {
-      e = Format("%.3f", std::sqrt(p.height_m / peaks[i - 1].height_m));
+      e = fmt::format("{:.3f}", std::sqrt(p.height_m / peaks[i - 1].height_m));
     }
-    left.push_back(Format("%2d %8s  %10s  %6s  %10s   %s", p.bounce,
-                          Num(StreamSeconds(s, p.apex_utime), "%.3f").c_str(),
-                          Num(p.height_m, "%.4f").c_str(), Num(p.height_sigma_m * 1e3, "%.2f").c_str(),
-                          Num(p.flight_height_m, "%.4f").c_str(), e.c_str()));
+    const double t = StreamSeconds(s, p.apex_utime), sigma_mm = p.height_sigma_m * 1e3;
+    left.push_back(fmt::format("{:2} {:>8}  {:>10}  {:>6}  {:>10}   {}", p.bounce,
+                               std::isfinite(t) ? fmt::format("{:.3f}", t) : kUnknown,
+                               std::isfinite(p.height_m) ? fmt::format("{:.4f}", p.height_m) : kUnknown,
+                               std::isfinite(sigma_mm) ? fmt::format("{:.2f}", sigma_mm) : kUnknown,
+                               std::isfinite(p.flight_height_m) ? fmt::format("{:.4f}", p.flight_height_m) : kUnknown,
+                               e));
   }
   if (peaks.empty()) left.push_back(" (no apex yet)");
 
   if (s.fit()) {
     const auto& f = *s.fit();
-    right.push_back(Format("fit after bounce %d%s  %s / %s", f.after_bounce,
-                           f.final ? " (final)" : "", f.model.c_str(), f.method.c_str()));
+    right.push_back(
+        fmt::format("fit after bounce {}{}  {} / {}", f.after_bounce, f.final ? " (final)" : "", f.model, f.method));
     right.push_back(" coefficient                           value   +- sigma  change");
     const fit_update_t* prev = s.previous_fit();
     for (int i = 0; i < f.num_coeffs; ++i) {
@@ -291,28 +284,27 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
       if (prev) {
         for (int j = 0; j < prev->num_coeffs; ++j) {
           if (prev->names[j] == f.names[i] && prev->values[j] != 0) {
-            change = Format("%+.1f%%", 100 * (f.values[i] / prev->values[j] - 1));
+            change = fmt::format("{:+.1f}%", 100 * (f.values[i] / prev->values[j] - 1));
           }
         }
       }
       std::string name = f.names[i];
       if (!f.identifiable[i]) name += " (n/i)";
-      right.push_back(Format(" %-32s %11.6g %10s  %s", name.c_str(), f.values[i],
-                             Num(f.sigmas[i], "%.3g").c_str(), change.c_str()));
+      right.push_back(fmt::format(" {:<32} {:>11.6g} {:>10}  {}", name, f.values[i],
+                                  std::isfinite(f.sigmas[i]) ? fmt::format("{:.3g}", f.sigmas[i]) : kUnknown, change));
     }
-    std::string totals = Format(" residual %.2f mm   %d sims   %.2f s", f.residual_m * 1e3,
-                                f.evaluations, f.wall_time_s);
+    std::string totals =
+        fmt::format(" residual {:.2f} mm   {} sims   {:.2f} s", f.residual_m * 1e3, f.evaluations, f.wall_time_s);
     if (f.time_step_s > 0) {
-      totals += Format("   step %.3f ms x %d iter", f.time_step_s * 1e3, f.iterations);
+      totals += fmt::format("   step {:.3f} ms x {} iter", f.time_step_s * 1e3, f.iterations);
     }
     right.push_back(totals);
     for (const auto& [model, other] : s.latest_by_model()) {
       if (model == f.model) continue;
-      right.push_back(Format(" also %s after #%d%s: residual %.2f mm", model.c_str(),
-                             other.after_bounce, other.final ? " (final)" : "",
-                             other.residual_m * 1e3));
+      right.push_back(fmt::format(" also {} after #{}{}: residual {:.2f} mm", model, other.after_bounce,
+                                  other.final ? " (final)" : "", other.residual_m * 1e3));
     }
-    right.push_back(Format(" fit updates received: %lld", static_cast<long long>(s.fits_received())));
+    right.push_back(fmt::format(" fit updates received: {}", s.fits_received()));
   } else {
     right.push_back("coefficients");
     right.push_back(" (no fit yet)");

@@ -1,8 +1,9 @@
 #include "detect/capture_clock_detector.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 namespace bouncefit {
 
@@ -128,13 +129,11 @@ void CaptureClockDetector::Choose(bool forced, std::vector<DetectorEvent>* out) 
   choice_.stamped = stamps;
   choice_.capture_gravity_over_size = qc;
   choice_.stamped_gravity_over_size = qs;
-  char line[320];
-  auto q = [](double v) { return v > 0 ? std::to_string(v).substr(0, 5) : std::string("unmeasured"); };
-  std::snprintf(line, sizeof line,
-                "%s: free fall over the ball's size %s on the capture clock, %s as stamped",
-                stamps ? "the stamps' long steps are real time" : "slow motion: read on the capture clock",
-                q(qc).c_str(), q(qs).c_str());
-  choice_.verdict = line;
+  // The ratios cut (not rounded) to five characters: "1.234", "12.34".
+  auto q = [](double v) { return v > 0 ? fmt::format("{:f}", v).substr(0, 5) : std::string("unmeasured"); };
+  choice_.verdict = fmt::format("{}: free fall over the ball's size {} on the capture clock, {} as stamped",
+                                stamps ? "the stamps' long steps are real time" : "slow motion: read on the capture clock",
+                                q(qc), q(qs));
   auto& keep = stamps ? held_stamped_ : held_reader_;
   out->insert(out->end(), keep.begin(), keep.end());
   held_reader_.clear();

@@ -1,8 +1,9 @@
 #include "detect/frame_retiming.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include <Eigen/Dense>
 
@@ -148,7 +149,6 @@ void FrameRetimer::Decide(bool enough) {
   retiming_.rms_retimed_px = best < 1e300 ? std::sqrt(best) : 0;
   // A perfect fit (no noise at all) on both clocks is no evidence either way.
   retiming_.gain = best > 0 && best < 1e300 ? as_stamped / best : (as_stamped > 0 && best == 0 ? 1e300 : 1.0);
-  char line[360];
   const double explained_px = best < as_stamped ? std::sqrt(as_stamped - best) : 0;
   // Dropped pictures misplace the ball all along an arc; a ball smeared over an impact, a
   // release or a hand misplace it at the arc's ends, where among 130 re-timings one absorbs
@@ -169,25 +169,24 @@ void FrameRetimer::Decide(bool enough) {
     retiming_.applied = config_.mode == FrameTimes::kRetimed;
     retiming_.source_fps = best_f;
     retiming_.phase = best_c;
-    std::snprintf(line, sizeof line,
-                  "%s: taken at %.4g fps and stamped at %.4g fps (pictures dropped): the ball's "
-                  "arcs fit the %.4g fps times with %.1f px of residual, %.1f px as stamped (%d arcs)",
-                  retiming_.applied ? "frames re-timed" : "frame times as stamped (--keep-frame-times), but they look",
-                  best_f, stamped_fps, best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
-                  retiming_.arcs);
+    retiming_.verdict = fmt::format(
+        "{}: taken at {:.4g} fps and stamped at {:.4g} fps (pictures dropped): the ball's "
+        "arcs fit the {:.4g} fps times with {:.1f} px of residual, {:.1f} px as stamped ({} arcs)",
+        retiming_.applied ? "frames re-timed" : "frame times as stamped (--keep-frame-times), but they look",
+        best_f, stamped_fps, best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
+        retiming_.arcs);
   } else if (pooled_convinces) {
-    std::snprintf(line, sizeof line,
-                  "frame times as stamped (the %.4g fps times fit the ball's arcs with %.1f px of residual, "
-                  "%.1f px as stamped, but only at their ends: inside them %.1f px at %.4g fps, %.1f px as stamped)",
-                  best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
-                  interior_retimed < 1e300 ? std::sqrt(interior_retimed) : 0.0, best_f, std::sqrt(interior_stamped));
+    retiming_.verdict = fmt::format(
+        "frame times as stamped (the {:.4g} fps times fit the ball's arcs with {:.1f} px of residual, "
+        "{:.1f} px as stamped, but only at their ends: inside them {:.1f} px at {:.4g} fps, {:.1f} px as stamped)",
+        best_f, retiming_.rms_retimed_px, retiming_.rms_as_stamped_px,
+        interior_retimed < 1e300 ? std::sqrt(interior_retimed) : 0.0, best_f, std::sqrt(interior_stamped));
   } else {
-    std::snprintf(line, sizeof line,
-                  "frame times as stamped (no faster source rate fits the ball's arcs by far better: "
-                  "%.1f px of residual as stamped, %.1f px at best re-timed)",
-                  retiming_.rms_as_stamped_px, retiming_.rms_retimed_px);
+    retiming_.verdict = fmt::format(
+        "frame times as stamped (no faster source rate fits the ball's arcs by far better: "
+        "{:.1f} px of residual as stamped, {:.1f} px at best re-timed)",
+        retiming_.rms_as_stamped_px, retiming_.rms_retimed_px);
   }
-  retiming_.verdict = line;
 }
 
 BallObservation FrameRetimer::Retimed(BallObservation o) const {

@@ -1,5 +1,7 @@
 #include "detect/impact_fusion.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -45,12 +47,6 @@ std::vector<int> Pair(const std::vector<double>& heard, const std::vector<double
 
 int Count(const std::vector<int>& pair) {
   return static_cast<int>(std::count_if(pair.begin(), pair.end(), [](int p) { return p >= 0; }));
-}
-
-std::string Fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
 }
 
 // The longest chain of clicks with flights shrinking like a bounce train's (indexes into t,
@@ -289,8 +285,8 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
                 std::to_string(seen.size()) + " seen impacts and of " +
                 std::to_string(heard_in_span) + " clicks paired at any one offset), not used";
   else
-    r.verdict = "sound used: " + std::to_string(r.matched) + " of " + std::to_string(seen.size()) +
-                " seen impacts heard, sound lags the picture by " + Fixed(r.offset_s * 1e3, 1) + " ms";
+    r.verdict = fmt::format("sound used: {} of {} seen impacts heard, sound lags the picture by {:.1f} ms", r.matched,
+                            seen.size(), r.offset_s * 1e3);
 
   std::vector<bool> used(heard.size(), false);
   for (size_t v = 0; v < seen.size(); ++v) {

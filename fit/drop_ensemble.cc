@@ -1,11 +1,12 @@
 #include "fit/drop_ensemble.h"
 
+#include <fmt/format.h>
+
 #include "fit/fit_objective.h"
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <future>
 #include <random>
 #include <thread>
@@ -44,11 +45,7 @@ std::string UnsafeDrop(const BallModel& model, const CoefficientValues& values,
     results[i] = SimulateSafely(model, values, o);
   });
   for (size_t i = 0; i < drops_m.size(); ++i)
-    if (!results[i].ok) {
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "%.3g", drops_m[i]);
-      return std::string("diverges dropped from ") + buf + " m (" + results[i].failure + ")";
-    }
+    if (!results[i].ok) return fmt::format("diverges dropped from {:.3g} m ({})", drops_m[i], results[i].failure);
   return {};
 }
 

@@ -1,6 +1,7 @@
 #include "fit/fitted_ball_project.h"
 
-#include <cstdio>
+#include <fmt/format.h>
+
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -11,18 +12,8 @@
 namespace bouncefit {
 namespace {
 
-// Round-trips a double exactly (the data must be the fit's to the last bit).
-std::string Exact(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-std::string G(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
+// The data's numbers are written "{:.17g}": they round-trip exactly (the data must be the
+// fit's to the last bit).
 
 void WriteText(const std::filesystem::path& path, std::string_view text) {
   std::filesystem::create_directories(path.parent_path());
@@ -33,11 +24,10 @@ void WriteText(const std::filesystem::path& path, std::string_view text) {
 
 std::string Summary(const FitUpdate& u, const BallPreset& ball) {
   std::ostringstream s;
-  s << "bouncefit fit of a " << ball.name << " (" << G(ball.diameter_m * 1000) << " mm, "
-    << G(ball.mass_kg * 1000) << " g), model " << u.model << ", method " << u.method << ": RMS "
-    << G(u.residual_m * 1000) << " mm over " << u.recorded_m.size() << " bounces from "
-    << G(u.drop_height_m) << " m";
-  return s.str();
+  return fmt::format("bouncefit fit of a {} ({:.4g} mm, {:.4g} g), model {}, method {}: RMS {:.4g} mm over {} "
+                     "bounces from {:.4g} m",
+                     ball.name, ball.diameter_m * 1000, ball.mass_kg * 1000, u.model, u.method, u.residual_m * 1000,
+                     u.recorded_m.size(), u.drop_height_m);
 }
 
 // As a C++ string literal's contents.
@@ -62,7 +52,7 @@ std::string DataSource(const FitUpdate& u, const BallPreset& ball, const TetMesh
     << " on a geodesic sphere of frequency " << mesh.params.resolution << ").\n"
     << "const std::vector<std::array<double, 3>> kNodes = {\n";
   for (const auto& n : mesh.nodes)
-    s << "    {" << Exact(n[0]) << ", " << Exact(n[1]) << ", " << Exact(n[2]) << "},\n";
+    s << fmt::format("    {{{:.17g}, {:.17g}, {:.17g}}},\n", n[0], n[1], n[2]);
   s << "};\nconst std::vector<std::array<int, 4>> kTetras = {\n";
   for (const auto& t : mesh.tetras)
     s << "    {" << t[0] << ", " << t[1] << ", " << t[2] << ", " << t[3] << "},\n";
@@ -71,16 +61,16 @@ std::string DataSource(const FitUpdate& u, const BallPreset& ball, const TetMesh
   s << "};\n\n}  // namespace\n\n"
     << "bouncefit::SoftBallWorldConfig Config() {\n"
     << "  bouncefit::SoftBallWorldConfig config;  // the model's fixed settings\n"
-    << "  config.time_step_s = " << Exact(u.time_step_s) << ";  // s\n"
+    << fmt::format("  config.time_step_s = {:.17g};  // s\n", u.time_step_s)
     << "  config.position_iterations = " << u.iterations << ";\n"
     << "  return config;\n}\n\n"
     << "bouncefit::SoftBallSpec Ball() {\n"
     << "  bouncefit::SoftBallSpec ball;\n"
-    << "  ball.radius_m = " << Exact(ball.radius_m()) << ";\n"
-    << "  ball.mass_kg = " << Exact(ball.mass_kg) << ";\n"
+    << fmt::format("  ball.radius_m = {:.17g};\n", ball.radius_m())
+    << fmt::format("  ball.mass_kg = {:.17g};\n", ball.mass_kg)
     << "  ball.mesh = {&kNodes, &kTetras, &kFaces};\n"
     << "  ball.values = {\n";
-  for (const auto& [name, v] : u.values) s << "      {\"" << name << "\", " << Exact(v) << "},\n";
+  for (const auto& [name, v] : u.values) s << fmt::format("      {{\"{}\", {:.17g}}},\n", name, v);
   s << "  };\n  return ball;\n}\n\n"
     << "const char* Summary() { return \"" << Escaped(Summary(u, ball)) << "\"; }\n\n"
     << "}  // namespace fitted_ball\n";
@@ -92,13 +82,14 @@ std::string Readme(const FitUpdate& u, const BallPreset& ball) {
   s << "# fitted_ball\n\n" << Summary(u, ball) << ".\n\n"
     << "Needs only Bullet 3.24 (Debian: `apt-get install libbullet-dev cmake g++`):\n\n"
     << "    cmake -S . -B build && cmake --build build\n"
-    << "    build/fitted_ball " << G(u.drop_height_m) << "   # bounce heights in metres, one per line\n\n"
+    << fmt::format("    build/fitted_ball {:.4g}   # bounce heights in metres, one per line\n\n", u.drop_height_m)
     << "`fitted_ball H` drops the ball from H m (its bottom above the floor, at rest) once, as\n"
     << "`bouncefit simulate` does: the same heights. In your own `btSoftRigidDynamicsWorld`,\n"
     << "`#include \"fitted_ball.h\"`, link `fitted_ball_lib` and call\n"
     << "`fitted_ball::AddFittedBall(world, centre)`; step with\n"
-    << "`world.stepSimulation(fitted_ball::kTimeStep, 0)` (" << Exact(u.time_step_s)
-    << " s, the step the coefficients hold for).\n\n"
+    << fmt::format("`world.stepSimulation(fitted_ball::kTimeStep, 0)` ({:.17g} s, the step the coefficients hold "
+                   "for).\n\n",
+                   u.time_step_s)
     << "`model/` is bouncefit's own simulation of the ball, unchanged; `fitted_ball_data.cc`\n"
     << "holds the mesh and every coefficient value of the fit.\n";
   return s.str();

@@ -1,8 +1,9 @@
 #include "model/soft_ball_model.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -10,12 +11,6 @@
 
 namespace bouncefit {
 namespace {
-
-std::string Num(double v, int digits = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
 
 // Every coefficient, in the paper's priority order, then the ones the paper does not list.
 // The Bullet field each one sets is in docs/MODEL.md.
@@ -109,8 +104,7 @@ CoefficientValues SoftBallModel::Complete(const CoefficientValues& values, std::
     double v = value;
     if (it->discrete) v = std::round(v);
     if (!std::isfinite(v) || v < it->lower || v > it->upper) {
-      *error = "coefficient " + name + " = " + Num(value, 6) + " is outside [" + Num(it->lower) +
-               ", " + Num(it->upper) + "]";
+      *error = fmt::format("coefficient {} = {:.6g} is outside [{:.4g}, {:.4g}]", name, value, it->lower, it->upper);
       return {};
     }
     out[name] = v;

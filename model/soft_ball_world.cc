@@ -21,6 +21,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// Not libfmt: this file ships verbatim in the exported fitted_ball project, which builds with
+// Bullet and the C++17 standard library only (model/CMakeLists.txt); GCC 12 has no std::format.
 std::string Num(double v, int digits = 4) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);

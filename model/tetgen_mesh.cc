@@ -1,5 +1,6 @@
 #include "model/tetgen_mesh.h"
 
+#include <fmt/format.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -46,12 +47,6 @@ Vec3 Cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 double Dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-std::string FormatFixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
 
 // ---- tetgen's file formats -------------------------------------------------------------
 
@@ -180,11 +175,8 @@ void WriteSmesh(const fs::path& path, int resolution) {
   std::ofstream out(path);
   out << "# geodesic unit sphere, frequency " << resolution << "\n";
   out << vertices.size() << " 3 0 0\n";
-  char buf[128];
   for (size_t i = 0; i < vertices.size(); ++i) {
-    std::snprintf(buf, sizeof buf, "%zu %.17g %.17g %.17g\n", i, vertices[i][0], vertices[i][1],
-                  vertices[i][2]);
-    out << buf;
+    out << fmt::format("{} {:.17g} {:.17g} {:.17g}\n", i, vertices[i][0], vertices[i][1], vertices[i][2]);
   }
   out << faces.size() << " 0\n";
   for (const auto& f : faces) out << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
@@ -243,7 +235,7 @@ int RunWithTimeout(const std::vector<std::string>& argv, const fs::path& log_pat
       kill(pid, SIGKILL);
       while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
       }
-      throw std::runtime_error("tetgen timed out after " + FormatFixed(timeout_s, 0) + " s");
+      throw std::runtime_error(fmt::format("tetgen timed out after {:.0f} s", timeout_s));
     }
     std::this_thread::sleep_for(nap);
     nap = std::min(nap * 2, std::chrono::microseconds(20000));
@@ -299,8 +291,7 @@ TetMeshParams TetMeshParams::Canonical() const {
 
 std::string TetMeshParams::Key() const {
   const TetMeshParams p = Canonical();
-  return "f" + std::to_string(p.resolution) + "_q" + FormatFixed(p.radius_edge_ratio, 2) + "_a" +
-         FormatFixed(p.max_volume, 4);
+  return fmt::format("f{}_q{:.2f}_a{:.4f}", p.resolution, p.radius_edge_ratio, p.max_volume);
 }
 
 std::string TetMeshParams::Validate() const {
@@ -308,9 +299,9 @@ std::string TetMeshParams::Validate() const {
   if (p.resolution < 1 || p.resolution > 16)
     return "mesh resolution " + std::to_string(resolution) + " is outside 1..16";
   if (!(p.radius_edge_ratio >= 1.0 && p.radius_edge_ratio <= 10))
-    return "radius/edge ratio " + FormatFixed(radius_edge_ratio, 3) + " is outside 1..10";
+    return fmt::format("radius/edge ratio {:.3f} is outside 1..10", radius_edge_ratio);
   if (!(p.max_volume >= 0.001 && p.max_volume <= 4.2))
-    return "max tetrahedron volume " + FormatFixed(max_volume, 4) + " is outside 0.001..4.2";
+    return fmt::format("max tetrahedron volume {:.4f} is outside 0.001..4.2", max_volume);
   return {};
 }
 
@@ -395,8 +386,7 @@ TetMesh RunTetgen(const TetMeshParams& requested, const TetgenOptions& options) 
   WriteSmesh(input, params.resolution);
   // -p: mesh the surface as given; -q: quality (radius/edge); -a: max volume; -z: number
   // from 0; -Q: quiet.
-  const std::string switches = "-pzQq" + FormatFixed(params.radius_edge_ratio, 2) + "a" +
-                               FormatFixed(params.max_volume, 4);
+  const std::string switches = fmt::format("-pzQq{:.2f}a{:.4f}", params.radius_edge_ratio, params.max_volume);
   const fs::path log = tmp.path / "tetgen.log";
   ++g_tetgen_runs;
   const int status = RunWithTimeout({tetgen, switches, input.string()}, log, options.timeout_s);

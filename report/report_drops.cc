@@ -1,5 +1,7 @@
 #include "report/report_drops.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -45,13 +47,6 @@ std::vector<DropRow> ReadDropsCsv(const fs::path& file) {
   return rows;
 }
 
-std::string Fmt(double v, int decimals) {
-  if (!std::isfinite(v)) return "";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-
 }  // namespace
 
 bool IsSeveralClipsDirectory(const fs::path& dir) {
@@ -79,10 +74,14 @@ ReportOutcome WriteSeveralClipsReport(const fs::path& dir, const ReportOptions& 
        "<th>release (m)</th><th>bounce</th><th>recorded (m)</th><th>simulated (m)</th>"
        "<th>simulated - recorded (mm)</th></tr>\n";
   for (const auto& r : rows) {
+    // An unknown number (empty in drops.csv) leaves its cell empty.
+    const double difference_mm = (r.simulated_m - r.recorded_m) * 1e3;
     h << "<tr><td>" << r.drop << "</td><td><a href=\"" << HtmlEscape(r.clip_dir) << "/report.html\">"
-      << HtmlEscape(r.clip_dir) << "</a></td><td>" << Fmt(r.release_m, 4) << "</td><td>" << r.bounce
-      << "</td><td>" << Fmt(r.recorded_m, 4) << "</td><td>" << Fmt(r.simulated_m, 4) << "</td><td>"
-      << Fmt((r.simulated_m - r.recorded_m) * 1e3, 1) << "</td></tr>\n";
+      << HtmlEscape(r.clip_dir) << "</a></td><td>"
+      << (std::isfinite(r.release_m) ? fmt::format("{:.4f}", r.release_m) : "") << "</td><td>" << r.bounce
+      << "</td><td>" << (std::isfinite(r.recorded_m) ? fmt::format("{:.4f}", r.recorded_m) : "") << "</td><td>"
+      << (std::isfinite(r.simulated_m) ? fmt::format("{:.4f}", r.simulated_m) : "") << "</td><td>"
+      << (std::isfinite(difference_mm) ? fmt::format("{:.1f}", difference_mm) : "") << "</td></tr>\n";
   }
   h << "</table>\n";
 

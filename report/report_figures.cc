@@ -1,7 +1,8 @@
 #include "report/report_figures.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
-#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -12,19 +13,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// gnuplot data: "?" marks a missing value (set datafile missing "?").
-std::string Num(double v) {
-  if (!std::isfinite(v)) return "?";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
-std::string Fixed(double v, int decimals) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+// gnuplot data: numbers as "{:.9g}"; "?" marks a missing value (set datafile missing "?").
+constexpr const char* kMissing = "?";
 
 // A gnuplot string literal in single quotes (where only '' needs escaping).
 std::string Quote(const std::string& s) {
@@ -89,8 +79,8 @@ std::string TimeAxis(const ReportRunData& run) {
 }
 std::string RealTimeNote(const ReportRunData& run) {
   if (run.time_scale == 1) return "";
-  return " Times in real seconds: the file plays " + Fixed(1 / run.time_scale, 2) +
-         "x slower than real time (its stamps x " + Fixed(run.time_scale, 4) + ").";
+  return fmt::format(" Times in real seconds: the file plays {:.2f}x slower than real time (its stamps x {:.4f}).",
+                     1 / run.time_scale, run.time_scale);
 }
 
 bool HasFoundRows(const ReportRunData& run) {
@@ -119,7 +109,7 @@ std::string HeightSeries(const ReportRunData& run, bool metres, double reference
       continue;
     }
     in_gap = false;
-    s << Num(r.t_s) << " " << Num(h) << "\n";
+    s << fmt::format("{:.9g} {:.9g}\n", r.t_s, h);
   }
   return s.str();
 }
@@ -139,8 +129,7 @@ ReportFigure HeightFigure(const ReportRunData& run, FigureWriter& w) {
   for (const auto& p : run.peaks) {
     const double h = metres ? p.height_m : kReportNaN;
     if (!std::isfinite(h)) continue;
-    apex << Num(p.t_s) << " " << Num(h) << " \"" << p.bounce << ": " << Fixed(h, 3)
-         << " m\"\n";
+    apex << fmt::format("{:.9g} {:.9g} \"{}: {:.3f} m\"\n", p.t_s, h, p.bounce, h);
     ++apexes;
   }
   w.Data("apexes.dat", apex.str());
@@ -154,7 +143,7 @@ ReportFigure HeightFigure(const ReportRunData& run, FigureWriter& w) {
     gp << "set multiplot\n"
        << "set lmargin at screen 0.09\nset rmargin at screen 0.97\n"
        << "set tmargin at screen 0.93\nset bmargin at screen 0.42\n";
-    if (t1 > t0) gp << "set xrange [" << Num(t0) << ":" << Num(t1) << "]\n";
+    if (t1 > t0) gp << fmt::format("set xrange [{:.9g}:{:.9g}]\n", t0, t1);
   }
   gp << "set title 'Tracked height over time with detected apexes'\n"
      << (strip ? "set format x ''\n" : TimeAxis(run))
@@ -173,19 +162,19 @@ ReportFigure HeightFigure(const ReportRunData& run, FigureWriter& w) {
     std::ostringstream wave, heard, seen;
     wave << "# t_s peak\n";
     for (const auto& s : run.waveform) {
-      wave << Num(s.t_s) << " " << Num(s.peak) << "\n";
+      wave << fmt::format("{:.9g} {:.9g}\n", s.t_s, s.peak);
       top = std::max(top, s.peak);
     }
     if (!(top > 0)) top = 1;
     for (const auto& i : run.impacts)
-      (i.source == "video" ? seen : heard) << Num(i.t_s) << " 0 0 " << Num(1.05 * top) << "\n";
+      (i.source == "video" ? seen : heard) << fmt::format("{:.9g} 0 0 {:.9g}\n", i.t_s, 1.05 * top);
     w.Data("waveform.dat", wave.str());
     w.Data("impacts_heard.dat", "# t_s 0 0 dy\n" + heard.str());
     w.Data("impacts_seen.dat", "# t_s 0 0 dy\n" + seen.str());
     gp << "set tmargin at screen 0.38\nset bmargin at screen 0.18\n"
        << "unset title\nset format x '%g'\n" << TimeAxis(run)
-       << "set ylabel 'sound'\nset yrange [0:" << Num(1.1 * top) << "]\n"
-       << "set ytics " << Num(top / 2) << "\nset format y '%.2f'\n"
+       << fmt::format("set ylabel 'sound'\nset yrange [0:{:.9g}]\n", 1.1 * top)
+       << fmt::format("set ytics {:.9g}\nset format y '%.2f'\n", top / 2)
        << "set key at screen 0.97, screen 0.0 right bottom horizontal nobox\n"
        << "plot 'waveform.dat' using 1:2 with filledcurves y1=0 lc rgb '#999999' "
           "title 'sound (peak per 5 ms)'";
@@ -215,7 +204,7 @@ ReportFigure TrajectoryFigure(const ReportRunData& run, FigureWriter& w, bool ha
   for (size_t i = 0; i < run.simulated.size(); ++i) {
     const auto& s = run.simulated[i];
     if (i > 0 && s.drop != run.simulated[i - 1].drop) sim << "\n";
-    sim << Num(s.t_s) << " " << Num(s.height_m) << "\n";
+    sim << fmt::format("{:.9g} {:.9g}\n", s.t_s, s.height_m);
   }
   w.Data("simulated.dat", sim.str());
   std::ostringstream gp;
@@ -256,13 +245,15 @@ ReportFigure BouncesFigure(const ReportRunData& run, FigureWriter& w) {
     if (!std::isfinite(sigma) && run.calibration) sigma = ApexHeightSigmaM(h, *run.calibration);
     if (!std::isfinite(sigma)) sigma = 0;
     const std::string label = several ? std::to_string(p.drop) + ":" + std::to_string(p.bounce) : std::to_string(p.bounce);
-    rec << Num(position - 0.08) << " " << Num(h) << " " << Num(sigma) << " \"" << label << "\"\n";
+    rec << fmt::format("{:.9g} {:.9g} {:.9g} \"{}\"\n", position - 0.08, h, sigma, label);
     auto it = fitted.find({p.drop, p.bounce});
     if (it == fitted.end() || !std::isfinite(it->second.simulated_m)) continue;
-    sim << Num(position + 0.08) << " " << Num(it->second.simulated_m) << "\n";
+    sim << fmt::format("{:.9g} {:.9g}\n", position + 0.08, it->second.simulated_m);
     // The difference the fit minimised: against the height it took.
-    diff << Num(position) << " " << Num((it->second.simulated_m - it->second.recorded_m) * 1000) << " "
-         << Num(sigma * 1000) << " " << p.drop << " " << p.bounce << " \"" << label << "\"\n";
+    const double difference_mm = (it->second.simulated_m - it->second.recorded_m) * 1000;
+    diff << fmt::format("{} {} {:.9g} {} {} \"{}\"\n", position,
+                        std::isfinite(difference_mm) ? fmt::format("{:.9g}", difference_mm) : kMissing, sigma * 1000,
+                        p.drop, p.bounce, label);
     ++compared;
   }
   w.Data("bounces_recorded.dat", rec.str());
@@ -323,11 +314,13 @@ ReportFigure CoefficientsFigure(const ReportRunData& run, FigureWriter& w) {
         identifiable[c.name] = identifiable[c.name] || c.identifiable;
       }
       auto& block = f.final ? finals[c.name] : updates[c.name];
-      block += Num(f.after_bounce) + " " + Num(c.value) + " " +
-               Num(std::isfinite(c.sigma) ? c.sigma : 0) + "\n";
+      block += fmt::format("{} {} {:.9g}\n", f.after_bounce,
+                           std::isfinite(c.value) ? fmt::format("{:.9g}", c.value) : kMissing,
+                           std::isfinite(c.sigma) ? c.sigma : 0);
     }
-    residual << Num(f.after_bounce) << " " << Num(f.residual_m * 1000) << " " << (f.final ? 1 : 0)
-             << "\n";
+    residual << fmt::format("{} {} {}\n", f.after_bounce,
+                            std::isfinite(f.residual_m) ? fmt::format("{:.9g}", f.residual_m * 1000) : kMissing,
+                            f.final ? 1 : 0);
   }
   w.Data("residual.dat", residual.str());
   const int panels = static_cast<int>(names.size()) + 1;
@@ -375,7 +368,7 @@ ReportFigure AspectFigure(const ReportRunData& run, FigureWriter& w) {
       continue;
     }
     in_gap = false;
-    s << Num(r.t_s) << " " << Num(r.w_px / r.h_px) << "\n";
+    s << fmt::format("{:.9g} {:.9g}\n", r.t_s, r.w_px / r.h_px);
   }
   w.Data("aspect.dat", s.str());
   std::ostringstream gp;

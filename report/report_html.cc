@@ -1,9 +1,10 @@
 #include "report/report_html.h"
 
+#include <fmt/format.h>
+
 #include "report/report_3d.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -13,19 +14,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Fmt(double v, int decimals) {
-  if (!std::isfinite(v)) return "&ndash;";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-
-std::string Sig(double v, int digits = 5) {
-  if (!std::isfinite(v)) return "&ndash;";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
+// A number the run does not know (NaN, JSON null) shows as a dash.
+constexpr const char* kUnknown = "&ndash;";
 
 // A coefficient's entry in the fit export (coefficients.json), if there is one: either
 // {"coefficients": {name: {...}}} (fit/fit_export.h) or a list of {"name": ...}.
@@ -77,7 +67,7 @@ void SummarySection(std::ostringstream& h, const ReportRunData& run) {
   Row(h, {"frames tracked", std::to_string(run.track.size()) + " frames, ball found in " +
                                 std::to_string(found)});
   if (!run.track.empty()) {
-    Row(h, {"stream duration", Fmt(run.track.back().t_s - run.track.front().t_s, 3) + " s"});
+    Row(h, {"stream duration", fmt::format("{:.3f} s", run.track.back().t_s - run.track.front().t_s)});
   }
   if (run.summary && run.summary->is_object()) {
     const auto& s = *run.summary;
@@ -87,14 +77,14 @@ void SummarySection(std::ostringstream& h, const ReportRunData& run) {
       Row(h, {"dropped frames", std::to_string(s["dropped_frames"].get<long>()) + " frames"});
     }
     if (s.contains("wall_time_s") && s["wall_time_s"].is_number()) {
-      Row(h, {"wall time", Fmt(s["wall_time_s"].get<double>(), 2) + " s"});
+      Row(h, {"wall time", fmt::format("{:.2f} s", s["wall_time_s"].get<double>())});
     }
     if (s.contains("timings_ms") && s["timings_ms"].is_object()) {
       std::string t;
       for (const auto& [k, v] : s["timings_ms"].items()) {
         if (!v.is_number()) continue;
         if (!t.empty()) t += ", ";
-        t += HtmlEscape(k) + " " + Fmt(v.get<double>(), 1) + " ms";
+        t += fmt::format("{} {:.1f} ms", HtmlEscape(k), v.get<double>());
       }
       if (!t.empty()) Row(h, {"time spent", t});
     }
@@ -111,13 +101,16 @@ void CalibrationSection(std::ostringstream& h, const ReportRunData& run) {
   const auto& c = *run.calibration;
   h << "<table class=\"kv\">\n";
   Header(h, {"quantity", "value", "standard uncertainty", "unit"});
-  Row(h, {"image scale", Fmt(c.px_per_m, 2), Fmt(c.px_per_m_sigma, 2), "px/m"});
-  Row(h, {"camera roll", Fmt(c.roll_rad * 180 / M_PI, 3), Fmt(c.roll_sigma_rad * 180 / M_PI, 3),
-          "deg"});
-  Row(h, {"floor line", Fmt(c.floor_px, 2), Fmt(c.floor_sigma_px, 2), "px"});
+  const double roll_deg = c.roll_rad * 180 / M_PI, roll_sigma_deg = c.roll_sigma_rad * 180 / M_PI;
+  Row(h, {"image scale", std::isfinite(c.px_per_m) ? fmt::format("{:.2f}", c.px_per_m) : kUnknown,
+          std::isfinite(c.px_per_m_sigma) ? fmt::format("{:.2f}", c.px_per_m_sigma) : kUnknown, "px/m"});
+  Row(h, {"camera roll", std::isfinite(roll_deg) ? fmt::format("{:.3f}", roll_deg) : kUnknown,
+          std::isfinite(roll_sigma_deg) ? fmt::format("{:.3f}", roll_sigma_deg) : kUnknown, "deg"});
+  Row(h, {"floor line", std::isfinite(c.floor_px) ? fmt::format("{:.2f}", c.floor_px) : kUnknown,
+          std::isfinite(c.floor_sigma_px) ? fmt::format("{:.2f}", c.floor_sigma_px) : kUnknown, "px"});
   Row(h, {"method", HtmlEscape(c.method), "", ""});
   Row(h, {"frames used", std::to_string(c.samples), "", "frames"});
-  Row(h, {"known at", Fmt(c.t_s, 3), "", "s"});
+  Row(h, {"known at", std::isfinite(c.t_s) ? fmt::format("{:.3f}", c.t_s) : kUnknown, "", "s"});
   h << "</table>\n";
 }
 
@@ -145,12 +138,18 @@ void PeaksSection(std::ostringstream& h, const ReportRunData& run) {
     if (!std::isfinite(sigma) && run.calibration) sigma = ApexHeightSigmaM(p.height_m, *run.calibration);
     const auto it = fitted.find({p.drop, p.bounce});  // by its number, as the fit took it
     const double sim = it == fitted.end() ? kReportNaN : it->second.simulated_m;
+    const double emitted_ms = (p.emitted_t_s - p.t_s) * 1000;
     Row(h, {(several ? std::to_string(p.drop) + ":" : "") + std::to_string(p.bounce) + (p.bounce == 0 ? " (release)" : ""),
-            Fmt(p.t_s, 4),
-            Fmt(p.height_m, 4), Fmt(sigma, 4), Fmt(p.height_px, 1), Fmt(p.refit_height_m, 4),
-            Fmt(p.flight_height_m, 4),
-            Fmt(e_h[i], 3), Fmt(e_f[i], 3), Fmt(sim, 4),
-            Fmt((p.emitted_t_s - p.t_s) * 1000, 0)});
+            std::isfinite(p.t_s) ? fmt::format("{:.4f}", p.t_s) : kUnknown,
+            std::isfinite(p.height_m) ? fmt::format("{:.4f}", p.height_m) : kUnknown,
+            std::isfinite(sigma) ? fmt::format("{:.4f}", sigma) : kUnknown,
+            std::isfinite(p.height_px) ? fmt::format("{:.1f}", p.height_px) : kUnknown,
+            std::isfinite(p.refit_height_m) ? fmt::format("{:.4f}", p.refit_height_m) : kUnknown,
+            std::isfinite(p.flight_height_m) ? fmt::format("{:.4f}", p.flight_height_m) : kUnknown,
+            std::isfinite(e_h[i]) ? fmt::format("{:.3f}", e_h[i]) : kUnknown,
+            std::isfinite(e_f[i]) ? fmt::format("{:.3f}", e_f[i]) : kUnknown,
+            std::isfinite(sim) ? fmt::format("{:.4f}", sim) : kUnknown,
+            std::isfinite(emitted_ms) ? fmt::format("{:.0f}", emitted_ms) : kUnknown});
   }
   h << "</table>\n<p class=\"note\">Height: as emitted live; refitted: with every arc of its "
        "drop once the drop ended, over the floor where its own contacts are (the height to "
@@ -182,7 +181,8 @@ void FitSection(std::ostringstream& h, const ReportRunData& run) {
     } else {
       unit = HtmlEscape(unit);
     }
-    Row(h, {"<code>" + HtmlEscape(c.name) + "</code>", Sig(c.value, 6), Sig(c.sigma, 3), unit,
+    Row(h, {"<code>" + HtmlEscape(c.name) + "</code>", std::isfinite(c.value) ? fmt::format("{:.6g}", c.value) : kUnknown,
+            std::isfinite(c.sigma) ? fmt::format("{:.3g}", c.sigma) : kUnknown, unit,
             c.identifiable ? "yes" : "<b>no</b>",
             "<span class=\"left\">" + HtmlEscape(CoefficientNote(run, c.name)) + "</span>"});
   }
@@ -192,10 +192,12 @@ void FitSection(std::ostringstream& h, const ReportRunData& run) {
          "own units (see the model's coefficient list in <code>bouncefit fit --help</code>).</p>\n";
   }
   h << "<table class=\"kv\">\n";
-  Row(h, {"RMS residual of bounce heights", Fmt(fit->residual_m * 1000, 2) + " mm"});
+  Row(h, {"RMS residual of bounce heights",
+          (std::isfinite(fit->residual_m) ? fmt::format("{:.2f}", fit->residual_m * 1000) : kUnknown) + " mm"});
   Row(h, {"simulations run", std::to_string(fit->evaluations)});
-  Row(h, {"time spent", Fmt(fit->wall_time_s, 2) + " s"});
-  Row(h, {"simulation time step (coefficients hold for it)", Sig(fit->time_step_s * 1000, 5) + " ms"});
+  Row(h, {"time spent", (std::isfinite(fit->wall_time_s) ? fmt::format("{:.2f}", fit->wall_time_s) : kUnknown) + " s"});
+  Row(h, {"simulation time step (coefficients hold for it)",
+          (std::isfinite(fit->time_step_s) ? fmt::format("{:.5g}", fit->time_step_s * 1000) : kUnknown) + " ms"});
   Row(h, {"solver iterations (coefficients hold for them)", std::to_string(fit->iterations)});
   h << "</table>\n";
 
@@ -205,8 +207,9 @@ void FitSection(std::ostringstream& h, const ReportRunData& run) {
                "time (s)"});
     for (const auto& f : run.fits) {
       Row(h, {std::to_string(f.after_bounce), HtmlEscape(f.model), HtmlEscape(f.method),
-              f.final ? "yes" : "", Fmt(f.residual_m * 1000, 2), std::to_string(f.evaluations),
-              Fmt(f.wall_time_s, 2)});
+              f.final ? "yes" : "", std::isfinite(f.residual_m) ? fmt::format("{:.2f}", f.residual_m * 1000) : kUnknown,
+              std::to_string(f.evaluations),
+              std::isfinite(f.wall_time_s) ? fmt::format("{:.2f}", f.wall_time_s) : kUnknown});
     }
     h << "</table>\n";
   }

@@ -1,5 +1,6 @@
 #include "synth/synth_clip.h"
 
+#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -27,12 +28,6 @@ void Require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument(message);
 }
 
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 void ValidateColor(const Bgr& c, const char* what) {
   for (double v : c)
     Require(v >= 0 && v <= 255, std::string(what) + " colour channels must be in 0-255");
@@ -42,19 +37,19 @@ void ValidateColor(const Bgr& c, const char* what) {
 
 void ValidateSynthClipConfig(const SynthClipConfig& c) {
   Require(std::isfinite(c.drop_height_m) && c.drop_height_m >= 0,
-          "drop height must be >= 0 m (got " + Num(c.drop_height_m) + ")");
+          fmt::format("drop height must be >= 0 m (got {:g})", c.drop_height_m));
   Require(c.ball.diameter_m > 0, "ball diameter must be > 0 m");
   Require(c.ball.mass_kg > 0, "ball mass must be > 0 kg");
-  Require(c.hold_s >= 0, "hold must be >= 0 s (got " + Num(c.hold_s) + ")");
+  Require(c.hold_s >= 0, fmt::format("hold must be >= 0 s (got {:g})", c.hold_s));
   Require(std::abs(c.launch_up_mps) <= 30 && std::abs(c.launch_right_mps) <= 30,
           "launch speeds must be within +-30 m/s");
   Require(c.start_after_release_s >= 0 && c.start_after_release_s < 60,
           "start after release must be in [0, 60) s");
   Require(c.g_mps2 > 0, "g must be > 0 m/s^2");
-  Require(c.fps > 0 && c.fps <= 1000, "fps must be in (0, 1000] (got " + Num(c.fps) + ")");
+  Require(c.fps > 0 && c.fps <= 1000, fmt::format("fps must be in (0, 1000] (got {:g})", c.fps));
   Require(c.width >= 16 && c.height >= 16 && c.width <= 8192 && c.height <= 8192,
           "size must be between 16x16 and 8192x8192 px");
-  Require(c.duration_s > 0, "duration must be > 0 s (got " + Num(c.duration_s) + ")");
+  Require(c.duration_s > 0, fmt::format("duration must be > 0 s (got {:g})", c.duration_s));
   Require(c.duration_s * c.fps <= 1e6, "clip too long (more than a million frames)");
   Require(c.px_per_m >= 0, "px per metre must be >= 0 (0 = fit the drop into the frame)");
   Require(std::abs(c.roll_deg) <= 90, "roll must be in [-90, 90] degrees");
@@ -63,7 +58,7 @@ void ValidateSynthClipConfig(const SynthClipConfig& c) {
   Require(c.ball_x >= 0 && c.ball_x <= 1, "ball x must be a fraction of the width, 0-1");
   Require(c.floor_y > 0.1 && c.floor_y <= 1, "floor y must be a fraction of the height, 0.1-1");
   Require(c.exposure_s >= 0 && c.exposure_s <= 1 / c.fps + 1e-12,
-          "exposure must be in [0, 1/fps] s (got " + Num(c.exposure_s) + ")");
+          fmt::format("exposure must be in [0, 1/fps] s (got {:g})", c.exposure_s));
   Require(c.blur_samples >= 0 && c.blur_samples <= 256, "blur samples must be in 0-256");
   Require(c.noise_sigma >= 0 && c.noise_sigma <= 100, "noise must be in 0-100 grey levels");
   Require(c.quality >= 1 && c.quality <= 100, "quality must be in 1-100");

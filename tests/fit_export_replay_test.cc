@@ -1,8 +1,8 @@
 // A fit's exported coefficients.json, run again: `simulate` (and `predict`) at the fitted
 // drop print exactly the heights the fit reported. A real, small soft-body fit.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -17,12 +17,6 @@
 
 namespace bouncefit {
 namespace {
-
-std::string Exact(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
 
 // A final fit of three bounces with a handful of simulations (its answer need not be good:
 // what it reports must be what its exported file gives).
@@ -62,7 +56,7 @@ TEST(FitExportReplay, SimulateOnTheExportedFileGivesTheFitsHeights) {
   const int rc = testing::RunCommand(testing::BouncefitExe() +
                                          " simulate --ball pingpong --no-trajectory --json --coeffs '" +
                                          (dir / "coefficients.json").string() + "' --drop " +
-                                         Exact(u.drop_height_m),
+                                         fmt::format("{:.17g}", u.drop_height_m),
                                      &out);
   ASSERT_EQ(rc, 0) << out;
   const auto j = nlohmann::json::parse(out);
@@ -75,7 +69,7 @@ TEST(FitExportReplay, SimulateOnTheExportedFileGivesTheFitsHeights) {
   // is the fit's free-running check.
   const int prc = testing::RunCommand(testing::BouncefitExe() + " predict --json --threads 2 --coeffs '" +
                                           (dir / "coefficients.json").string() + "' --drop " +
-                                          Exact(u.drop_height_m),
+                                          fmt::format("{:.17g}", u.drop_height_m),
                                       &out);
   ASSERT_EQ(prc, 0) << out;
   const auto p = nlohmann::json::parse(out);

@@ -1,10 +1,10 @@
 #include "track/ball_finder.h"
 
+#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 #include "track/change_map.h"
@@ -158,17 +158,16 @@ SegBlob SegmentNear(const cv::Mat& ycc, cv::Point2d centre, double half, IsBall 
 }  // namespace
 
 std::string BallCandidate::Why() const {
-  char buf[256];
-  char colour[80] = "no colour of its own";
-  if (weaker_colour > 0)
-    std::snprintf(colour, sizeof colour, "its colour only %.2f chroma/luma from theirs", weaker_colour);
+  const std::string colour = weaker_colour > 0
+                                 ? fmt::format("its colour only {:.2f} chroma/luma from theirs", weaker_colour)
+                                 : std::string("no colour of its own");
   if (by_luma)
-    std::snprintf(buf, sizeof buf, "a round blob that moved, %s than its surroundings by %.0f luma (%s), at %.0f,%.0f, radius %.1f px",
-                  polarity > 0 ? "brighter" : "darker", contrast, colour, x, y, r);
-  else
-    std::snprintf(buf, sizeof buf, "a round blob that moved, its colour %.2f chroma/luma from its surroundings' colour, at %.0f,%.0f, radius %.1f px",
-                  contrast, x, y, r);
-  return buf;
+    return fmt::format("a round blob that moved, {} than its surroundings by {:.0f} luma ({}), at {:.0f},{:.0f}, radius "
+                       "{:.1f} px",
+                       polarity > 0 ? "brighter" : "darker", contrast, colour, x, y, r);
+  return fmt::format("a round blob that moved, its colour {:.2f} chroma/luma from its surroundings' colour, at "
+                     "{:.0f},{:.0f}, radius {:.1f} px",
+                     contrast, x, y, r);
 }
 
 BallFinder::Work& BallFinder::Push(const Frame& frame, cv::Rect roi) {

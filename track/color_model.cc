@@ -1,8 +1,9 @@
 #include "track/color_model.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "track/ycc_planes.h"
 
@@ -95,10 +96,8 @@ cv::Scalar ColorModel::ApproxBgr() const {
 
 std::string ColorModel::ToString() const {
   const cv::Scalar c = ApproxBgr();
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "chroma/luma (%.2f, %.2f) +- %.2f, about BGR %.0f,%.0f,%.0f",
-                nu_, nv_, tol_, c[0], c[1], c[2]);
-  return buf;
+  return fmt::format("chroma/luma ({:.2f}, {:.2f}) +- {:.2f}, about BGR {:.0f},{:.0f},{:.0f}", nu_, nv_, tol_, c[0], c[1],
+                     c[2]);
 }
 
 }  // namespace bouncefit

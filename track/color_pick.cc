@@ -1,8 +1,9 @@
 #include "track/color_pick.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 #include "track/ycc_planes.h"
@@ -29,10 +30,8 @@ PickedColor PickColor(const Frame& frame, double x_px, double y_px, const ColorM
   const int x = static_cast<int>(std::lround(x_px));
   const int y = static_cast<int>(std::lround(y_px));
   if (x < 0 || y < 0 || x >= size.width || y >= size.height) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "pick point %.0f,%.0f is outside the %dx%d px frame", x_px,
-                  y_px, size.width, size.height);
-    throw std::invalid_argument(buf);
+    throw std::invalid_argument(
+        fmt::format("pick point {:.0f},{:.0f} is outside the {}x{} px frame", x_px, y_px, size.width, size.height));
   }
   YccPlanes p;
   ExtractYcc(frame, cv::Rect(x - 5, y - 5, 11, 11), 1, blur_sigma_px, &p);
@@ -116,29 +115,21 @@ PickPreview ComputePickPreview(const Frame& frame, cv::Point2d click, cv::Rect r
 }
 
 std::string DescribePick(const PickPreview& p) {
-  char buf[320];
   if (p.picked.grey) {
-    std::snprintf(buf, sizeof buf,
-                  "nearly grey (chroma/luma %.2f): its brightness is tracked, %s than its "
-                  "surroundings (luma %.0f vs %.0f)",
-                  std::hypot(p.picked.color.nu(), p.picked.color.nv()),
-                  p.picked.polarity > 0 ? "brighter" : "darker", p.picked.ball_luma,
-                  p.picked.surround_luma);
-    return buf;
+    return fmt::format("nearly grey (chroma/luma {:.2f}): its brightness is tracked, {} than its "
+                       "surroundings (luma {:.0f} vs {:.0f})",
+                       std::hypot(p.picked.color.nu(), p.picked.color.nv()),
+                       p.picked.polarity > 0 ? "brighter" : "darker", p.picked.ball_luma, p.picked.surround_luma);
   }
   std::string blob = "no ball-sized blob at the click";
   if (p.ball_blob >= 0) {
     const Blob& b = p.blobs[static_cast<size_t>(p.ball_blob)];
-    char bb[96];
-    std::snprintf(bb, sizeof bb, "ball blob %.0fx%.0f px at %.0f,%.0f", b.box.width, b.box.height,
-                  b.centroid.x, b.centroid.y);
-    blob = bb;
+    blob = fmt::format("ball blob {:.0f}x{:.0f} px at {:.0f},{:.0f}", b.box.width, b.box.height, b.centroid.x,
+                       b.centroid.y);
   }
-  std::snprintf(buf, sizeof buf,
-                "Cb/Y %.2f..%.2f, Cr/Y %.2f..%.2f; %.1f%% of the region matches; %zu blob%s; %s",
-                p.cb_low, p.cb_high, p.cr_low, p.cr_high, 100 * p.match_share, p.blobs.size(),
-                p.blobs.size() == 1 ? "" : "s", blob.c_str());
-  return buf;
+  return fmt::format("Cb/Y {:.2f}..{:.2f}, Cr/Y {:.2f}..{:.2f}; {:.1f}% of the region matches; {} blob{}; {}", p.cb_low,
+                     p.cb_high, p.cr_low, p.cr_high, 100 * p.match_share, p.blobs.size(),
+                     p.blobs.size() == 1 ? "" : "s", blob);
 }
 
 }  // namespace bouncefit

@@ -1,10 +1,10 @@
 #include "track/tracker.h"
 
+#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
@@ -12,12 +12,6 @@
 #include "track/inscribed_disc.h"
 
 namespace bouncefit {
-
-std::string Tracker::Fmt(const char* fmt, double a, double b) {
-  char buf[96];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
-  return buf;
-}
 
 bool TrackerConfig::IsValid(std::string* error) const {
   auto fail = [&](const std::string& why) {
@@ -201,11 +195,11 @@ bool Tracker::ChooseColor(const Frame& frame) {
   } else if (config_.has_pick) {
     const PickedColor picked = PickColor(frame, config_.pick_x, config_.pick_y, cp, config_.blur_sigma_px);
     color_ = picked.color;
-    how_ = "picked pixel " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y);
+    how_ = fmt::format("picked pixel {:.0f},{:.0f}", config_.pick_x, config_.pick_y);
     // Nearly grey: follow its brightness instead, brighter or darker than its surroundings.
     if (picked.grey) {
       StartLumaMode(picked.polarity);
-      how_ = "picked pixel " + Fmt("%.0f,%.0f", config_.pick_x, config_.pick_y) + ", nearly grey:" + how_;
+      how_ = fmt::format("picked pixel {:.0f},{:.0f}, nearly grey:{}", config_.pick_x, config_.pick_y, how_);
     }
   } else {
     return AutoChoose(frame);
@@ -527,9 +521,9 @@ void Tracker::StartLumaMode(int polarity, double contrast_luma) {
   params.clamp_luma *= scale;
   luma_ = std::make_unique<LumaContrast>(params);
   color_ = LumaContrast::BallModel(params, config_.color);
-  how_ = std::string(": brightness, ") + (polarity > 0 ? "brighter" : polarity < 0 ? "darker" : "brighter or darker") +
-         " than a background model by >= " + Fmt("%.0f luma (clamped at %.0f)", params.min_contrast_luma,
-                                                  params.clamp_luma);
+  how_ = fmt::format(": brightness, {} than a background model by >= {:.0f} luma (clamped at {:.0f})",
+                     polarity > 0 ? "brighter" : polarity < 0 ? "darker" : "brighter or darker", params.min_contrast_luma,
+                     params.clamp_luma);
 }
 
 void Tracker::Adapt(double cx, double cy, double r) {
@@ -567,23 +561,18 @@ void Tracker::Adapt(double cx, double cy, double r) {
 }
 
 std::string Tracker::Describe() const {
-  char buf[120];
-  std::snprintf(buf, sizeof buf, "; found in %lld of %lld frames, %lld full-frame searches",
-                static_cast<long long>(found_ + found_earlier_), static_cast<long long>(frames_),
-                static_cast<long long>(acquisitions_));
-  const std::string earlier =
-      found_earlier_ > 0 ? Fmt("; %.0f of those found looking back from a later sighting", static_cast<double>(found_earlier_), 0)
-                         : std::string();
-  std::string dropped;
+  std::string text = fmt::format("tracker: {}; found in {} of {} frames, {} full-frame searches", how_,
+                                 found_ + found_earlier_, frames_, acquisitions_);
+  if (found_earlier_ > 0) text += fmt::format("; {} of those found looking back from a later sighting", found_earlier_);
   if (dropped_locks_ > 0)
-    dropped = Fmt("; automatic locks dropped or replaced before one was ballistic: %.0f",
-                  static_cast<double>(dropped_locks_), 0);
-  std::string camera;
-  if (camera_.moving())
-    camera = "; the camera moved (held in a hand?): up to " + Fmt("%.1f px", camera_.max_offset(), 0) +
-             " from where it started, taken out of the ball's track" +
-             (camera_.unmeasured() > 0 ? Fmt(" (%.0f frames not measurable)", static_cast<double>(camera_.unmeasured()), 0) : "");
-  return "tracker: " + how_ + buf + earlier + dropped + camera;
+    text += fmt::format("; automatic locks dropped or replaced before one was ballistic: {}", dropped_locks_);
+  if (camera_.moving()) {
+    text += fmt::format("; the camera moved (held in a hand?): up to {:.1f} px from where it started, taken out of the "
+                        "ball's track",
+                        camera_.max_offset());
+    if (camera_.unmeasured() > 0) text += fmt::format(" ({} frames not measurable)", camera_.unmeasured());
+  }
+  return text;
 }
 
 }  // namespace bouncefit

@@ -176,7 +176,6 @@ class Tracker {
   bool PredictInFrame(double t, double* x, double* y, double* speed = nullptr) const;
   // `contrast_luma`: how far the ball stands out of its surroundings (the finder's), 0: unknown.
   void StartLumaMode(int polarity, double contrast_luma = 0);
-  static std::string Fmt(const char* fmt, double a, double b);  // snprintf of two numbers
   void SetLumaFrame(const Frame& frame);  // the brightness lock's per-frame start
 
   TrackerConfig config_;

@@ -3,6 +3,8 @@
 // when it does not.
 #include "track/tracker.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -72,17 +74,17 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   const bool shapeless = obs.found && shapeless_;
   if (obs.found && arc_.Add(t, obs.cx - cam_x_, obs.cy - cam_y_, obs.radius_px, !shapeless)) {
     auto_ = false;
-    how_ += Fmt("; confirmed at %.2f s: its track became a ballistic arc", t, 0);
-    if (choices_ > 1) how_ += Fmt(" (choice %.0f)", static_cast<double>(choices_), 0);
+    how_ += fmt::format("; confirmed at {:.2f} s: its track became a ballistic arc", t);
+    if (choices_ > 1) how_ += fmt::format(" (choice {})", choices_);
     return;
   }
   const double here_x = obs.found ? obs.cx : last_cx_, here_y = obs.found ? obs.cy : last_cy_;
   const double here_r = std::max(radius_, chosen_.r);
   std::string drop;
   if (arc_.moving_s() > config_.auto_drop_moving_s)
-    drop = Fmt("moved for %.1f s without a ballistic arc", arc_.moving_s(), 0);
+    drop = fmt::format("moved for {:.1f} s without a ballistic arc", arc_.moving_s());
   else if (t - last_found_t_ > config_.auto_drop_lost_s)
-    drop = Fmt("not seen for %.1f s", t - last_found_t_, 0);
+    drop = fmt::format("not seen for {:.1f} s", t - last_found_t_);
   const bool still = obs.found && arc_.RecentTravel(0.2) < 0.5 * here_r;
   // A lock seen only as a blob running on out of the frame (an arm reaching in from its edge)
   // shows no shape to be a ball by: it is reviewed as a still one is, and a ball elsewhere
@@ -149,7 +151,7 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   predictor_.Reset();
   arc_speed_px_s_ = 0;
   lost_ = 1 << 20;
-  how_ = "automatic: dropped the lock at " + Fmt("%.0f,%.0f", here_x, here_y) + " (" + drop + "); waiting for another";
+  how_ = fmt::format("automatic: dropped the lock at {:.0f},{:.0f} ({}); waiting for another", here_x, here_y, drop);
 }
 
 bool Tracker::SameAsLock(const BallCandidate& c, double here_x, double here_y, double here_r) const {

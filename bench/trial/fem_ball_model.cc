@@ -11,12 +11,12 @@
 #include <BulletSoftBody/btDeformableNeoHookeanForce.h>
 #include <BulletSoftBody/btSoftBody.h>
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -27,12 +27,6 @@ namespace bouncefit {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::string Num(double v, int digits = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
 
 std::vector<CoefficientSpec> Specs(const BallPreset& ball) {
   return {
@@ -328,8 +322,7 @@ CoefficientValues FemBallModel::Complete(const CoefficientValues& values, std::s
     }
     const double v = it->discrete ? std::round(value) : value;
     if (!std::isfinite(v) || v < it->lower || v > it->upper) {
-      *error = "coefficient " + name + " = " + Num(value, 6) + " is outside [" + Num(it->lower) +
-               ", " + Num(it->upper) + "]";
+      *error = fmt::format("coefficient {} = {:.6g} is outside [{:.4g}, {:.4g}]", name, value, it->lower, it->upper);
       return {};
     }
     out[name] = v;
@@ -398,7 +391,7 @@ SimulationResult FemBallModel::Simulate(const CoefficientValues& values,
   // Air drag on the centre, spread over the nodes as one velocity change (the deformable
   // solver has no aerodynamics of its own): dv = -k |v| v dt, k = Cd rho pi r^2 / (2 m).
   const double drag_k = c.drag * config_.air_density_kgpm3 * kPi * r * r / (2 * ball_.mass_kg);
-  auto at = [](double t) { return " at t=" + Num(t, 4) + " s"; };
+  auto at = [](double t) { return fmt::format(" at t={:.4g} s", t); };
 
   std::vector<double> cam_t, cam_y;
   long next_cam = 0, next_traj = 0, last_impact = -1;
@@ -409,15 +402,15 @@ SimulationResult FemBallModel::Simulate(const CoefficientValues& values,
     const double t = double(step) * dt;
     const State s = Measure(sb);
     if (!s.finite) return finish("diverged (NaN)" + at(t));
-    if (s.min_y < -r) return finish("diverged (a node " + Num(-s.min_y, 3) + " m below the floor)" + at(t));
+    if (s.min_y < -r) return finish(fmt::format("diverged (a node {:.3g} m below the floor){}", -s.min_y, at(t)));
     if (s.com_y < 0) return finish("diverged (ball through the floor)" + at(t));
     if (s.max_dist > 3 * r)
-      return finish("diverged (explosion: a node " + Num(s.max_dist / r, 3) + " radii from the centre)" + at(t));
-    if (s.max_speed > v_max) return finish("diverged (a node at " + Num(s.max_speed, 3) + " m/s)" + at(t));
+      return finish(fmt::format("diverged (explosion: a node {:.3g} radii from the centre){}", s.max_dist / r, at(t)));
+    if (s.max_speed > v_max) return finish(fmt::format("diverged (a node at {:.3g} m/s){}", s.max_speed, at(t)));
     const double energy =
         0.5 * (s.com_vx * s.com_vx + s.com_vy * s.com_vy + s.com_vz * s.com_vz) + g * s.com_y;
     if (energy > energy0 + energy_slack)
-      return finish("diverged (energy growth: " + Num(energy / energy0, 4) + "x the release energy)" + at(t));
+      return finish(fmt::format("diverged (energy growth: {:.4g}x the release energy){}", energy / energy0, at(t)));
 
     // Camera samples at exact frame times, interpolated between the steps around them.
     const double bottom = s.com_y - r;
@@ -457,7 +450,7 @@ SimulationResult FemBallModel::Simulate(const CoefficientValues& values,
     if (step >= total_steps) break;
     if ((step & 255) == 0 &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() > config_.max_wall_time_s)
-      return finish("stopped: wall-time limit of " + Num(config_.max_wall_time_s, 3) + " s reached" + at(t));
+      return finish(fmt::format("stopped: wall-time limit of {:.3g} s reached{}", config_.max_wall_time_s, at(t)));
 
     if (drag_k > 0) {
       const double speed = std::sqrt(s.com_vx * s.com_vx + s.com_vy * s.com_vy + s.com_vz * s.com_vz);
