@@ -4,19 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "model/bounce_standard.h"
 
 namespace bouncefit {
 
 namespace {
-
-std::string Format(const char* f, double a, double b = 0, double c = 0, double d = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, f, a, b, c, d);
-  return buf;
-}
 
 double Value(const CoefficientValues& v, const std::string& name) {
   auto it = v.find(name);
@@ -51,12 +44,12 @@ std::vector<std::string> FinalFitNotices(const FitUpdate& u, const BallPreset& b
   if (!u.warning.empty()) out.push_back("fit: warning: " + u.warning);
   const double e1 = FittedRestitutionAt(u.values, 1.0), e4 = FittedRestitutionAt(u.values, 4.0);
   if (std::isfinite(e1)) {
-    std::string line = Format("fit: restitution e %.2f at 1 m/s, %.2f at 4 m/s", e1, e4);
+    std::string line = fmt::format("fit: restitution e {:.2f} at 1 m/s, {:.2f} at 4 m/s", e1, e4);
     if (const auto s = BounceStandardOf(ball.name)) {
       const StandardRestitution sr = StandardRestitutionOf(*s, ball);
       const double e = FittedRestitutionAt(u.values, sr.impact_mps);
-      line += Format("; %.2f at %.1f m/s, where the ball's standard", e, sr.impact_mps) + " (" + s->body +
-              ": " + s->measured + ") gives " + Format("%.2f-%.2f", sr.e_lo, sr.e_hi) + " on " + s->surface +
+      line += fmt::format("; {:.2f} at {:.1f} m/s, where the ball's standard ({}: {}) gives {:.2f}-{:.2f} on {}", e,
+                          sr.impact_mps, s->body, s->measured, sr.e_lo, sr.e_hi, s->surface) +
               (e < sr.e_lo - 0.15  ? " (far less than a softer floor explains: check the scale, the clock and the ball)"
                : e < sr.e_lo       ? " (a softer floor gives less)"
                : e > sr.e_hi + 0.03 ? " (more than the standard allows: check the scale, the clock and the ball)"

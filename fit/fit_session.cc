@@ -1,5 +1,7 @@
 #include "fit/fit_session.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -297,9 +299,10 @@ FitUpdate FitSession::Finish(const FitProblem& problem, const SearchResult& r, b
   }
   u.no_effect = r.inactive;
   if (std::isfinite(flight_clock_ratio_))
-    AddWarning(&u, "the flight times between impacts are " + FormatNumber(flight_clock_ratio_, 2) +
-                       "x what the heights give (the impacts on another clock?): the heights are fitted, not the "
-                       "flights; the first fall is read on the flights' clock");
+    AddWarning(&u, fmt::format("the flight times between impacts are {:.2g}x what the heights give (the impacts "
+                               "on another clock?): the heights are fitted, not the flights; the first fall is "
+                               "read on the flights' clock",
+                               flight_clock_ratio_));
 
   std::vector<CoefficientEstimate> est;
   if (!jacobian.empty())

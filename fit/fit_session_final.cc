@@ -2,6 +2,8 @@
 // and its free-running check (fit/fit_session.h).
 #include "fit/fit_session.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -220,10 +222,10 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
     else if (!u.restitution.drops_agree)
       u.no_answer = DropsDisagreement(u.restitution);
     else if (!(u.residual_m <= limit))
-      u.no_answer = "the fitted ball's heights are " + FormatMm(u.residual_m) +
-                    " RMS from the recorded ones, more than " + FormatMm(limit) + " (the larger of " +
-                    FormatMm(config_.answer_floor_m) + " and " + FormatPercent(config_.answer_fraction) +
-                    " of the highest apex)";
+      u.no_answer = fmt::format(
+          "the fitted ball's heights are {:.1f} mm RMS from the recorded ones, more than {:.1f} mm (the "
+          "larger of {:.1f} mm and {:.3g}% of the highest apex)",
+          1000 * u.residual_m, 1000 * limit, 1000 * config_.answer_floor_m, 100 * config_.answer_fraction);
     else
       u.no_answer = DropOutsideItsGate(u, config_.answer_floor_m, config_.answer_fraction);
   }
@@ -247,10 +249,11 @@ std::string DropOutsideItsGate(const FitUpdate& u, double floor_m, double fracti
     const double limit = std::max(floor_m, fraction * *std::max_element(rec.begin(), rec.end()));
     if (rms <= limit) continue;
     const size_t number = k == 0 ? sizes.size() : k;  // in time: the kept drops, then this one
-    return "drop " + std::to_string(number) + " of " + std::to_string(sizes.size()) + ": the fitted ball's heights are " +
-           FormatMm(rms) + " RMS from its recorded ones, more than " + FormatMm(limit) + " (the larger of " +
-           FormatMm(floor_m) + " and " + FormatPercent(fraction) +
-           " of its highest apex): one ball's coefficients do not describe every drop";
+    return fmt::format(
+        "drop {} of {}: the fitted ball's heights are {:.1f} mm RMS from its recorded ones, more than {:.1f} mm "
+        "(the larger of {:.1f} mm and {:.3g}% of its highest apex): one ball's coefficients do not describe "
+        "every drop",
+        number, sizes.size(), 1000 * rms, 1000 * limit, 1000 * floor_m, 100 * fraction);
   }
   return "";
 }

@@ -2,7 +2,6 @@
 // Small helpers the fit session's two files share (fit_session.cc, fit_session_final.cc).
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -22,17 +21,6 @@ inline bool Contains(const std::vector<std::string>& v, const std::string& s) {
   return std::find(v.begin(), v.end(), s) != v.end();
 }
 
-inline std::string FormatNumber(double v, int precision = 3) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", precision, v);
-  return buf;
-}
-inline std::string FormatMm(double m) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f mm", m * 1000);
-  return buf;
-}
-inline std::string FormatPercent(double f) { return FormatNumber(100 * f) + "%"; }
 
 
 }  // namespace bouncefit::fit_session_detail

@@ -1,8 +1,9 @@
 #include "fit/restitution_fit.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "fit/least_squares_search.h"
 #include "fit/sensitivity.h"
@@ -20,13 +21,6 @@ CoefficientSpec Narrowed(const BallModel& model, const std::string& name, double
       return s;
     }
   throw std::invalid_argument("model '" + model.name() + "' has no coefficient '" + name + "'");
-}
-
-std::string Num(double v) {
-  std::ostringstream o;
-  o.precision(3);
-  o << v;
-  return o.str();
 }
 
 }  // namespace
@@ -144,9 +138,9 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
       if (fits) {
         pm.fixed[s.name] = pm_start[s.name] = timed.value;
         out.held.push_back({SoftLawName(s.name), HeldCoefficient::Kind::kTimed, timed.value, 0, timed.sigma,
-                            why + "; timed by the first fall (" + Num(soft.start_fall_s) + " s from " +
-                                Num(soft.simulation.drop_height_m) + " m) instead of the ball preset's " +
-                                Num(s.default_value),
+                            why + fmt::format("; timed by the first fall ({:.3g} s from {:.3g} m) instead of "
+                                              "the ball preset's {:.3g}",
+                                              soft.start_fall_s, soft.simulation.drop_height_m, s.default_value),
                             ""});
         return;
       }
@@ -194,16 +188,16 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
           hold_preset(s, why + "; the ball preset's value fits as well");
         else
           hold(s, HeldCoefficient::Kind::kData, v, 0,
-               why + "; the ball preset's value " + Num(s.default_value) + " fits worse (" +
-                   Num(1000 * r.rms_m) + " mm RMS against " + Num(1000 * out.point_mass.rms_m) +
-                   " mm): the data's value is kept");
+               why + fmt::format("; the ball preset's value {:.3g} fits worse ({:.3g} mm RMS against {:.3g} "
+                                 "mm): the data's value is kept",
+                                 s.default_value, 1000 * r.rms_m, 1000 * out.point_mass.rms_m));
         break;
       }
       if (at_lower || at_upper) {
         const double bound = at_lower ? s.lower : s.upper;
         const std::string side = at_lower ? "lower" : "upper";
         hold(s, HeldCoefficient::Kind::kBound, bound, est[j].sigma,
-             "at its " + side + " bound " + Num(bound) + ", where the bounces put it", side);
+             fmt::format("at its {} bound {:.3g}, where the bounces put it", side, bound), side);
         break;
       }
     }
