@@ -32,6 +32,13 @@ TEST_P(FinalFit, RmsWithinOnePercentOfTheDropOverAllBouncesAboveOneCentimetre) {
   FitSessionConfig cfg;
   cfg.impact = "boost";  // the whole-coefficient search, which screens what has no effect
   ConfigureSessionForModel(*model, ball, &cfg);
+  // The first of the default's three starts alone, with the budget each of them has
+  // ((945 - 45) / 3 = 300 searched simulations): the default keeps the best of its starts,
+  // each deterministic on its own and this one among them, so its answer is at least as close
+  // as this one. A third of the simulations, the same 1% to meet (pingpong 7.74 mm here,
+  // 6.69 mm as the best of three; wiffle, softball and airball: the same answer).
+  cfg.final_starts = 1;
+  cfg.max_evaluations_final = 345;
   FitSession session(*model, &quick, cfg);
   session.AddPeak({0, 0, drop, 0.001, 0});
   for (size_t i = 1; i < truth.apex_heights_m.size(); ++i)
