@@ -196,9 +196,7 @@ std::vector<double> FitSession::FittedFlights() const {
 double FitSession::StartFall() const {
   if (impacts_before_.empty() || !apexes_.count(start_bounce_)) return std::nan("");
   const double fall = impacts_before_[0] - apexes_.at(start_bounce_).apex_s;  // NaN when either is
-  if (!(fall > 0)) return std::nan("");
-  // On the flights' clock when it is not the heights' (FittedFlights: a slow-motion file).
-  return std::isfinite(flight_clock_ratio_) ? fall / flight_clock_ratio_ : fall;
+  return fall > 0 ? fall : std::nan("");
 }
 
 double FitSession::MeasurementSigma() const {
@@ -237,8 +235,11 @@ FitProblem FitSession::MakeProblem(const std::vector<CoefficientSpec>& free,
   p.recorded_m = FittedHeights();
   p.recorded_flight_s = FittedFlights();
   p.flight_weight_mps = config_.impact == "restitution" ? config_.flight_weight_mps : 0;
-  p.start_fall_s = StartFall();
-  p.start_fall_sigma_s = config_.time_sigma_s * (std::isfinite(flight_clock_ratio_) ? 1 / flight_clock_ratio_ : 1);
+  // The first fall on the heights' clock: the impacts' divided by the flights' ratio to it when
+  // FittedFlights found them on another (a slow-motion file).
+  const double heights_s_per_stream_s = std::isfinite(flight_clock_ratio_) ? 1 / flight_clock_ratio_ : 1;
+  p.start_fall_s = StartFall() * heights_s_per_stream_s;
+  p.start_fall_sigma_s = config_.time_sigma_s * heights_s_per_stream_s;
   p.segments = config_.objective == "segments";
   for (const auto& [name, step] : config_.grid) p.grid[name] = step;
   if (p.recorded_m.empty()) throw std::logic_error("no bounce to fit yet");

@@ -258,7 +258,7 @@ class FitSession {
   // FittedFlights(): the recorded flights over those the heights give, when they disagree
   // so much that they are not used (NaN: used, or none).
   mutable double flight_clock_ratio_ = std::nan("");
-  // The start apex to the impact after it (seconds on the heights' clock; NaN: unknown).
+  // The start apex to the impact after it (seconds on the impacts' clock; NaN: unknown).
   double StartFall() const;
   void ChooseStart();
   int sequence_ = 0;

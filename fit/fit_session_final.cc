@@ -18,6 +18,7 @@
 
 #include "fit/drop_ensemble.h"
 #include "fit/fit_session_helpers.h"
+#include "fit/fit_timeline.h"
 #include "fit/least_squares_search.h"
 #include "fit/live_step.h"
 #include "fit/nlopt_search.h"
@@ -170,13 +171,10 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
       if (c.name != h.name) continue;
       c.value = h.value;
       c.note = h.why;
-      if (h.kind == HeldCoefficient::Kind::kBound) {
-        c.identifiable = true;
-        c.sigma = h.one_sided_sigma;
-        c.bound = h.bound;
-      } else if (h.kind == HeldCoefficient::Kind::kTimed) {
-        c.identifiable = true;
+      if (h.kind == HeldCoefficient::Kind::kBound || h.kind == HeldCoefficient::Kind::kTimed) {
+        c.identifiable = true;  // an answer, measured: at a bound (one-sided) or by the fall's timing
         c.sigma = h.sigma;
+        c.bound = h.bound;
       } else {
         c.identifiable = false;
         c.sigma = std::numeric_limits<double>::quiet_NaN();
@@ -234,26 +232,23 @@ FitUpdate FitSession::FinalUpdate(const CancelToken* cancel) {
 }
 
 std::string DropOutsideItsGate(const FitUpdate& u, double floor_m, double fraction) {
-  // recorded_m holds this drop's bounces, then each kept drop's (the earlier ones, in order).
-  std::vector<size_t> sizes{u.recorded_m.size()};
-  for (int n : u.other_drop_bounces) sizes.front() -= static_cast<size_t>(n), sizes.push_back(static_cast<size_t>(n));
-  if (sizes.size() < 2 || u.simulated_m.size() != u.recorded_m.size()) return "";
-  size_t from = 0;
-  for (size_t k = 0; k < sizes.size(); from += sizes[k], ++k) {
-    const std::vector<double> rec(u.recorded_m.begin() + static_cast<long>(from),
-                                  u.recorded_m.begin() + static_cast<long>(from + sizes[k]));
-    const std::vector<double> sim(u.simulated_m.begin() + static_cast<long>(from),
-                                  u.simulated_m.begin() + static_cast<long>(from + sizes[k]));
+  const std::vector<FitDropSlice> slices = FitDropSlices(u);  // this drop's, then each kept drop's
+  if (slices.size() < 2 || u.simulated_m.size() != u.recorded_m.size()) return "";
+  for (size_t k = 0; k < slices.size(); ++k) {
+    const auto from = u.recorded_m.begin() + static_cast<long>(slices[k].first);
+    const std::vector<double> rec(from, from + static_cast<long>(slices[k].count));
+    const auto sim_from = u.simulated_m.begin() + static_cast<long>(slices[k].first);
+    const std::vector<double> sim(sim_from, sim_from + static_cast<long>(slices[k].count));
     if (rec.empty()) continue;
     const double rms = RmsResidual(rec, sim);
     const double limit = std::max(floor_m, fraction * *std::max_element(rec.begin(), rec.end()));
     if (rms <= limit) continue;
-    const size_t number = k == 0 ? sizes.size() : k;  // in time: the kept drops, then this one
+    const size_t number = k == 0 ? slices.size() : k;  // in time: the kept drops, then this one
     return fmt::format(
         "drop {} of {}: the fitted ball's heights are {:.1f} mm RMS from its recorded ones, more than {:.1f} mm "
         "(the larger of {:.1f} mm and {:.3g}% of its highest apex): one ball's coefficients do not describe "
         "every drop",
-        number, sizes.size(), 1000 * rms, 1000 * limit, 1000 * floor_m, 100 * fraction);
+        number, slices.size(), 1000 * rms, 1000 * limit, 1000 * floor_m, 100 * fraction);
   }
   return "";
 }

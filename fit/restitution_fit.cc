@@ -104,15 +104,17 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
   // Never more coefficients than heights: restitution, then its slope, then drag.
   const size_t heights = soft.recorded_m.size();
   std::vector<CoefficientSpec> free;
-  auto hold = [&](const CoefficientSpec& s, HeldCoefficient::Kind kind, double value,
-                  double one_sided_sigma, const std::string& why, const std::string& bound = "") {
+  auto hold = [&](const CoefficientSpec& s, HeldCoefficient::Kind kind, double value, double sigma,
+                  const std::string& why, const std::string& bound = "") {
     pm.fixed[s.name] = pm_start[s.name] = value;
-    out.held.push_back({SoftLawName(s.name), kind, value, one_sided_sigma, 0, why, bound});
+    out.held.push_back({SoftLawName(s.name), kind, value, sigma, why, bound});
   };
   const double sse_sigma = o.measurement_sigma_m * o.measurement_sigma_m;
-  auto sse = [](const SearchResult& r, size_t n) { return r.rms_m * r.rms_m * static_cast<double>(n); };
-  // The heights' fit (sum of squares) with coefficient s held at value, the others in `free`.
-  auto sse_held_at = [&](const CoefficientSpec& s, double value) {
+  auto sse = [&](const SearchResult& r) {
+    return r.failure.empty() ? r.rms_m * r.rms_m * static_cast<double>(heights) : INFINITY;
+  };
+  // Stage 1 with coefficient s held at value, the others in `free` searched.
+  auto fit_held_at = [&](const CoefficientSpec& s, double value) {
     FitProblem q = pm;
     q.free.clear();
     for (const auto& f : free)
@@ -120,28 +122,27 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
     q.fixed[s.name] = value;
     CoefficientValues start = pm_start;
     start[s.name] = value;
-    const SearchResult r = LeastSquaresSearch(q, start, po);
-    return std::make_pair(r.failure.empty() ? sse(r, heights) : INFINITY, q.free.size());
+    return LeastSquaresSearch(q, start, po);
   };
   // Where the heights leave the drag at the preset's value, the first fall's duration
   // measures it, if it tells it from the preset's (beyond 2 sigma) and the heights fit it as
   // well (else the fall was not from rest at that apex time: a push, a late release).
-  auto hold_preset = [&](const CoefficientSpec& s, const std::string& why) {
+  // at_preset: stage 1 with s at the preset's value, when already run.
+  auto hold_preset = [&](const CoefficientSpec& s, const std::string& why, const SearchResult* at_preset) {
     if (s.name == "drag_coefficient") {
       const TimedDrag timed = DragFromFall(soft, point_mass, pm_start, s);
       bool fits = std::isfinite(timed.sigma) && std::abs(timed.value - s.default_value) > 2 * timed.sigma;
       if (fits) {
-        const auto [at_preset, n] = sse_held_at(s, s.default_value);
-        const double dof = static_cast<double>(std::max<size_t>(1, heights - std::min(heights - 1, n)));
-        fits = sse_held_at(s, timed.value).first - at_preset <= std::max(sse_sigma, at_preset / dof);
+        const double preset_sse = sse(at_preset ? *at_preset : fit_held_at(s, s.default_value));
+        const bool searched = std::any_of(free.begin(), free.end(), [&](const auto& f) { return f.name == s.name; });
+        const size_t others = free.size() - (searched ? 1 : 0);
+        const double dof = static_cast<double>(std::max<size_t>(1, heights - std::min(heights - 1, others)));
+        fits = sse(fit_held_at(s, timed.value)) - preset_sse <= std::max(sse_sigma, preset_sse / dof);
       }
       if (fits) {
-        pm.fixed[s.name] = pm_start[s.name] = timed.value;
-        out.held.push_back({SoftLawName(s.name), HeldCoefficient::Kind::kTimed, timed.value, 0, timed.sigma,
-                            why + fmt::format("; timed by the first fall ({:.3g} s from {:.3g} m) instead of "
-                                              "the ball preset's {:.3g}",
-                                              soft.start_fall_s, soft.simulation.drop_height_m, s.default_value),
-                            ""});
+        hold(s, HeldCoefficient::Kind::kTimed, timed.value, timed.sigma,
+             why + fmt::format("; timed by the first fall ({:.3g} s from {:.3g} m) instead of the ball preset's {:.3g}",
+                               soft.start_fall_s, soft.simulation.drop_height_m, s.default_value));
         return;
       }
     }
@@ -151,8 +152,10 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
     if (free.size() < std::max<size_t>(1, heights))
       free.push_back(s);
     else
-      hold_preset(s, "not identifiable from " + std::to_string(heights) + " height" + (heights == 1 ? "" : "s") +
-                         " (more coefficients than heights)");
+      hold_preset(s,
+                  "not identifiable from " + std::to_string(heights) + " height" + (heights == 1 ? "" : "s") +
+                      " (more coefficients than heights)",
+                  nullptr);
   }
   for (;;) {
     pm.free = free;
@@ -172,20 +175,15 @@ RestitutionFit FitRestitutionCurve(const FitProblem& soft, const BallModel& poin
       const bool at_upper = v >= s.upper - o.pinned_fraction * range;
       if (!est[j].identifiable) {
         // A flat direction: the preset's value if it fits as well, else the data's.
-        FitProblem at_preset = pm;
-        at_preset.fixed[s.name] = s.default_value;
-        at_preset.free.erase(at_preset.free.begin() + j);
-        CoefficientValues start = pm_start;
-        start[s.name] = s.default_value;
-        const SearchResult r = LeastSquaresSearch(at_preset, start, po);
+        const SearchResult r = fit_held_at(s, s.default_value);
         // As well: within one sigma of the heights, or of the fit's own residual where that
         // is larger (heights the point mass cannot follow to their measurement).
         const double dof = static_cast<double>(std::max<size_t>(1, heights - std::min(heights - 1, free.size())));
-        const double level = std::max(sse_sigma, sse(out.point_mass, heights) / dof);
-        const double worse = sse(r, heights) - sse(out.point_mass, heights);
+        const double level = std::max(sse_sigma, sse(out.point_mass) / dof);
+        const double worse = sse(r) - sse(out.point_mass);
         const std::string why = "not identifiable from these bounces (" + est[j].note + ")";
         if (r.failure.empty() && worse <= level)
-          hold_preset(s, why + "; the ball preset's value fits as well");
+          hold_preset(s, why + "; the ball preset's value fits as well", &r);
         else
           hold(s, HeldCoefficient::Kind::kData, v, 0,
                why + fmt::format("; the ball preset's value {:.3g} fits worse ({:.3g} mm RMS against {:.3g} "

@@ -41,7 +41,7 @@ struct RestitutionFitOptions {
 // A law coefficient stage 1 did not leave free, and what it holds.
 struct HeldCoefficient {
   enum class Kind {
-    kBound,   // the data put it at its bound: an answer (one_sided_sigma into the range)
+    kBound,   // the data put it at its bound: an answer (sigma one-sided, into the range)
     kPreset,  // the data cannot tell; the ball preset's value fits as well
     kData,    // the data cannot tell, but the preset's value fits worse: the data's value
     kTimed,   // the heights cannot tell the drag; the first fall's duration does (sigma)
@@ -49,8 +49,9 @@ struct HeldCoefficient {
   std::string name;  // the soft ball's name
   Kind kind = Kind::kPreset;
   double value = 0;
-  double one_sided_sigma = 0;  // kBound: how far into its range one sigma of the heights allows
-  double sigma = 0;            // kTimed: its standard uncertainty from the fall's timing
+  // kBound: how far into its range one sigma of the heights allows; kTimed: its standard
+  // uncertainty from the fall's timing.
+  double sigma = 0;
   std::string why;             // one line
   std::string bound;           // kBound: "lower" or "upper"
 };
