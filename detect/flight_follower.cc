@@ -397,6 +397,17 @@ void FlightFollower::OnFlight(const DetectorSample& s, std::vector<DetectorEvent
       RefitArc(cur);
       return;
     }
+    if (!near_floor && ArcContinues(cur, recent)) {
+      // The arc went on in free flight; the drop's gravity, fitted mostly to another arc (a
+      // first fall on a slow-motion ramp, a push), is what turned it away: refit it with them.
+      cur.samples.insert(cur.samples.end(), recent.begin(), recent.end());
+      pending_up_.clear();
+      pending_off_.clear();
+      misses_ = 0;
+      host_.Recalibrate(s.utime, ev);
+      RefitArc(cur);
+      return;
+    }
     host_.EndSequence(near_floor ? "rest" : "broken", ev);
     if (!near_floor)
       for (const auto& o : recent) host_.OnWaiting(o, ev);
@@ -469,6 +480,28 @@ bool FlightFollower::YoungFallContinues(const DetectorArc& cur,
   const double bend = (*fall_parabola)(2);
   // Free flight for the ball's size on some clock the file may have, not a hand's curve.
   return bend > 0 && rms <= scene_.StartGate() && scene_.SlowdownOfBend(2 * bend) > 0;
+}
+
+bool FlightFollower::ArcContinues(const DetectorArc& cur, const std::vector<DetectorSample>& missed) const {
+  // A calibrated arc long enough to measure its own bend, and every sample it turned away
+  // after its last one, on one free parabola with it: each within the noise gate, the whole
+  // within half of it, bent by a gravity within a quarter of the drop's (a hand's carry or a
+  // lookalike is neither).
+  constexpr size_t kMinArcSamples = 8;
+  if (!scene_.calibrated() || !cur.fit_ok || cur.release || cur.samples.size() < kMinArcSamples ||
+      missed.empty() || missed.front().t <= cur.samples.back().t)
+    return false;
+  std::vector<DetectorSample> run = cur.samples;
+  run.insert(run.end(), missed.begin(), missed.end());
+  double rms = 0;
+  const Eigen::Vector3d arc = scene_.DownParabola(run, &rms);
+  const double g_px = scene_.calibration().flight.globals.gravity_px;
+  const double bend = 2 * arc(2);
+  if (g_px <= 0 || rms > 0.5 * scene_.Gate() || std::abs(bend / g_px - 1) > 0.25) return false;
+  const double t_last = run.back().t;
+  for (const DetectorSample& q : missed)
+    if (std::abs(Down(q) - ParabolaAt(arc, q.t - t_last)) > scene_.Gate()) return false;
+  return true;
 }
 
 double FlightFollower::ArcScatter(const DetectorArc& arc) const {

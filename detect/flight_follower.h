@@ -95,6 +95,10 @@ class FlightFollower {
   // fall's DownParabola (dt from the last missed sample).
   bool YoungFallContinues(const DetectorArc& cur, const std::vector<DetectorSample>& missed,
                           Eigen::Vector3d* fall_parabola) const;
+  // A rebound's samples and those it turned away for its misses (time order, all after it) are
+  // one free flight, bent within a quarter of the drop's gravity: the gravity, not the ball,
+  // left the arc.
+  bool ArcContinues(const DetectorArc& cur, const std::vector<DetectorSample>& missed) const;
   // The rising samples pending confirm an impact: the next arc begins with them.
   void ConfirmImpact(const DetectorSample& s, std::vector<DetectorEvent>& ev);
   // At 24 fps with a long exposure, the frames either side of an impact can both show the
