@@ -1,22 +1,11 @@
 #include "model/bounce_measure.h"
 
 #include <algorithm>
-#include <cstdio>
+#include <sstream>
 
 #include "model/arc_apex.h"
 
 namespace bouncefit {
-namespace {
-
-// Not libfmt: this file ships verbatim in the exported fitted_ball project, which builds with
-// Bullet and the C++17 standard library only (model/CMakeLists.txt); GCC 12 has no std::format.
-std::string Num(double v, int digits = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-
-}  // namespace
 
 MeasuredBounces MeasureBounces(const std::vector<double>& t, const std::vector<double>& y,
                                int window, double contact_height_m) {
@@ -74,9 +63,14 @@ std::string TakeMeasuredBounces(const MeasuredBounces& measured, const Simulatio
     const double h = measured.apex_heights_m[i];
     if (h < options.min_bounce_height_m) break;
     const double previous = i == 0 ? options.drop_height_m : measured.apex_heights_m[i - 1];
-    if (h > previous + 2e-2 * previous + 1e-4)  // 2%: a hop of 1 cm may gain 0.2 mm in the contact
-      return "diverged (energy growth: bounce " + std::to_string(i + 1) + " at " + Num(h, 4) +
-             " m is higher than the one before, " + Num(previous, 4) + " m)";
+    if (h > previous + 2e-2 * previous + 1e-4) {  // 2%: a hop of 1 cm may gain 0.2 mm in the contact
+      // A stream: this file ships verbatim in the exported project (C++17 and Bullet only).
+      std::ostringstream m;
+      m.precision(4);
+      m << "diverged (energy growth: bounce " << i + 1 << " at " << h << " m is higher than the one before, "
+        << previous << " m)";
+      return m.str();
+    }
     result->bounce_heights_m.push_back(h);
     result->apex_times_s.push_back(measured.apex_times_s[i]);
   }

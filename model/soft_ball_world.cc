@@ -10,9 +10,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -20,14 +20,6 @@ namespace bouncefit {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// Not libfmt: this file ships verbatim in the exported fitted_ball project, which builds with
-// Bullet and the C++17 standard library only (model/CMakeLists.txt); GCC 12 has no std::format.
-std::string Num(double v, int digits = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
 
 // The coefficients Bullet is given (the rebound boost reads its own, ReboundBoost).
 struct Coeffs {
@@ -417,7 +409,14 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
   const double energy_slack = 0.02 * energy0 + g * 0.05 * r;
   const double v_max = 3 * std::sqrt(2 * g * y0) + 1;
   const double volume0 = sb.getVolume();
-  auto at = [](double t) { return " at t=" + Num(t, 4) + " s"; };
+  // Why the run ends early, and when: written with a stream, as this file ships verbatim in the
+  // exported fitted_ball project, which builds with Bullet and the C++17 standard library only.
+  auto stop = [&](double t, const auto&... parts) {
+    std::ostringstream m;
+    m.precision(4);
+    (m << ... << parts) << " at t=" << t << " s";
+    return finish(m.str());
+  };
 
   // Camera samples (the bounce measurement) and trajectory samples: the step nearest to
   // each sample time.
@@ -433,23 +432,23 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
     const double t = double(step) * dt;
     result.simulated_time_s = t;
     const NodeStats s = Stats(sb);
-    if (!s.finite) return finish("diverged (NaN)" + at(t));
+    if (!s.finite) return stop(t, "diverged (NaN)");
     const double cy = s.com.y();
-    if (s.min_y < -r) return finish("diverged (a node " + Num(-s.min_y, 3) + " m below the floor)" + at(t));
-    if (cy < 0) return finish("diverged (ball through the floor)" + at(t));
+    if (s.min_y < -r) return stop(t, "diverged (a node ", -s.min_y, " m below the floor)");
+    if (cy < 0) return stop(t, "diverged (ball through the floor)");
     if (s.max_dist2 > 9 * r * r)
-      return finish("diverged (explosion: a node " + Num(std::sqrt(s.max_dist2) / r, 3) + " radii from the centre)" + at(t));
+      return stop(t, "diverged (explosion: a node ", std::sqrt(s.max_dist2) / r, " radii from the centre)");
     if (s.max_speed2 > v_max * v_max)
-      return finish("diverged (a node at " + Num(std::sqrt(s.max_speed2), 3) + " m/s)" + at(t));
+      return stop(t, "diverged (a node at ", std::sqrt(s.max_speed2), " m/s)");
     const double energy = 0.5 * double(s.com_v.length2()) + g * cy;
     if (energy > energy0 + energy_slack)
-      return finish("diverged (energy growth: " + Num(energy / energy0, 4) + "x the release energy)" + at(t));
+      return stop(t, "diverged (energy growth: ", energy / energy0, "x the release energy)");
 
     const double bottom = cy - r;
     if (step == step_of(next_cam, cfg.camera_rate_hz)) {
       const double volume = sb.getVolume();
       if (!(volume > 0.1 * volume0) || !(volume < 4 * volume0))
-        return finish("diverged (volume " + Num(volume / volume0, 3) + "x the rest volume)" + at(t));
+        return stop(t, "diverged (volume ", volume / volume0, "x the rest volume)");
       cam_t.push_back(t);
       cam_y.push_back(bottom);
       ++next_cam;
@@ -491,7 +490,7 @@ SimulationResult SimulateSoftBallDrop(const SoftBallWorldConfig& cfg, const Soft
     if (step >= total_steps) break;
     if ((step & 127) == 0 &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() > cfg.max_wall_time_s)
-      return finish("stopped: wall-time limit of " + Num(cfg.max_wall_time_s, 3) + " s reached" + at(t));
+      return stop(t, "stopped: wall-time limit of ", cfg.max_wall_time_s, " s reached");
 
     w.world->stepSimulation(btScalar(dt), 0);
   }

@@ -4,10 +4,11 @@
 // physics `bouncefit synth` renders), seen by a rolled camera with a known scale, averaged
 // over the exposure, with Gaussian centre noise; and scoring of the detector's peaks
 // against the truth (found apexes, false peaks, height error, latency).
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <numbers>
 #include <ostream>
 #include <random>
@@ -229,12 +230,9 @@ inline PeakScore ScorePeaks(const TruthApexes& c, const std::vector<BouncePeak>&
   for (const auto& p : peaks) {
     const auto b = static_cast<size_t>(p.bounce);
     const double t_apex = static_cast<double>(p.apex_utime) * 1e-6;
-    char line[256];
     if (b >= c.apex_h_m.size() || std::abs(t_apex - c.apex_t_s[b]) > 3 * frame) {
       ++s.false_peaks;
-      std::snprintf(line, sizeof line, "bounce %zu at %.4f s: %.4f m FALSE\n", b, t_apex,
-                    p.height_m);
-      s.report += line;
+      s.report += fmt::format("bounce {} at {:.4f} s: {:.4f} m FALSE\n", b, t_apex, p.height_m);
       continue;
     }
     matched[b] = true;
@@ -252,10 +250,8 @@ inline PeakScore ScorePeaks(const TruthApexes& c, const std::vector<BouncePeak>&
     } else if (!c.impact_t_s.empty()) {
       s.bounce0_latency_from_impact_frames = (emitted - c.impact_t_s[0]) / frame;
     }
-    std::snprintf(line, sizeof line,
-                  "bounce %zu: %.4f m (truth %.4f, err %+.2f mm) latency %.2f frames\n", b,
-                  p.height_m, truth, err * 1e3, lat);
-    s.report += line;
+    s.report += fmt::format("bounce {}: {:.4f} m (truth {:.4f}, err {:+.2f} mm) latency {:.2f} frames\n", b,
+                            p.height_m, truth, err * 1e3, lat);
   }
   for (size_t b = 0; b < matched.size(); ++b) {
     if (c.apex_h_m[b] <= min_truth_m) continue;
@@ -263,10 +259,7 @@ inline PeakScore ScorePeaks(const TruthApexes& c, const std::vector<BouncePeak>&
     if (matched[b]) {
       ++s.found_over_1cm;
     } else {
-      char line[128];
-      std::snprintf(line, sizeof line, "MISSED bounce %zu: %.4f m at %.4f s\n", b,
-                    c.apex_h_m[b], c.apex_t_s[b]);
-      s.report += line;
+      s.report += fmt::format("MISSED bounce {}: {:.4f} m at {:.4f} s\n", b, c.apex_h_m[b], c.apex_t_s[b]);
     }
   }
   return s;

@@ -7,6 +7,8 @@
 // command as a process of its own over UDP multicast, fed by this process.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -37,10 +39,7 @@ struct Case {
 };
 
 std::string Name(const Case& c) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, "%s_%02.0fdm_%.0ffps%s%s", c.ball.c_str(), c.drop_m * 10, c.fps,
-                c.kind.empty() ? "" : "_", c.kind.c_str());
-  return buf;
+  return fmt::format("{}_{:02.0f}dm_{:.0f}fps{}{}", c.ball, c.drop_m * 10, c.fps, c.kind.empty() ? "" : "_", c.kind);
 }
 
 // Renders the clip (once per test binary run) and returns its path.
@@ -58,14 +57,12 @@ std::filesystem::path Render(const Case& c) {
   for (size_t b = 0; b < r.apex_heights_m.size(); ++b)
     if (r.apex_heights_m[b] > 0.01 && b < r.impact_times_s.size()) end = r.impact_times_s[b] + 0.4;
   end -= c.start_s;
-  char cmd[768];
-  std::snprintf(cmd, sizeof cmd,
-                "%s synth -o '%s' --ball %s --drop-height %g --fps %g --roll %g --duration %.2f "
-                "--throw-up %g --throw-right %g --start-after-release %g --exposure %g "
-                "--px-per-m %g --ball-x %g --quiet",
-                testing::BouncefitExe().c_str(), clip.c_str(), c.ball.c_str(), c.drop_m, c.fps,
-                c.roll_deg, end, c.throw_up_mps, c.throw_right_mps, c.start_s,
-                c.exposure_s > 0 ? c.exposure_s : 0.004, c.px_per_m, c.ball_x);
+  const std::string cmd = fmt::format(
+      "{} synth -o '{}' --ball {} --drop-height {:g} --fps {:g} --roll {:g} --duration {:.2f} "
+      "--throw-up {:g} --throw-right {:g} --start-after-release {:g} --exposure {:g} "
+      "--px-per-m {:g} --ball-x {:g} --quiet",
+      testing::BouncefitExe(), clip.string(), c.ball, c.drop_m, c.fps, c.roll_deg, end, c.throw_up_mps,
+      c.throw_right_mps, c.start_s, c.exposure_s > 0 ? c.exposure_s : 0.004, c.px_per_m, c.ball_x);
   std::string out;
   if (testing::RunCommand(cmd, &out) != 0) throw std::runtime_error("synth failed: " + out);
   return clip;
@@ -400,9 +397,8 @@ TEST(DetectCommand, SeparateProcessPrintsThePeaks) {
   child.join();
   EXPECT_EQ(rc, 0) << out;
   for (const auto& p : expected) {  // each bounce once, as `run` prints it
-    char line[64], height[32];
-    std::snprintf(line, sizeof line, "peak  #%-2d", p.bounce);
-    std::snprintf(height, sizeof height, "height %.4f m", p.height_m);
+    const std::string line = fmt::format("peak  #{:<2}", p.bounce);
+    const std::string height = fmt::format("height {:.4f} m", p.height_m);
     const size_t at = out.find(line);
     ASSERT_NE(at, std::string::npos) << line << "\n" << out;
     EXPECT_LT(out.find(height, at), out.find("\n", at)) << height << "\n" << out;

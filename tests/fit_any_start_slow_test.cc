@@ -7,9 +7,10 @@
 // footage starts".
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -50,8 +51,7 @@ TEST_P(AnyStart, FitsTheTruthAndPredictsItFromOnePointSixMetres) {
   const Situation s = GetParam();
   const fs::path dir = testing::ScratchDir(std::string("any_start_") + s.name);
   std::string log;
-  char law[96];
-  std::snprintf(law, sizeof law, " --restitution %.3f --restitution-per-mps %.3f", s.e0, s.k);
+  const std::string law = fmt::format(" --restitution {:.3f} --restitution-per-mps {:.3f}", s.e0, s.k);
   std::vector<double> truth;  // every apex of every part (the releases included)
   std::vector<fs::path> parts;
   for (size_t i = 0; i < s.clips.size(); ++i) {

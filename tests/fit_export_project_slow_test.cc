@@ -3,6 +3,8 @@
 // bouncefit's; bad input is a one-line error.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -116,8 +118,7 @@ TEST_P(FitExportProject, BuildsAgainstBulletAndPrintsSimulatesHeights) {
     for (size_t i = 0; i < simulated.size(); ++i) {
       EXPECT_NEAR(exported[i], simulated[i], 1e-4) << "bounce " << i + 1 << " from " << drop << " m";
       // Stronger than the 0.1 mm asked: the same simulation, so the same digits.
-      char printed[32];
-      std::snprintf(printed, sizeof printed, "%.9f", simulated[i]);
+      const std::string printed = fmt::format("{:.9f}", simulated[i]);
       EXPECT_EQ(exported_text[i], printed) << "bounce " << i + 1 << " from " << drop << " m";
       worst = std::max(worst, std::abs(exported[i] - simulated[i]));
     }

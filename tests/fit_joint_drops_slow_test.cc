@@ -4,6 +4,8 @@
 // matches both, and predicts drops between them (0.7-1.6 m) within max(5 mm, 3%).
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -25,8 +27,7 @@ using testing::RunCommand;
 
 std::vector<double> Predict(const fs::path& coeffs, double drop, int members) {
   std::string out;
-  char args[64];
-  std::snprintf(args, sizeof args, " --drop %.3f --members %d", drop, members);
+  const std::string args = fmt::format(" --drop {:.3f} --members {}", drop, members);
   EXPECT_EQ(RunCommand(BouncefitExe() + " predict --json --coeffs " + coeffs.string() + args +
                            " 2>/dev/null", &out), 0) << out;
   return nlohmann::json::parse(out)["bounce_heights_m"].get<std::vector<double>>();

@@ -5,9 +5,10 @@
 // impact times and the clock alone). Figures in docs/ACCURACY.md "Real clips".
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -174,10 +175,8 @@ void ExpectMustShow(const ClipExpectation& c) {
   const auto rs = Rebounds(s);
   std::string table;
   for (const auto& r : rs) {
-    char line[160];
-    std::snprintf(line, sizeof line, "  drop %d bounce %d: %.4f m live, %.4f m refitted, flight-time %.4f m\n",
-                  r.sequence, r.bounce, r.height_m, r.refit_m, r.flight_m);
-    table += line;
+    table += fmt::format("  drop {} bounce {}: {:.4f} m live, {:.4f} m refitted, flight-time {:.4f} m\n", r.sequence,
+                         r.bounce, r.height_m, r.refit_m, r.flight_m);
   }
   std::printf("%s: %zu rebounds (a person counts %d-%d), clock x%.3f\n%s", c.file, rs.size(),
               c.min_bounces, c.max_bounces, s["clock"]["time_scale"].get<double>(), table.c_str());

@@ -7,6 +7,8 @@
 // spans 6 pictures of the file found. With --keep-frame-times the stamps give broken or shifted rows.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -30,10 +32,7 @@ struct Conversion {
 class RetimedClip : public ::testing::TestWithParam<Conversion> {};
 
 std::string Name(const ::testing::TestParamInfo<Conversion>& info) {
-  char s[64];
-  std::snprintf(s, sizeof s, "%s_%gfps_stamped_%gfps", info.param.ball, info.param.taken_fps,
-                info.param.stamped_fps);
-  return s;
+  return fmt::format("{}_{:g}fps_stamped_{:g}fps", info.param.ball, info.param.taken_fps, info.param.stamped_fps);
 }
 
 TEST_P(RetimedClip, EveryApexOnTheClockThePicturesWereTakenOn) {
@@ -74,9 +73,7 @@ TEST_P(RetimedClip, EveryApexOnTheClockThePicturesWereTakenOn) {
       const double want = b < truth.apex_heights_m.size() ? truth.apex_heights_m[b] : 0;
       const bool ok = std::abs(h - want) <= std::max(0.002, 0.01 * want);
       *(ok ? within : off) += 1;
-      char line[96];
-      std::snprintf(line, sizeof line, "  bounce %zu: %.4f m (truth %.4f)%s\n", b, h, want, ok ? "" : " OFF");
-      *table += line;
+      *table += fmt::format("  bounce {}: {:.4f} m (truth {:.4f}){}\n", b, h, want, ok ? "" : " OFF");
     }
   };
   // Every apex whose flight spans 6 pictures of the file at least, and ends in the clip, must
@@ -91,8 +88,7 @@ TEST_P(RetimedClip, EveryApexOnTheClockThePicturesWereTakenOn) {
 
   const auto s = run("", "default");
   const std::string verdict = s["clock"]["frame_times"].get<std::string>();
-  char taken_at[64];
-  std::snprintf(taken_at, sizeof taken_at, "frames re-timed: taken at %g fps", c.taken_fps);
+  const std::string taken_at = fmt::format("frames re-timed: taken at {:g} fps", c.taken_fps);
   EXPECT_NE(verdict.find(taken_at), std::string::npos) << verdict;
   int within = 0, off = 0;
   std::string table;

@@ -4,6 +4,8 @@
 #include <lcm/lcm-cpp.hpp>
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -331,8 +333,7 @@ TEST(Run, WatchInAnotherProcessShowsTheRunsPeaksAndCoefficients) {
   const auto peaks = ReadCsv(dir / "out" / "peaks.csv");
   ASSERT_GE(peaks.size(), 4u);
   for (const auto& p : peaks) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4f", std::stod(p.at("fused_height_m")));
+    const std::string text = fmt::format("{:.4f}", std::stod(p.at("fused_height_m")));
     EXPECT_NE(screen.find(text), std::string::npos) << "peak " << text << " not shown:\n" << screen;
   }
   // The final fit's coefficients, by name.

@@ -2,9 +2,10 @@
 // A `bouncefit run` of a rendered clip scored against its truth (test-only): every apex of
 // min_height_m or more, the ball in view, matched by time to a peaks.csv row within max(2 mm, 2%), rows that
 // match no apex counted as false, and each drop's scale (summary.json) against the truth's.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -47,7 +48,6 @@ inline SynthRunScore ScoreSynthRun(const SynthTruth& truth, const std::filesyste
   }
   std::vector<bool> used(rows.size(), false);
   s.run_drop.assign(drops.size(), -1);
-  char line[160];
   for (size_t k = 0; k < drops.size(); ++k) {
     const SynthTruthDrop& d = drops[k];
     for (size_t a = 0; a < d.apex_times_s.size(); ++a) {
@@ -66,23 +66,21 @@ inline SynthRunScore ScoreSynthRun(const SynthTruth& truth, const std::filesyste
       ++s.wanted;
       if (best < 0) {
         ++s.missed;
-        std::snprintf(line, sizeof line, "  drop %zu apex %zu at %.3f s: %.4f m MISSED\n", k, a, t, h);
+        s.table += fmt::format("  drop {} apex {} at {:.3f} s: {:.4f} m MISSED\n", k, a, t, h);
       } else {
         const double got = rows[static_cast<size_t>(best)].height_m;
         const bool ok = std::abs(got - h) <= std::max(0.002, 0.02 * h);
         ++(ok ? s.found : s.off);
-        std::snprintf(line, sizeof line, "  drop %zu apex %zu at %.3f s: %.4f m, run %.4f m (drop %d)%s\n", k, a, t,
-                      h, got, rows[static_cast<size_t>(best)].drop, ok ? "" : " OFF");
+        s.table += fmt::format("  drop {} apex {} at {:.3f} s: {:.4f} m, run {:.4f} m (drop {}){}\n", k, a, t, h, got,
+                               rows[static_cast<size_t>(best)].drop, ok ? "" : " OFF");
       }
-      s.table += line;
     }
   }
   for (size_t j = 0; j < rows.size(); ++j) {
     if (used[j]) continue;
     ++s.false_rows;
-    std::snprintf(line, sizeof line, "  FALSE row: bounce %d at %.3f s, %.4f m (drop %d)\n", rows[j].bounce,
-                  rows[j].t_s, rows[j].height_m, rows[j].drop);
-    s.table += line;
+    s.table += fmt::format("  FALSE row: bounce {} at {:.3f} s, {:.4f} m (drop {})\n", rows[j].bounce, rows[j].t_s,
+                           rows[j].height_m, rows[j].drop);
   }
   // Each truth drop's scale: the run's drop whose first impact falls within it.
   s.scale_ratio.assign(drops.size(), 0);
@@ -94,8 +92,7 @@ inline SynthRunScore ScoreSynthRun(const SynthTruth& truth, const std::filesyste
         s.scale_ratio[k] = rd["px_per_m"].get<double>() / drops[k].px_per_m;
   }
   for (size_t k = 0; k < drops.size(); ++k) {
-    std::snprintf(line, sizeof line, "  drop %zu: scale %.4f of the truth's\n", k, s.scale_ratio[k]);
-    s.table += line;
+    s.table += fmt::format("  drop {}: scale {:.4f} of the truth's\n", k, s.scale_ratio[k]);
   }
   return s;
 }

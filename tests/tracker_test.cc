@@ -2,6 +2,8 @@
 // presets, distractors, empty scenes, YUYV input.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <opencv2/imgcodecs.hpp>
 
 #include <cstdio>
@@ -543,10 +545,8 @@ TEST(Tracker, AFallingBrightnessLockIsNotSwappedForAColourPatchBesideItsPath) {
     const Frame f = frame_at(i);
     const BallObservation o = tracker.Track(f);
     const double t = i / fps;
-    char line[120];
-    std::snprintf(line, sizeof line, "  frame %d: ball at %.0f,%.0f; %s %.1f,%.1f\n", i, x, ball_y(t),
-                  o.found ? "found at" : "not found", o.cx, o.cy);
-    track += line;
+    track += fmt::format("  frame {}: ball at {:.0f},{:.0f}; {} {:.1f},{:.1f}\n", i, x, ball_y(t),
+                         o.found ? "found at" : "not found", o.cx, o.cy);
     if (i > patch_frame && ball_y(t) + r < sc.floor_y_px - 5) {
       ++checked;
       on_ball += o.found && std::hypot(o.cx - x, o.cy - ball_y(t)) < 0.5 * r;

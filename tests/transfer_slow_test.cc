@@ -7,6 +7,8 @@
 // (within one 120 fps frame, 8.3 ms). bench/transfer_bench runs the full 4 x 2 matrix.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -63,8 +65,7 @@ TEST_P(Transfer, FittedAtOneMetrePredictsTheDropFromOnePointSixMetres) {
   const std::string ball = truth.name;
   const fs::path dir = testing::ScratchDir("transfer_" + ball);
   const fs::path clip = dir / "fit.avi";
-  char law[96];
-  std::snprintf(law, sizeof law, " --restitution %.3f --restitution-per-mps %.3f", truth.e0, truth.k);
+  const std::string law = fmt::format(" --restitution {:.3f} --restitution-per-mps {:.3f}", truth.e0, truth.k);
   std::string log;
   ASSERT_EQ(RunCommand(BouncefitExe() + " synth --quiet --ball " + ball + law +
                            " --drop-height 1 --duration 5 --out " + clip.string(), &log), 0)
@@ -99,8 +100,7 @@ TEST_P(Transfer, FittedAtOneMetrePredictsTheDropFromOnePointSixMetres) {
 
   // Timing on the fitted drop: impacts 2..6 counted from the first, simulated vs recorded.
   const auto fit = nlohmann::json::parse(std::ifstream(coeffs));
-  char drop[32];
-  std::snprintf(drop, sizeof drop, "%.17g", fit["drop_height_m"].get<double>());
+  const std::string drop = fmt::format("{:.17g}", fit["drop_height_m"].get<double>());
   const auto sim = RunJson(BouncefitExe() + " simulate --json --no-trajectory --coeffs " +
                            coeffs.string() + " --drop " + drop)["impact_times_s"]
                        .get<std::vector<double>>();

@@ -7,9 +7,10 @@
 // (--keep-frame-times), the slow motion loses its bounces.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <ostream>
 #include <string>
@@ -68,10 +69,7 @@ Score ScoreRun(const SynthTruth& truth, const std::filesystem::path& out) {
     const double got = best >= 0 ? std::stod(rows[static_cast<size_t>(best)].at("height_m")) : NAN;
     const bool ok = std::abs(got - h) <= std::max(0.002, 0.02 * h);
     s.within += ok;
-    char line[128];
-    std::snprintf(line, sizeof line, "  apex %zu at %.3f s: %.4f m, found %.4f m%s\n", k, t, h, got,
-                  ok ? "" : " OFF");
-    s.table += line;
+    s.table += fmt::format("  apex {} at {:.3f} s: {:.4f} m, found {:.4f} m{}\n", k, t, h, got, ok ? "" : " OFF");
   }
   for (size_t j = 0; j < rows.size(); ++j)
     if (!used[j]) {
