@@ -1,6 +1,9 @@
 #include "fit/ball_animation.h"
 
-#include <Eigen/Dense>
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
@@ -44,6 +47,38 @@ Eigen::Matrix3d BestRotation(const Eigen::MatrixXd& rest, const Eigen::MatrixXd&
   Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
   d(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1 : 1;
   return svd.matrixV() * d * svd.matrixU().transpose();
+}
+
+// d ~ u diag(s) v^T over its `count` largest components, from the eigenvectors of the smaller
+// of its Gram matrices (d d^T or d^T d). A dense SVD of d gives the same, but its template
+// (BDCSVD) is most of this unit's build time; the few components that matter are well apart,
+// and the caller measures what they leave on d itself. Components of no weight are left out.
+struct Components {
+  Eigen::MatrixXd u, v;
+  Eigen::VectorXd s;
+};
+Components PrincipalComponents(const Eigen::MatrixXd& d, Eigen::Index count) {
+  const bool over_rows = d.rows() <= d.cols();
+  const Eigen::MatrixXd gram = over_rows ? Eigen::MatrixXd(d * d.transpose()) : Eigen::MatrixXd(d.transpose() * d);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram);  // eigenvalues ascending
+  const Eigen::Index m = gram.rows();
+  const double top = m > 0 ? std::max(0.0, eig.eigenvalues()(m - 1)) : 0.0;
+  Eigen::Index kept = 0;
+  while (kept < std::min(count, m) && eig.eigenvalues()(m - 1 - kept) > 1e-24 * top && top > 0) ++kept;
+  Components c{Eigen::MatrixXd(d.rows(), kept), Eigen::MatrixXd(d.cols(), kept), Eigen::VectorXd(kept)};
+  for (Eigen::Index j = 0; j < kept; ++j) {
+    const double s = std::sqrt(eig.eigenvalues()(m - 1 - j));
+    const Eigen::VectorXd e = eig.eigenvectors().col(m - 1 - j);
+    c.s(j) = s;
+    if (over_rows) {
+      c.u.col(j) = e;
+      c.v.col(j) = d.transpose() * e / s;
+    } else {
+      c.v.col(j) = e;
+      c.u.col(j) = d * e / s;
+    }
+  }
+  return c;
 }
 
 }  // namespace
@@ -113,13 +148,13 @@ BallAnimation AnimateSurface(const std::vector<double>& t_s, const SurfaceRecord
   Eigen::MatrixXd residual = deformation;
   a.max_error_m = max_error(residual);
   int targets = 0;
-  Eigen::BDCSVD<Eigen::MatrixXd> svd;
+  Components pc;
   if (a.max_error_m > options.tolerance_m && options.max_targets > 0) {
-    svd.compute(deformation, Eigen::ComputeThinU | Eigen::ComputeThinV);
-    const int available = int(std::min<Eigen::Index>(options.max_targets, svd.singularValues().size()));
+    pc = PrincipalComponents(deformation, options.max_targets);
+    const int available = int(pc.s.size());
     while (targets < available && a.max_error_m > options.tolerance_m) {
-      const Eigen::VectorXd w = svd.matrixU().col(targets) * svd.singularValues()(targets);
-      residual -= w * svd.matrixV().col(targets).transpose();
+      const Eigen::VectorXd w = pc.u.col(targets) * pc.s(targets);
+      residual -= w * pc.v.col(targets).transpose();
       a.max_error_m = max_error(residual);
       ++targets;
     }
@@ -129,9 +164,9 @@ BallAnimation AnimateSurface(const std::vector<double>& t_s, const SurfaceRecord
   Eigen::MatrixXd base = rest;
   a.weights.assign(keys, {});
   for (int j = 0; j < targets; ++j) {
-    const Eigen::VectorXd w = svd.matrixU().col(j) * svd.singularValues()(j);
+    const Eigen::VectorXd w = pc.u.col(j) * pc.s(j);
     const double lo = std::min(0.0, w.minCoeff()), hi = std::max(0.0, w.maxCoeff());
-    const Eigen::VectorXd v = svd.matrixV().col(j);
+    const Eigen::VectorXd v = pc.v.col(j);
     std::vector<std::array<float, 3>> target(n);
     for (size_t i = 0; i < n; ++i) {
       const Eigen::Vector3d vi = v.segment<3>(Eigen::Index(3 * i));
