@@ -16,7 +16,7 @@
 #include "tests/v4l2_fake_device.h"
 #include "msgs/lcm_bus.h"
 #include "msgs/lcm_log_recorder.h"
-#include "replay/node/lcm_log_replay.h"
+#include "pipeline/lcm_log_replay.h"
 #include "replay/video_file_source.h"
 #include "tests/test_support.h"
 #include "track/node/capture_node.h"
