@@ -10,6 +10,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "model/point_mass_drop.h"
+
 namespace bouncefit::testing {
 
 std::filesystem::path ScratchDir(const std::string& name) {
@@ -42,6 +44,18 @@ int RunCommand(const std::string& command_line, std::string* output) {
 }
 
 std::string BouncefitExe() { return std::string("'") + BOUNCEFIT_EXE + "'"; }
+
+std::vector<double> DropHeights(const BallPreset& ball, double drop, int n) {
+  PointMassDropConfig c;
+  c.ball = ball;
+  c.drop_height_m = drop;
+  c.end_time_s = 20;
+  const auto r = SimulatePointMassDrop(c);
+  std::vector<double> h{drop};
+  for (size_t i = 1; i < r.apex_heights_m.size() && static_cast<int>(h.size()) <= n; ++i)
+    h.push_back(r.apex_heights_m[i]);
+  return h;
+}
 
 std::filesystem::path RealClipsDir() {
   std::filesystem::path dir = BOUNCEFIT_REAL_CLIPS_DIR;

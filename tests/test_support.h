@@ -5,6 +5,10 @@
 #include <string>
 #include <vector>
 
+namespace bouncefit {
+struct BallPreset;
+}
+
 namespace bouncefit::testing {
 
 // A fresh, empty directory under the build tree for this test case
@@ -18,6 +22,10 @@ int RunCommand(const std::string& command_line, std::string* output);
 
 // The bouncefit executable under test, quoted for a shell.
 std::string BouncefitExe();
+
+// The drop height, then the first n apex heights of a point-mass ball dropped from it: a
+// recording whose coefficients are known.
+std::vector<double> DropHeights(const BallPreset& ball, double drop, int n);
 
 // Directory of the shared real clips ("" when absent on this machine).
 std::filesystem::path RealClipsDir();
