@@ -16,7 +16,6 @@
 #include "pipeline/output_dir.h"
 #include "pipeline/sound_fusion.h"
 #include "replay/container_clock.h"
-#include "track/node/ball_box_msg.h"
 
 namespace bouncefit {
 namespace {

@@ -1,17 +1,47 @@
 #pragma once
 // The cores' structs as the messages the stages send, and back: the one place where a
-// calibration, a bounce or a fit update becomes its LCM message.
+// tracker observation, a calibration, a bounce or a fit update becomes its LCM message.
 #include <cstdint>
 #include <vector>
 
+#include "bouncefit/ball_box_t.hpp"
 #include "bouncefit/bounce_peak_t.hpp"
 #include "bouncefit/calibration_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
 #include "detect/calibrator.h"
 #include "detect/detector_events.h"
 #include "fit/fit_session.h"
+#include "track/ball_observation.h"
 
 namespace bouncefit {
+
+// BallObservation and ball_box_t carry the same fields under the same names: one copy
+// serves both directions.
+template <class To, class From>
+To CopyBallBoxFields(const From& f) {
+  To t{};
+  t.utime = f.utime;
+  t.frame = f.frame;
+  t.found = f.found;
+  t.camera_dx = f.camera_dx;
+  t.camera_dy = f.camera_dy;
+  if (f.found) {  // a frame without the ball carries zeros
+    t.x = f.x;
+    t.y = f.y;
+    t.w = f.w;
+    t.h = f.h;
+    t.cx = f.cx;
+    t.cy = f.cy;
+    t.radius_px = f.radius_px;
+    t.pixel_count = f.pixel_count;
+    t.aspect_ratio = f.aspect_ratio;
+    t.score = f.score;
+  }
+  return t;
+}
+
+inline ball_box_t ToBallBox(const BallObservation& obs) { return CopyBallBoxFields<ball_box_t>(obs); }
+inline BallObservation FromBallBox(const ball_box_t& box) { return CopyBallBoxFields<BallObservation>(box); }
 
 calibration_t ToCalibrationMsg(const Calibration& c);
 // A bounce as first emitted: revision 0, no refit or fused height yet.

@@ -16,7 +16,6 @@
 #include "pipeline/message_mapping.h"
 #include "tests/detect_sim.h"
 #include "tests/test_support.h"
-#include "track/node/ball_box_msg.h"
 
 namespace bouncefit {
 namespace {
