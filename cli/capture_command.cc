@@ -1,7 +1,7 @@
 // bouncefit capture: a V4L2 camera, or a clip replayed as a fake camera, through the tracker;
-// one ball_box_t per frame on BALL_BOX (track/node/capture_node.h). Beside it, the sound: the
+// one ball_box_t per frame on BALL_BOX (pipeline/capture_stage.h). Beside it, the sound: the
 // clip's own track, or a live ALSA microphone beside the camera; each impact heard goes out
-// on IMPACT (source "audio") as the stream reaches it (pipeline/capture_stage.h).
+// on IMPACT (source "audio") as the stream reaches it.
 #include <fmt/format.h>
 
 #include <chrono>

@@ -17,12 +17,13 @@
 #include "cli/fit_print.h"
 #include "fit/fit_export.h"
 #include "fit/fit_models.h"
-#include "fit/node/fit_node.h"
 #include "pipeline/exit_status.h"
 #include "pipeline/fit_stage.h"
+#include "pipeline/message_mapping.h"
 #include "pipeline/output_dir.h"
 #include "model/model_by_name.h"
 #include "model/point_mass_model.h"
+#include "msgs/lcm_bus.h"
 #include "msgs/msg_json.h"
 
 namespace bouncefit::cli {
@@ -42,7 +43,8 @@ struct FitOptions {
   std::string out;
   bool overwrite = false;
   std::string lcm_url = kDefaultLcmUrl;
-  FitNodeConfig node;
+  FitSetup fit;
+  Channels channels;
   int max_evals = 0;
   int max_evals_bounce = 0;
 };
@@ -79,8 +81,8 @@ void Emit(const FitOptions& o, const fit_update_t& m, const FitUpdate& u) {
 }
 
 void ApplyBudgets(FitOptions* o) {
-  if (o->max_evals > 0) o->node.session.max_evaluations_final = o->max_evals;
-  if (o->max_evals_bounce > 0) o->node.session.max_evaluations_per_bounce = o->max_evals_bounce;
+  if (o->max_evals > 0) o->fit.session.max_evaluations_final = o->max_evals;
+  if (o->max_evals_bounce > 0) o->fit.session.max_evaluations_per_bounce = o->max_evals_bounce;
 }
 
 ExitStatus RunOffline(FitOptions o) {
@@ -95,10 +97,10 @@ ExitStatus RunOffline(FitOptions o) {
     for (const auto& path : o.peaks_csv)
       for (auto& drop : ReadPeaksDrops(path)) drops.push_back(std::move(drop));
   }
-  const BallPreset ball = ResolveBallPreset(o.node.ball, o.node.diameter_m, o.node.mass_kg);
+  const BallPreset ball = ResolveBallPreset(o.fit.ball, o.fit.diameter_m, o.fit.mass_kg);
   std::vector<std::pair<size_t, int>> fitted;
   const FitUpdate final_fit = FitDropsOffline(
-      drops, o.node, o.final_only, [&](const FitUpdate& u) { Emit(o, FitNode::ToMessage(u), u); },
+      drops, o.fit, o.final_only, [&](const FitUpdate& u) { Emit(o, ToFitUpdateMsg(u), u); },
       [](int sims, int budget) { std::fprintf(stderr, "final fit  %d / %d simulations\n", sims, budget); }, &fitted);
   if (!final_fit.no_answer.empty()) {
     std::fprintf(stderr, "bouncefit fit: no fit: %s\n", final_fit.no_answer.c_str());
@@ -118,7 +120,8 @@ ExitStatus RunOffline(FitOptions o) {
 ExitStatus RunNode(FitOptions o) {
   LcmBus bus(o.lcm_url);
   FitStageConfig fc;
-  fc.node = o.node;
+  fc.fit = o.fit;
+  fc.channels = o.channels;
   fc.final_after_s = o.final_after_s;
   if (!o.out.empty()) {
     ClaimOutputDir(o.out, FitOutputFiles(), o.overwrite);
@@ -128,9 +131,9 @@ ExitStatus RunNode(FitOptions o) {
   stage.set_update_observer([&](const fit_update_t& m, const FitUpdate& u) { Emit(o, m, u); });
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  std::fprintf(stderr, "fit: %s model for %s, method %s; listening on %s (%s -> %s)\n", o.node.model.c_str(),
-               stage.ball().name.c_str(), o.node.session.method.c_str(), o.lcm_url.c_str(),
-               o.node.channels.bounce_peak.c_str(), o.node.channels.fit_update.c_str());
+  std::fprintf(stderr, "fit: %s model for %s, method %s; listening on %s (%s -> %s)\n", o.fit.model.c_str(),
+               stage.ball().name.c_str(), o.fit.session.method.c_str(), o.lcm_url.c_str(),
+               o.channels.bounce_peak.c_str(), o.channels.fit_update.c_str());
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   auto last_activity = Clock::now();
@@ -173,37 +176,37 @@ void AddFitCommand(CLI::App& app) {
                   "same ball, fitted jointly")
       ->check(CLI::ExistingFile)
       ->excludes(cmd->get_option("--heights"));
-  cmd->add_option("--ball", o->node.ball, "ball preset (" + BallPresetNames() + ")")
+  cmd->add_option("--ball", o->fit.ball, "ball preset (" + BallPresetNames() + ")")
       ->capture_default_str();
-  cmd->add_option("--mass", o->node.mass_kg, "ball mass, kg (overrides the preset)");
-  cmd->add_option("--diameter", o->node.diameter_m, "ball diameter, m (overrides the preset)");
-  cmd->add_option("--model", o->node.model, "model fitted: " + BallModelNames())
+  cmd->add_option("--mass", o->fit.mass_kg, "ball mass, kg (overrides the preset)");
+  cmd->add_option("--diameter", o->fit.diameter_m, "ball diameter, m (overrides the preset)");
+  cmd->add_option("--model", o->fit.model, "model fitted: " + BallModelNames())
       ->capture_default_str();
-  cmd->add_option("--method", o->node.session.method,
+  cmd->add_option("--method", o->fit.session.method,
                   "search: nlopt (BOBYQA, parallel screening) or paper (the seed's serial search)")
       ->check(CLI::IsMember({"nlopt", "paper"}))
       ->capture_default_str();
-  cmd->add_option("--objective", o->node.session.objective,
+  cmd->add_option("--objective", o->fit.session.objective,
                   "segments (every bounce from the recorded apex before it: multiple shooting) "
                   "or drop (one free-running drop, the paper's)")
       ->check(CLI::IsMember({"segments", "drop"}))
       ->capture_default_str();
-  cmd->add_option("--impact", o->node.session.impact,
+  cmd->add_option("--impact", o->fit.session.impact,
                   "the rebound: restitution (the law e(v) = e0 - k v, fitted in two stages) or "
                   "boost (the paper's extra force on Bullet's own rebound); docs/MODEL.md")
       ->check(CLI::IsMember({"restitution", "boost"}))
       ->capture_default_str();
-  cmd->add_option("--flight-weight", o->node.session.flight_weight_mps,
+  cmd->add_option("--flight-weight", o->fit.session.flight_weight_mps,
                   "weight of the flight times (impact to impact) in the objective, m/s (0: heights only)")
       ->capture_default_str();
   cmd->add_option("--max-evals", o->max_evals, "simulations for the final fit (default " +
-                                                   std::to_string(o->node.session.max_evaluations_final) + ")");
+                                                   std::to_string(o->fit.session.max_evaluations_final) + ")");
   cmd->add_option("--max-evals-bounce", o->max_evals_bounce,
                   "simulations for each per-bounce update (default " +
-                      std::to_string(o->node.session.max_evaluations_per_bounce) + ")");
-  cmd->add_option("--threads", o->node.session.threads, "parallel simulations (0: all cores)")
+                      std::to_string(o->fit.session.max_evaluations_per_bounce) + ")");
+  cmd->add_option("--threads", o->fit.session.threads, "parallel simulations (0: all cores)")
       ->capture_default_str();
-  cmd->add_option("--min-bounce", o->node.session.min_bounce_height_m,
+  cmd->add_option("--min-bounce", o->fit.session.min_bounce_height_m,
                   "bounces lower than this are not fitted, m")
       ->capture_default_str();
   cmd->add_option("--export", o->export_dir,
@@ -211,7 +214,7 @@ void AddFitCommand(CLI::App& app) {
                   "the fitted ball for Bullet, program fitted_ball H)");
   cmd->add_flag("--json", o->json, "print updates as JSON lines (fit_update_t fields)");
   cmd->add_flag("--final-only", o->final_only, "offline: only the quick and the final fit");
-  AddBusFlags(cmd, &o->lcm_url, &o->node.channels);
+  AddBusFlags(cmd, &o->lcm_url, &o->channels);
   cmd->add_option("--final-after", o->final_after_s,
                   "node: final fit of a drop after this many seconds without a peak, for logs without DROP (0: never)")
       ->capture_default_str();

@@ -1,5 +1,5 @@
 // bouncefit replay-log: republish an LCM log with its original pacing (scaled), so detect
-// and fit can be rerun without video (replay/node/lcm_log_replay.h).
+// and fit can be rerun without video (pipeline/lcm_log_replay.h).
 #include <fmt/format.h>
 
 #include <csignal>
@@ -12,7 +12,7 @@
 #include "cli/number_checks.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
-#include "replay/node/lcm_log_replay.h"
+#include "pipeline/lcm_log_replay.h"
 
 namespace bouncefit::cli {
 namespace {

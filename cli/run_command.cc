@@ -71,8 +71,8 @@ std::string Summary(const PipelineOutcome& r, const RunConsole& console, const s
 
 }  // namespace
 
-FitNodeConfig FitConfig(const RunOptions& o) {
-  FitNodeConfig fc;
+FitSetup FitConfig(const RunOptions& o) {
+  FitSetup fc;
   fc.ball = o.ball;
   fc.mass_kg = o.mass_kg;
   fc.diameter_m = o.diameter_m;
@@ -80,7 +80,6 @@ FitNodeConfig FitConfig(const RunOptions& o) {
   fc.session.method = o.method;
   fc.session.impact = o.impact;
   if (o.max_evals > 0) fc.session.max_evaluations_final = o.max_evals;
-  fc.channels = o.channels;
   return fc;
 }
 
@@ -123,7 +122,8 @@ ExitStatus RunOneClip(RunOptions o) {
   pc.detect.channels = o.channels;
   if (!o.no_fit) {
     FitStageConfig fc;
-    fc.node = FitConfig(o);
+    fc.fit = FitConfig(o);
+    fc.channels = o.channels;
     pc.fit = fc;
   }
   pc.lcm_url = o.lcm_url;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/node/fit_node.h"
+#include "fit/fit_models.h"
 #include "msgs/channels.h"
 #include "pipeline/exit_status.h"
 #include "track/tracker.h"
@@ -44,7 +44,7 @@ struct RunOptions {
 };
 
 // The fit node's configuration from the run's flags.
-FitNodeConfig FitConfig(const RunOptions& o);
+FitSetup FitConfig(const RunOptions& o);
 
 // One clip, the built-in sample or a camera: track, detect, hear, fit; writes o.out.
 // Returns what the exit status says (pipeline/exit_status.h); throws for errors.

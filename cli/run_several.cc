@@ -15,6 +15,7 @@
 #include "cli/fit_print.h"
 #include "cli/run_options.h"
 #include "pipeline/fit_stage.h"
+#include "pipeline/message_mapping.h"
 #include "pipeline/output_dir.h"
 #include "fit/fit_export.h"
 #include "model/model_by_name.h"
@@ -141,7 +142,7 @@ ExitStatus RunSeveral(RunOptions o) {
     std::vector<std::pair<size_t, int>> fitted_drops;  // (clip's drop, the bounce its fit started from)
     const FitUpdate final_fit = FitDropsOffline(drops, FitConfig(o), /*final_only=*/true, [&](const FitUpdate& u) {
       if (o.json)
-        std::printf("%s\n", nlohmann::json{{"event", "fit"}, {"fit", ToJson(FitNode::ToMessage(u), 0)}}.dump().c_str());
+        std::printf("%s\n", nlohmann::json{{"event", "fit"}, {"fit", ToJson(ToFitUpdateMsg(u), 0)}}.dump().c_str());
       else if (talk && u.final)
         PrintFitUpdate(u);
       std::fflush(stdout);

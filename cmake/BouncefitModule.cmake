@@ -1,10 +1,9 @@
-# A module folder holds a core library (its *.cc, tests excluded) with no LCM, V4L2 or
-# terminal code, and optionally node/ with the thin LCM adapters around that core.
+# A module folder holds its library: its *.cc, tests excluded. No LCM outside pipeline/, no
+# V4L2 outside capture/'s camera code, no terminal output (docs/DEVELOPING.md "Layout").
 #
-# bouncefit_module(<name> DEPS <targets...> [NODE_DEPS <targets...>])
-#   defines bouncefit_<name> and, when node/ has sources, bouncefit_<name>_node.
+# bouncefit_module(<name> DEPS <targets...>) defines bouncefit_<name>.
 function(bouncefit_module name)
-  cmake_parse_arguments(M "" "" "DEPS;NODE_DEPS" ${ARGN})
+  cmake_parse_arguments(M "" "" "DEPS" ${ARGN})
   file(GLOB core_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cc)
   list(FILTER core_sources EXCLUDE REGEX "_test\\.cc$")
   if(core_sources)
@@ -15,10 +14,5 @@ function(bouncefit_module name)
     add_library(bouncefit_${name} INTERFACE)
     target_include_directories(bouncefit_${name} INTERFACE ${PROJECT_SOURCE_DIR})
     target_link_libraries(bouncefit_${name} INTERFACE ${M_DEPS})
-  endif()
-  file(GLOB node_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/node/*.cc)
-  if(node_sources)
-    add_library(bouncefit_${name}_node STATIC ${node_sources})
-    target_link_libraries(bouncefit_${name}_node PUBLIC bouncefit_${name} bouncefit_msgs ${M_NODE_DEPS})
   endif()
 endfunction()

@@ -5,6 +5,8 @@
 
 #include "fit/restitution_fit.h"
 #include "model/coefficient_table.h"
+#include "model/model_by_name.h"
+#include "model/point_mass_model.h"
 #include "model/soft_ball_model.h"
 
 namespace bouncefit {
@@ -49,6 +51,16 @@ void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
   if (const auto table = SoftBallPresetTable(ball.name))
     for (const auto& [name, v] : table->values)
       if (!config->start.count(name)) config->start[name] = v;
+}
+
+FitModels MakeFitModels(const FitSetup& setup) {
+  FitModels m;
+  m.ball = ResolveBallPreset(setup.ball, setup.diameter_m, setup.mass_kg);
+  m.model = MakeBallModel(setup.model, m.ball);
+  m.quick = std::make_unique<PointMassModel>(m.ball);
+  m.session = setup.session;
+  ConfigureSessionForModel(*m.model, m.ball, &m.session);
+  return m;
 }
 
 }  // namespace bouncefit

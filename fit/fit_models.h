@@ -1,5 +1,8 @@
 #pragma once
-// What a fit session needs to know of the model it fits.
+// What a fit session needs to know of the model it fits, and the models a fit runs.
+#include <memory>
+#include <string>
+
 #include "fit/fit_session.h"
 #include "model/ball_model.h"
 #include "model/ball_preset.h"
@@ -11,5 +14,26 @@ namespace bouncefit {
 // ball, when it has one).
 void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
                               FitSessionConfig* config);
+
+// What a fit is set up with before its first peak: the ball, the model fitted and the
+// session's settings.
+struct FitSetup {
+  std::string ball = "pingpong";
+  double mass_kg = 0;       // > 0 overrides the preset
+  double diameter_m = 0;    // > 0 overrides the preset
+  std::string model = "bullet-softbody";  // or "point-mass"
+  FitSessionConfig session;
+};
+
+// The ball and the models of a fit: the model fitted, the point mass for the quick estimate
+// after each bounce, and the session's settings for that model (ConfigureSessionForModel).
+struct FitModels {
+  BallPreset ball;
+  std::unique_ptr<BallModel> model;
+  std::unique_ptr<BallModel> quick;
+  FitSessionConfig session;
+};
+// Throws std::invalid_argument for an unknown ball or model.
+FitModels MakeFitModels(const FitSetup& setup);
 
 }  // namespace bouncefit

@@ -1,22 +1,22 @@
 #include "pipeline/capture_stage.h"
-#include "msgs/csv_cell.h"
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "capture/frame_recorder.h"
+#include "msgs/csv_cell.h"
 #include "msgs/lcm_bus.h"
 #include "msgs/node_clock.h"
 #include "msgs/lcm_log_recorder.h"
+#include "pipeline/message_mapping.h"
 #include "pipeline/output_dir.h"
 #include "pipeline/sound_listener.h"
 #include "replay/container_clock.h"
 #include "replay/pacer.h"
 #include "replay/video_file_source.h"
-#include "track/node/capture_node.h"
 
 namespace bouncefit {
 namespace {
@@ -52,11 +52,13 @@ CaptureStage::CaptureStage(CaptureStageConfig config, LcmBus& bus, NoticeFn noti
     file_ = f.get();
     source_ = std::move(f);
   } else {
-    source_ = std::make_unique<V4l2Camera>(config_.camera);
+    source_ = config_.camera_io ? std::make_unique<V4l2Camera>(config_.camera, *config_.camera_io)
+                                : std::make_unique<V4l2Camera>(config_.camera);
   }
   const SourceInfo info = source_->Info();
   ValidateAgainstFrame(config_.tracker, info);
   tracker_ = std::make_unique<Tracker>(config_.tracker);
+  look_back_ = std::make_unique<LookBackTracker>(*tracker_);
   if (!config_.audio_device.empty())
     sound_ = std::make_unique<SoundListener>(AlsaMicrophoneConfig{.device = config_.audio_device, .config_text = {}});
   else
@@ -89,21 +91,13 @@ CaptureStage::CaptureStage(CaptureStageConfig config, LcmBus& bus, NoticeFn noti
                                                           : std::string();
   if (!log_path.empty()) log_ = std::make_unique<LcmLogRecorder>(log_path);
   if (!config_.record.empty()) recorder_ = std::make_unique<FrameRecorder>(config_.record, info.nominal_fps);
-
-  CaptureNodeConfig nc;
-  nc.channels = config_.channels;
-  nc.max_frames = config_.max_frames;
-  node_ = std::make_unique<CaptureNode>(*source_, *tracker_, nullptr, nc);
-  if (is_file && config_.speed > 0) node_->set_pacer([this](int64_t t) { return pacer_->WaitFor(t); });
-  if (recorder_) node_->set_recorder(recorder_.get());
-  node_->set_observer([this](const Frame& f, const BallObservation& o) { OnFrame(f, o); });
 }
 
 CaptureStage::~CaptureStage() = default;
 
-int64_t CaptureStage::frames() const { return node_->stats().frames; }
-int64_t CaptureStage::found() const { return node_->stats().found; }
-double CaptureStage::stream_s() const { return node_->stats().stream_s(); }
+int64_t CaptureStage::frames() const { return frames_; }
+int64_t CaptureStage::found() const { return found_; }
+double CaptureStage::stream_s() const { return (last_utime_ - first_utime_) * 1e-6; }
 double CaptureStage::total_s() const {
   return start_.announced_frames > 0 && start_.nominal_fps > 0 ? start_.announced_frames / start_.nominal_fps : 0;
 }
@@ -125,6 +119,7 @@ void CaptureStage::OnFrame(const Frame& frame, const BallObservation& obs) {
     start_.utime = frame.utime;
     PublishAndLog(bus_, log_.get(), config_.channels.stream, start_);
   }
+  if (obs.found) ++found_;
   const ball_box_t box = ToBallBox(obs);
   PublishAndLog(bus_, log_.get(), config_.channels.ball_box, box);
   if (track_csv_) {
@@ -145,28 +140,70 @@ void CaptureStage::OnFrame(const Frame& frame, const BallObservation& obs) {
 bool CaptureStage::Step() {
   if (ended_ || !failure_.empty()) return false;
   try {
-    return node_->Step();
+    return ReadAndTrack();
   } catch (const std::exception& e) {
     failure_ = e.what();  // what was recorded stays; End() says why it stopped
     return false;
   }
 }
 
-void CaptureStage::Run(const std::atomic<bool>* stop) {
-  while (!(stop && *stop) && Step()) {
+bool CaptureStage::ReadAndTrack() {
+  if (flushed_) return false;
+  if (config_.max_frames > 0 && frames_ >= config_.max_frames) {
+    Flush();
+    return false;
   }
-  End(stop && *stop);
+  const int64_t t0 = SteadyMicros();
+  if (start_wall_us_ < 0) start_wall_us_ = t0;
+  std::optional<Frame> frame;
+  try {
+    frame = source_->Next();
+  } catch (...) {
+    dropped_ = source_->dropped_frames();
+    Flush();  // the frames read before the failure still go out
+    throw;
+  }
+  read_s_ += (SteadyMicros() - t0) * 1e-6;
+  dropped_ = source_->dropped_frames();
+  if (!frame) {
+    Flush();
+    return false;
+  }
+  // A clip replayed at a pace waits for each frame's time; a camera sets its own.
+  if (file_ && config_.speed > 0) pacer_->WaitFor(frame->utime);
+  if (recorder_) recorder_->Write(*frame);
+  if (frames_ == 0) first_utime_ = frame->utime;
+  last_utime_ = frame->utime;
+  ++frames_;
+  const int64_t t1 = SteadyMicros();
+  std::vector<TrackedFrame> settled;
+  try {
+    settled = look_back_->Track(*frame);
+  } catch (...) {
+    Flush();
+    throw;
+  }
+  track_s_ += (SteadyMicros() - t1) * 1e-6;
+  for (const TrackedFrame& f : settled) OnFrame(f.frame, f.obs);
+  wall_s_ = (SteadyMicros() - start_wall_us_) * 1e-6;
+  return true;
+}
+
+void CaptureStage::Flush() {
+  if (flushed_) return;
+  flushed_ = true;
+  for (const TrackedFrame& f : look_back_->Flush()) OnFrame(f.frame, f.obs);
+  if (start_wall_us_ >= 0) wall_s_ = (SteadyMicros() - start_wall_us_) * 1e-6;
 }
 
 void CaptureStage::End(bool stopped) {
   if (ended_) return;
   ended_ = true;
   try {
-    node_->Finish();  // the frames still waiting for the look back
+    Flush();
   } catch (const std::exception& e) {
     if (failure_.empty()) failure_ = e.what();
   }
-  const CaptureStats& s = node_->stats();
   if (t0_utime_ >= 0) {
     try {
       for (const impact_t& m : sound_->Finish(t0_utime_)) Send(m);
@@ -177,7 +214,7 @@ void CaptureStage::End(bool stopped) {
   const std::string what = config_.clip.empty() ? config_.camera.device : config_.clip;
   if (file_ && file_->ended_short() && failure_.empty())
     notice_(fmt::format("capture: warning: {} ended after {} of the {} frames it announces (truncated or damaged?)",
-                        what, s.frames, start_.announced_frames));
+                        what, frames_, start_.announced_frames));
   if (file_ && file_->undecodable_frames() > 0)
     notice_(fmt::format("capture: warning: {}: {} frames could not be decoded (damaged data) and were skipped; "
                         "the stream went on after them, with a gap in the track",
@@ -185,21 +222,21 @@ void CaptureStage::End(bool stopped) {
   if (file_ && file_->repeated_frames() > 0)
     notice_(fmt::format("capture: {} of {} pictures repeat the one before (content of a lower frame rate on this "
                         "file's timeline): skipped, each picture tracked once at the time it was first shown",
-                        file_->repeated_frames(), file_->repeated_frames() + s.frames));
+                        file_->repeated_frames(), file_->repeated_frames() + frames_));
   end_ = start_;
   end_.state = "end";
-  end_.utime = s.frames > 0 ? s.last_utime : start_.utime;
-  end_.frames = s.frames;
-  end_.found = s.found;
-  end_.dropped = s.dropped;
+  end_.utime = frames_ > 0 ? last_utime_ : start_.utime;
+  end_.frames = frames_;
+  end_.found = found_;
+  end_.dropped = dropped_;
   end_.repeated = file_ ? file_->repeated_frames() : 0;
   end_.undecodable = file_ ? file_->undecodable_frames() : 0;
   end_.ended_short = file_ && file_->ended_short();
   end_.stopped = stopped;
   end_.failure = failure_;
-  end_.wall_s = s.wall_s;
-  end_.read_s = s.read_s;
-  end_.track_s = s.track_s;
+  end_.wall_s = wall_s_;
+  end_.read_s = read_s_;
+  end_.track_s = track_s_;
   end_.sound_cpu_s = sound_->cpu_s();
   end_.tracker = tracker_->Describe();
   const TrackerConfig& t = config_.tracker;

@@ -4,13 +4,11 @@
 // read and after the last. With an output directory it writes what it owns: track.csv,
 // session.lcm (every message it sent: what `replay-log` needs to run detect and fit again
 // without the video) and waveform.csv.
-#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <memory>
-#include <optional>
 #include <string>
 
 #include "bouncefit/impact_t.hpp"
@@ -18,11 +16,11 @@
 #include "capture/alsa_microphone.h"
 #include "capture/v4l2_camera.h"
 #include "msgs/channels.h"
+#include "track/look_back_tracker.h"
 #include "track/tracker.h"
 
 namespace bouncefit {
 
-class CaptureNode;
 class FrameRecorder;
 class FrameSource;
 class LcmBus;
@@ -36,6 +34,7 @@ struct BallObservation;
 struct CaptureStageConfig {
   std::string clip;          // a clip to replay, or
   V4l2CameraConfig camera;   // a camera (camera.device not empty)
+  V4l2Io* camera_io = nullptr;  // the camera's system calls (null: the system's; a scripted device in tests)
   bool loop = false;         // replay: start the clip again at its end
   double speed = 1.0;        // replay: multiple of real time (0: as fast as possible)
   int64_t max_frames = 0;    // stop after this many frames (0: none)
@@ -66,8 +65,6 @@ class CaptureStage {
   // One frame: read, pace, track, publish (and the sound heard up to its time). False at the
   // end of the stream (or max_frames, or a failure: failure() says why).
   bool Step();
-  // Steps until the end or until *stop; then End().
-  void Run(const std::atomic<bool>* stop);
   // The end: the rest of the sound, STREAM end, the files closed. stopped: by the user.
   void End(bool stopped);
 
@@ -79,6 +76,10 @@ class CaptureStage {
   const stream_t& end_message() const { return end_; }
 
  private:
+  // Reads, paces, records and tracks one frame; publishes the frames it settles.
+  bool ReadAndTrack();
+  // The frames still waiting for the look back, published; ReadAndTrack() is false after it.
+  void Flush();
   void OnFrame(const Frame& frame, const BallObservation& obs);
   void Send(const impact_t& m);
 
@@ -89,13 +90,19 @@ class CaptureStage {
   std::unique_ptr<FrameSource> source_;
   VideoFileSource* file_ = nullptr;
   std::unique_ptr<Tracker> tracker_;
+  std::unique_ptr<LookBackTracker> look_back_;
   std::unique_ptr<Pacer> pacer_;
-  std::unique_ptr<CaptureNode> node_;
   std::unique_ptr<SoundListener> sound_;
   std::unique_ptr<LcmLogRecorder> log_;
   std::unique_ptr<FrameRecorder> recorder_;
   std::unique_ptr<std::ofstream> track_csv_;
   stream_t start_{}, end_{};
+  // What went through: frames read and tracked, found, lost by the source; the first and
+  // last capture times; wall time since the first read, and in reading and tracking.
+  int64_t frames_ = 0, found_ = 0, dropped_ = 0, first_utime_ = 0, last_utime_ = 0;
+  double wall_s_ = 0, read_s_ = 0, track_s_ = 0;
+  int64_t start_wall_us_ = -1;
+  bool flushed_ = false;
   int64_t t0_utime_ = -1;
   std::string failure_;
   bool ended_ = false;

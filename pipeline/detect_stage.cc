@@ -7,12 +7,12 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "detect/node/detect_node.h"
 #include "msgs/lcm_bus.h"
 #include "msgs/node_clock.h"
 #include "msgs/msg_json.h"
 #include "msgs/peaks_csv.h"
 #include "pipeline/clock_report.h"
+#include "pipeline/message_mapping.h"
 #include "pipeline/output_dir.h"
 #include "pipeline/sound_fusion.h"
 #include "replay/container_clock.h"
@@ -53,23 +53,21 @@ DetectStage::~DetectStage() = default;
 void DetectStage::StartStream(int64_t t0_utime) {
   started_ = true;
   t0_ = now_ = t0_utime;
-  DetectNodeConfig dc;
-  dc.channels = config_.channels;
-  dc.publish_refits = false;  // sent here, but for the bounces heard end to end
-  dc.detector.calibration.ball_diameter_m = config_.ball.diameter_m;
-  dc.detector.calibration.px_per_m = config_.px_per_m;
-  dc.detector.calibration.drop_height_m = config_.drop_height_m;
-  dc.detector.time_scale = config_.time_scale;
-  dc.retiming.mode = config_.keep_frame_times ? FrameTimes::kStamped : FrameTimes::kRetimed;
+  BounceDetectorConfig& dc = detector_config_;
+  dc.calibration.ball_diameter_m = config_.ball.diameter_m;
+  dc.calibration.px_per_m = config_.px_per_m;
+  dc.calibration.drop_height_m = config_.drop_height_m;
+  dc.time_scale = config_.time_scale;
+  retiming_config_.mode = config_.keep_frame_times ? FrameTimes::kStamped : FrameTimes::kRetimed;
   ContainerClock container;
   container.capture_fps = start_.container_capture_fps;
   container.stored_fps = start_.container_stored_fps;
-  dc.detector.capture_slowdown_hint = container.SlowDown();
-  dc.detector.image_width_px = start_.width > 0 ? start_.width : config_.frame_width_px;
-  dc.detector.image_height_px = start_.height > 0 ? start_.height : config_.frame_height_px;
+  dc.capture_slowdown_hint = container.SlowDown();
+  dc.image_width_px = start_.width > 0 ? start_.width : config_.frame_width_px;
+  dc.image_height_px = start_.height > 0 ? start_.height : config_.frame_height_px;
   std::string error;
-  if (!dc.detector.IsValid(&error)) throw std::invalid_argument(error);
-  node_ = std::make_unique<DetectNode>(nullptr, dc);
+  if (!dc.IsValid(&error)) throw std::invalid_argument(error);
+  detector_ = std::make_unique<CaptureClockDetector>(detector_config_, retiming_config_);
   clock_ = std::make_unique<ClockReport>(
       ContainerClockWords{start_.container_capture_fps, start_.container_stored_fps, start_.container_tag},
       config_.time_scale > 0);
@@ -107,19 +105,39 @@ void DetectStage::OnBox(const ball_box_t& m) {
   last_box_wall_us_ = SteadyMicros();
   now_ = m.utime;
   sound_->OnFrame(SecondsSince(m.utime, t0_), m.found);
-  const bool retiming_known = node_->retiming().decided;
-  const auto events = node_->OnBox(m);
-  if (!retiming_known && node_->retiming().retimed && !retiming_said_) {
+  const bool retiming_known = detector_->retiming().decided;
+  std::vector<DetectorEvent> events;
+  if (have_box_ && m.utime < last_box_utime_) events = RestartDetector();
+  have_box_ = true;
+  last_box_utime_ = m.utime;
+  const int64_t t0 = SteadyMicros();
+  const std::vector<DetectorEvent> more = detector_->Push(FromBallBox(m));
+  detect_s_ += (SteadyMicros() - t0) * 1e-6;
+  events.insert(events.end(), more.begin(), more.end());
+  if (!retiming_known && detector_->retiming().retimed && !retiming_said_) {
     retiming_said_ = true;
-    notice_("clock: " + node_->retiming().verdict);
+    notice_("clock: " + detector_->retiming().verdict);
   }
-  if (const ClockChoice& choice = node_->clock_reader().choice(); choice.tested && !slow_motion_said_) {
+  if (const ClockChoice& choice = detector_->choice(); choice.tested && !slow_motion_said_) {
     slow_motion_said_ = true;
-    const CaptureClock& cc = node_->clock_reader().capture_clock();
+    const CaptureClock& cc = detector_->capture_clock();
     notice_(fmt::format("clock: stamps up to {:.1f}x the {:.0f} fps capture period apart; {}", cc.max_slowdown(),
                         1 / cc.capture_period_s(), choice.verdict));
   }
   Handle(events);
+}
+
+std::vector<DetectorEvent> DetectStage::RestartDetector() {
+  std::vector<DetectorEvent> events = detector_->Finish();
+  for (const auto& s : detector_->detector().Summaries()) earlier_summaries_.push_back(s);
+  detector_ = std::make_unique<CaptureClockDetector>(detector_config_, retiming_config_);
+  return events;
+}
+
+std::vector<SequenceSummary> DetectStage::Summaries() const {
+  std::vector<SequenceSummary> all = earlier_summaries_;
+  for (const auto& s : detector_->detector().Summaries()) all.push_back(s);
+  return all;
 }
 
 void DetectStage::OnImpact(const impact_t& m) {
@@ -127,8 +145,7 @@ void DetectStage::OnImpact(const impact_t& m) {
   if (!started_) StartStream(m.utime);
   // A file whose stamps hold slow motion: the sound runs on the file's clock, the picture on the
   // capture clock; a heard impact would meet no seen one, or the wrong one.
-  if (const CaptureClockDetector& reader = node_->clock_reader();
-      reader.capture_clock().shows_slow_motion() && !reader.choice().stamped) {
+  if (detector_->capture_clock().shows_slow_motion() && !detector_->choice().stamped) {
     if (!sound_off_said_) notice_("sound: the stamps hold slow motion: impacts heard on the file's clock are not used");
     sound_off_said_ = true;
     return;
@@ -200,7 +217,7 @@ void DetectStage::Handle(const std::vector<DetectorEvent>& events) {
         PublishHeardPeaks();
         break;
       case DetectorEvent::Kind::kSequenceEnd: {
-        const auto ended = node_->Summaries();
+        const auto ended = Summaries();
         notice_("drop ended (" + e.reason + ")" + (ended.empty() ? "" : RefitHeights(ended.back())));
         // The refitted heights go out as revisions (the fit node's final fit takes them; a
         // bounce heard end to end keeps its flight-time height).
@@ -222,10 +239,10 @@ void DetectStage::Handle(const std::vector<DetectorEvent>& events) {
 
 void DetectStage::Finish() {
   if (done_ || !fatal_.empty()) return;
-  Handle(node_->Finish());
+  Handle(detector_->Finish());
   if (!fatal_.empty()) return;
   PublishHeardPeaks();
-  const std::vector<SequenceSummary> summaries = node_->Summaries();  // every drop has ended
+  const std::vector<SequenceSummary> summaries = Summaries();  // every drop has ended
   std::vector<double> seen;
   for (const auto& d : summaries)
     for (const auto& i : d.impacts) seen.push_back(SecondsSince(i.utime, t0_));

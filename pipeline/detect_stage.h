@@ -18,17 +18,15 @@
 #include "bouncefit/drop_t.hpp"
 #include "bouncefit/impact_t.hpp"
 #include "bouncefit/stream_t.hpp"
+#include "detect/capture_clock_detector.h"
 #include "model/ball_preset.h"
 #include "msgs/channels.h"
 
 namespace bouncefit {
 
 class ClockReport;
-class DetectNode;
 class LcmBus;
 class SoundFusion;
-struct Calibration;
-struct DetectorEvent;
 
 struct DetectStageConfig {
   BallPreset ball;             // its diameter checks the scale; its drag times the flights
@@ -69,6 +67,11 @@ class DetectStage {
 
  private:
   void StartStream(int64_t t0_utime);
+  // A fresh detector for a stream whose times went backwards (a replay started again); the
+  // events that close the old one.
+  std::vector<DetectorEvent> RestartDetector();
+  // Every drop ended so far, across restarts.
+  std::vector<SequenceSummary> Summaries() const;
   void Handle(const std::vector<DetectorEvent>& events);
   void OnCalibration(const Calibration& c);
   void CheckFlags(const Calibration& c);
@@ -80,7 +83,13 @@ class DetectStage {
   DetectStageConfig config_;
   LcmBus& bus_;
   NoticeFn notice_;
-  std::unique_ptr<DetectNode> node_;
+  BounceDetectorConfig detector_config_;
+  FrameRetimingConfig retiming_config_;
+  std::unique_ptr<CaptureClockDetector> detector_;
+  std::vector<SequenceSummary> earlier_summaries_;  // of the detectors before a restart
+  double detect_s_ = 0;                             // time spent in the detector
+  int64_t last_box_utime_ = 0;
+  bool have_box_ = false;
   std::unique_ptr<SoundFusion> sound_;
   std::unique_ptr<ClockReport> clock_;
   stream_t start_{}, end_{};

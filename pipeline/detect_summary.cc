@@ -1,7 +1,6 @@
 // summary.json: what the detect node knows of the whole stream once it ended (docs/FORMATS.md).
 #include <fmt/format.h>
 
-#include "detect/node/detect_node.h"
 #include "msgs/msg_json.h"
 #include "pipeline/clock_report.h"
 #include "pipeline/detect_stage.h"
@@ -11,7 +10,7 @@
 namespace bouncefit {
 
 void DetectStage::WriteSummary(const std::vector<bounce_peak_t>& rows) {
-  const std::vector<SequenceSummary> summaries = node_->Summaries();
+  const std::vector<SequenceSummary> summaries = Summaries();
   nlohmann::json s;
   const stream_t& st = have_end_ ? end_ : start_;
   s["input"] = st.input;
@@ -24,27 +23,27 @@ void DetectStage::WriteSummary(const std::vector<bounce_peak_t>& rows) {
   s["wall_time_s"] = st.wall_s;
   s["timings_ms"] = {{"decode", st.read_s * 1e3},
                      {"track", st.track_s * 1e3},
-                     {"detect", node_->stats().detect_s * 1e3},
+                     {"detect", detect_s_ * 1e3},
                      {"sound", st.sound_cpu_s * 1e3}};
   s["sound"] = sound_->Summary(start_.sound);
   s["stopped_by_user"] = static_cast<bool>(end_.stopped);
   if (!end_.failure.empty()) s["failure"] = end_.failure;
   s["calibration"] = calibration_ ? ToJson(*calibration_, t0_) : nlohmann::json();
-  s["clock"] = {{"time_scale", node_->detector().time_scale()},
+  s["clock"] = {{"time_scale", detector_->detector().time_scale()},
                 {"container_capture_fps", start_.container_capture_fps},
                 {"container_stored_fps", start_.container_stored_fps},
                 {"report", clock_->last()},
-                {"frame_times", node_->retiming().verdict}};
+                {"frame_times", detector_->retiming().verdict}};
   // The rows are on the clock the pictures were taken on; track.csv keeps the stamps.
-  const Retiming& retiming = node_->retiming();
+  const Retiming& retiming = detector_->retiming();
   s["clock"]["frames_retimed"] = retiming.applied ? nlohmann::json{{"source_fps", retiming.source_fps},
                                                                    {"phase", retiming.phase},
                                                                    {"first_frame_s", t0_ * 1e-6}}
                                                   : nlohmann::json();
   // Slow motion in the stamps: the rows' times are real seconds on the capture clock.
-  const CaptureClock& cc = node_->clock_reader().capture_clock();
-  s["clock"]["slow_motion"] = node_->clock_reader().choice().verdict;
-  s["clock"]["capture_clock"] = node_->clock_reader().on_capture_clock()
+  const CaptureClock& cc = detector_->capture_clock();
+  s["clock"]["slow_motion"] = detector_->choice().verdict;
+  s["clock"]["capture_clock"] = detector_->on_capture_clock()
                                     ? nlohmann::json{{"capture_fps", 1 / cc.capture_period_s()},
                                                      {"slowed_steps", cc.slowed_steps()},
                                                      {"max_slowdown", cc.max_slowdown()},

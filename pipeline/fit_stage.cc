@@ -10,6 +10,7 @@
 #include "msgs/lcm_bus.h"
 #include "msgs/node_clock.h"
 #include "msgs/msg_json.h"
+#include "pipeline/message_mapping.h"
 
 namespace bouncefit {
 void WriteSimulatedCsv(const std::filesystem::path& dir, const std::vector<SimulatedDrop>& drops,
@@ -48,11 +49,14 @@ std::vector<SimulatedDrop> SimulateFitDrops(const BallModel& model, const FitUpd
 FitStage::FitStage(FitStageConfig config, LcmBus& bus, NoticeFn notice)
     : config_(std::move(config)), bus_(bus), notice_(std::move(notice)) {
   if (!notice_) notice_ = [](const std::string&) {};
-  node_ = std::make_unique<FitNode>(config_.node, [this](const fit_update_t& m, const FitUpdate& u) {
+  models_ = MakeFitModels(config_.fit);
+  auto session = std::make_unique<FitSession>(*models_.model, models_.quick.get(), models_.session);
+  // Called on the worker thread: Poll() publishes from the bus's.
+  worker_ = std::make_unique<FitWorker>(std::move(session), [this](const FitUpdate& u) {
     std::lock_guard<std::mutex> lock(inbox_mutex_);
-    inbox_.emplace_back(m, u);
+    inbox_.emplace_back(ToFitUpdateMsg(u), u);
   });
-  const Channels& ch = config_.node.channels;
+  const Channels& ch = config_.channels;
   bus_.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) {
     if (m.state != "start") return;
     t0_ = m.utime;
@@ -70,14 +74,16 @@ FitStage::FitStage(FitStageConfig config, LcmBus& bus, NoticeFn notice)
     fit_jsonl_ = std::make_unique<std::ofstream>(config_.out_dir / "fit.jsonl", std::ios::trunc);
     if (!*fit_jsonl_) throw std::runtime_error("cannot write '" + (config_.out_dir / "fit.jsonl").string() + "'");
   }
-  node_->Start();
+  worker_->Start();
 }
 
 FitStage::~FitStage() { Stop(); }
 
-void FitStage::Stop() { node_->Stop(); }
+void FitStage::Stop() { worker_->Stop(); }
 
-bool FitStage::busy() { return !node_->WaitIdleFor(std::chrono::milliseconds(0)); }
+bool FitStage::busy() { return !worker_->WaitIdleFor(std::chrono::milliseconds(0)); }
+
+void FitStage::Submit(const bounce_peak_t& m) { worker_->Submit(ToPeakInput(m)); }
 
 void FitStage::OnPeak(const bounce_peak_t& m) {
   last_wall_us_ = last_peak_wall_us_ = SteadyMicros();
@@ -91,7 +97,7 @@ void FitStage::OnPeak(const bounce_peak_t& m) {
   if (m.revision >= 3 || stream_done_) return;
   fitted_peaks_[{m.sequence, m.bounce}] = m;
   finished_since_peak_ = false;
-  node_->OnPeak(m);
+  Submit(m);
 }
 
 void FitStage::OnDrop(const drop_t& m) {
@@ -100,9 +106,9 @@ void FitStage::OnDrop(const drop_t& m) {
   t0_ = m.stream_start_utime;  // the detect node's zero, whatever was heard before
   have_t0_ = true;
   if (stream_done_) return;
-  if (!finished_since_peak_) final_sims_start_ = node_->simulations();  // a final fit begins
+  if (!finished_since_peak_) final_sims_start_ = worker_->simulations();  // a final fit begins
   if (!finished_since_peak_ || m.state == "done") {
-    node_->Finish();
+    worker_->Finish();
     finished_since_peak_ = true;
   }
   if (m.state == "done") stream_done_ = true;
@@ -116,10 +122,10 @@ void FitStage::Poll() {
   }
   for (auto& [m, u] : ready) {
     m.published_utime = now_;
-    bus_.Publish(config_.node.channels.fit_update, m);
+    bus_.Publish(config_.channels.fit_update, m);
     if (fit_jsonl_) *fit_jsonl_ << ToJson(m, t0_).dump() << '\n' << std::flush;
     if (u.drop_height_m > 0) fit_starts_[u.sequence] = {u.start_bounce, u.drop_height_m};
-    if (u.final && u.model == node_->model().name()) {
+    if (u.final && u.model == models_.model->name()) {
       if (u.no_answer.empty()) {
         final_ = u;
         no_fit_why_.clear();
@@ -127,14 +133,14 @@ void FitStage::Poll() {
         final_.reset();
         no_fit_why_ = u.no_answer;
       }
-      for (const auto& line : FinalFitNotices(u, node_->ball())) notice_(line);
+      for (const auto& line : FinalFitNotices(u, models_.ball)) notice_(line);
     }
     if (on_update_) on_update_(m, u);
   }
   // A drop with no DROP word (an older log): its final fit after a quiet spell.
   if (!stream_done_ && !finished_since_peak_ && config_.final_after_s > 0 &&
       (SteadyMicros() - last_peak_wall_us_) * 1e-6 > config_.final_after_s) {
-    node_->Finish();
+    worker_->Finish();
     finished_since_peak_ = true;
   }
   if (stream_done_ && !done_ && ready.empty() && !busy()) {
@@ -161,10 +167,10 @@ bool FitStage::FitRows() {
     r.sequence = sequence;
     r.revision = 0;
     r.height_m = r.fused_height_m;
-    node_->OnPeak(r);
+    Submit(r);
   }
-  final_sims_start_ = node_->simulations();
-  node_->Finish();
+  final_sims_start_ = worker_->simulations();
+  worker_->Finish();
   return true;
 }
 
@@ -172,8 +178,8 @@ void FitStage::WaitDone(const std::function<void(int, int)>& progress) {
   while (!done_) {
     Poll();
     if (done_) break;
-    if (progress) progress(node_->simulations() - final_sims_start_, node_->final_budget());
-    node_->WaitIdleFor(std::chrono::milliseconds(200));
+    if (progress) progress(worker_->simulations() - final_sims_start_, worker_->final_budget());
+    worker_->WaitIdleFor(std::chrono::milliseconds(200));
   }
 }
 
@@ -188,7 +194,7 @@ void FitStage::WriteExports() {
       if (other.start_t_s > drops[d].start_t_s) ends[d] = std::min(ends[d], other.start_t_s);
   double run_s_per_real_s = 1;
   const std::vector<SimulatedDrop> simulated =
-      SimulateFitDrops(node_->model(), *final_, drops, ends, node_->ball().chatter_hop_m(), &run_s_per_real_s);
+      SimulateFitDrops(*models_.model, *final_, drops, ends, models_.ball.chatter_hop_m(), &run_s_per_real_s);
   if (simulated.size() < drops.size())
     notice_("fit: warning: the fitted ball diverges dropped from " +
             std::to_string(drops.size() - simulated.size()) + " of the " + std::to_string(drops.size()) +
@@ -198,7 +204,7 @@ void FitStage::WriteExports() {
   FitExportContext context{input_, "run", recorded.t_s.empty() ? nullptr : &recorded};
   context.drops = &drops;
   context.run_s_per_real_s = run_s_per_real_s;
-  WriteFitExports(config_.out_dir, *final_, node_->ball(), context);
+  WriteFitExports(config_.out_dir, *final_, models_.ball, context);
   if (!simulated.empty()) WriteSimulatedCsv(config_.out_dir, simulated, run_s_per_real_s);
 }
 

@@ -22,17 +22,20 @@
 #include "bouncefit/drop_t.hpp"
 #include "bouncefit/fit_update_t.hpp"
 #include "bouncefit/stream_t.hpp"
+#include "fit/fit_models.h"
 #include "fit/fit_timeline.h"
+#include "fit/fit_worker.h"
 #include "fit/fitted_ball_gltf.h"
-#include "fit/node/fit_node.h"
 #include "model/ball_model.h"
+#include "msgs/channels.h"
 
 namespace bouncefit {
 
 class LcmBus;
 
 struct FitStageConfig {
-  FitNodeConfig node;
+  FitSetup fit;
+  Channels channels;
   std::filesystem::path out_dir;  // empty: nothing written
   // A drop is over when no peak came for this long, s, and no DROP said so (an older log; 0: never).
   double final_after_s = 0;
@@ -84,13 +87,15 @@ class FitStage {
   const std::optional<FitUpdate>& final_fit() const { return final_; }
   // Why the last final fit is no answer ("" when it is one, or when none ran).
   const std::string& no_fit_why() const { return no_fit_why_; }
-  const BallPreset& ball() const { return node_->ball(); }
-  int final_budget() const { return node_->final_budget(); }
+  const BallPreset& ball() const { return models_.ball; }
+  int final_budget() const { return worker_->final_budget(); }
   int64_t last_message_wall_us() const { return last_wall_us_; }
   bool busy();
 
  private:
   void OnPeak(const bounce_peak_t& m);
+  // Hands a bounce to the worker: never waits for a fit.
+  void Submit(const bounce_peak_t& m);
   void OnDrop(const drop_t& m);
   void WriteExports();
   // The final fit's drops on the run's timeline: its own drop first, then the earlier drops it
@@ -104,7 +109,8 @@ class FitStage {
   LcmBus& bus_;
   NoticeFn notice_;
   std::function<void(const fit_update_t&, const FitUpdate&)> on_update_;
-  std::unique_ptr<FitNode> node_;
+  FitModels models_;                    // before the worker: its session fits them
+  std::unique_ptr<FitWorker> worker_;
   std::mutex inbox_mutex_;
   std::deque<std::pair<fit_update_t, FitUpdate>> inbox_;
   std::optional<FitUpdate> final_;

@@ -7,9 +7,6 @@
 #include <future>
 #include <stdexcept>
 
-#include "fit/fit_models.h"
-#include "model/model_by_name.h"
-#include "model/point_mass_model.h"
 #include "msgs/peaks_csv.h"
 
 namespace bouncefit {
@@ -38,19 +35,16 @@ std::vector<std::vector<PeakInput>> ReadPeaksDrops(const std::filesystem::path& 
 
 std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& path) { return ReadPeaksDrops(path).front(); }
 
-FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConfig node, bool final_only,
+FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, const FitSetup& setup, bool final_only,
                           const std::function<void(const FitUpdate&)>& emit,
                           const std::function<void(int, int)>& progress,
                           std::vector<std::pair<size_t, int>>* fitted) {
   std::vector<std::pair<size_t, int>> kept;  // the drops the session keeps, as it keeps them
   for (size_t d = 0; d < drops.size(); ++d)
     for (auto& p : drops[d]) p.sequence = static_cast<int>(d);
-  const BallPreset ball = ResolveBallPreset(node.ball, node.diameter_m, node.mass_kg);
-  auto model = MakeBallModel(node.model, ball);
-  PointMassModel quick(ball);
-  ConfigureSessionForModel(*model, ball, &node.session);
-  FitSession session(*model, &quick, node.session);
-  // As the node would: the point-mass estimate and a refinement after every bounce (no
+  const FitModels models = MakeFitModels(setup);
+  FitSession session(*models.model, models.quick.get(), models.session);
+  // As the fit stage would: the point-mass estimate and a refinement after every bounce (no
   // newer peak ever supersedes them offline), then the final fit; earlier drops are kept
   // and fitted with the last one.
   for (size_t d = 0; d < drops.size(); ++d) {
@@ -69,7 +63,7 @@ FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConf
   if (!session.CanFit())
     throw std::runtime_error(fmt::format("no fit: no drop has two apexes in a row (a start and a rebound after it) "
                                          "of {:g} cm or more",
-                                         node.session.min_bounce_height_m * 100));
+                                         models.session.min_bounce_height_m * 100));
   if (final_only) emit(session.QuickUpdate());
   auto running = std::async(std::launch::async, [&session] { return session.FinalUpdate(); });
   const int budget = session.FinalBudget();

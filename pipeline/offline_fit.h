@@ -1,5 +1,5 @@
 #pragma once
-// The fit of recorded drops without a stream, as the fit node would make it: `fit --heights
+// The fit of recorded drops without a stream, as the fit stage would make it: `fit --heights
 // / --peaks` and the joint fit of several clips' drops (`run a.mp4 b.mp4`): the point-mass
 // estimate and a refinement after every bounce, then the final fit of the last drop jointly
 // with the earlier ones.
@@ -9,7 +9,7 @@
 
 #include "fit/fit_session.h"
 #include "fit/fit_timeline.h"
-#include "fit/node/fit_node.h"
+#include "fit/fit_models.h"
 
 namespace bouncefit {
 
@@ -31,7 +31,7 @@ std::vector<PeakInput> ReadDropPeaks(const std::filesystem::path& peaks_csv);
 // after its start high enough to fit. fitted (may be null): for the final update's drops in
 // its order (the last drop, then the earlier ones it kept), each one's index in `drops` and
 // the bounce its fit started from.
-FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, FitNodeConfig node, bool final_only,
+FitUpdate FitDropsOffline(std::vector<std::vector<PeakInput>> drops, const FitSetup& setup, bool final_only,
                           const std::function<void(const FitUpdate&)>& emit,
                           const std::function<void(int, int)>& progress = {},
                           std::vector<std::pair<size_t, int>>* fitted = nullptr);

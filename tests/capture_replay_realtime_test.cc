@@ -15,7 +15,7 @@
 #include <unistd.h>
 
 #include "bouncefit/ball_box_t.hpp"
-#include "replay/node/lcm_log_replay.h"
+#include "pipeline/lcm_log_replay.h"
 #include "replay/video_file_source.h"
 #include "tests/test_support.h"
 

@@ -21,7 +21,7 @@
 #include "tests/detect_sim.h"
 #include "tests/test_support.h"
 #include "tests/tracker_test_util.h"
-#include "track/node/capture_node.h"
+#include "pipeline/message_mapping.h"
 
 namespace bouncefit {
 namespace {

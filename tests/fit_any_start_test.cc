@@ -123,11 +123,11 @@ TEST(FitAnyStart, TwoDropsFittedJointlyEachFromItsOwnStart) {
   std::vector<std::vector<PeakInput>> drops(2);
   for (int i = 2; i <= 6; ++i) drops[0].push_back({0, i - 1, a[i]});  // numbered from 1: release unseen
   for (int i = 0; i <= 4; ++i) drops[1].push_back({0, i, b[i]});
-  FitNodeConfig node;
-  node.ball = "pingpong";
-  node.model = "point-mass";
-  node.session = PointMassConfig();
-  const FitUpdate u = FitDropsOffline(drops, node, true, [](const FitUpdate&) {});
+  FitSetup setup;
+  setup.ball = "pingpong";
+  setup.model = "point-mass";
+  setup.session = PointMassConfig();
+  const FitUpdate u = FitDropsOffline(drops, setup, true, [](const FitUpdate&) {});
   EXPECT_TRUE(u.no_answer.empty()) << u.no_answer;
   EXPECT_EQ(u.other_drop_heights_m.size(), 1u);
   EXPECT_EQ(u.recorded_m.size(), 8u);

@@ -16,7 +16,6 @@
 #include "fit/fit_session.h"
 #include "fit/fit_worker.h"
 #include "fit/nlopt_search.h"
-#include "fit/node/fit_node.h"
 #include "fit/paper_search.h"
 #include "model/ball_preset.h"
 #include "model/point_mass_drop.h"
@@ -28,19 +27,7 @@ namespace bouncefit {
 namespace {
 
 using namespace std::chrono_literals;
-
-// Drop height then apex heights of a point-mass ball with known coefficients.
-std::vector<double> DropHeights(const BallPreset& ball, double drop, int n) {
-  PointMassDropConfig c;
-  c.ball = ball;
-  c.drop_height_m = drop;
-  c.end_time_s = 20;
-  const auto r = SimulatePointMassDrop(c);
-  std::vector<double> h{drop};
-  for (size_t i = 1; i < r.apex_heights_m.size() && static_cast<int>(h.size()) <= n; ++i)
-    h.push_back(r.apex_heights_m[i]);
-  return h;
-}
+using testing::DropHeights;
 
 // The point mass, slowed down and counting: a stand-in for an expensive simulator whose
 // timing the test controls.
@@ -350,62 +337,6 @@ TEST(Searches, CancelledBetweenSimulations) {
   canceller.join();
   EXPECT_TRUE(r.cancelled);
   EXPECT_LE(r.evaluations, 4);  // the one running when cancelled finishes, no more start
-}
-
-TEST(FitNode, PeaksInUpdatesOutOverMemqLcm) {
-  LcmBus bus("memq://");
-  FitNodeConfig cfg;
-  cfg.ball = "tennis";
-  cfg.model = "point-mass";
-  cfg.session.max_evaluations_per_bounce = 10;
-  cfg.session.max_evaluations_final = 30;
-  FitNode node(cfg);
-  node.Attach(&bus);
-  node.Start();
-  std::vector<fit_update_t> received;
-  bus.Subscribe<fit_update_t>("FIT_UPDATE", [&](const fit_update_t& m) { received.push_back(m); });
-  const auto h = DropHeights(node.ball(), 1.0, 3);
-  for (int b = 0; b <= 3; ++b) {
-    bounce_peak_t p{};
-    p.utime = 1000000 + b * 700000;
-    p.sequence = 0;
-    p.bounce = b;
-    p.apex_utime = p.utime - 50000;
-    p.height_m = h[b];
-    p.height_sigma_m = 0.002;
-    p.flight_height_m = NAN;
-    bus.Publish("BOUNCE_PEAK", p);
-    // Dispatch until the node has the peak (earlier updates may be queued before it).
-    const auto until = std::chrono::steady_clock::now() + 2s;
-    while (node.stats().peaks < b + 1 && std::chrono::steady_clock::now() < until)
-      bus.HandleOnce(20);
-    ASSERT_EQ(node.stats().peaks, b + 1);
-    node.WaitIdle();  // offline pacing: each bounce fitted before the next
-  }
-  node.Finish();
-  node.WaitIdle();
-  const auto deadline = std::chrono::steady_clock::now() + 3s;
-  while (std::chrono::steady_clock::now() < deadline &&
-         !(received.size() >= 7 && received.back().final))
-    bus.HandleOnce(50);
-  // Bounces 1-3: a quick and a model update each, then the final fit.
-  ASSERT_EQ(received.size(), 7u);
-  EXPECT_TRUE(received.back().final);
-  EXPECT_EQ(received.back().after_bounce, 3);
-  EXPECT_EQ(received[0].after_bounce, 1);
-  EXPECT_EQ(received[0].model, "point-mass");
-  EXPECT_EQ(received[0].method, "least-squares");
-  for (const auto& m : received) {
-    EXPECT_EQ(m.num_coeffs, static_cast<int>(m.names.size()));
-    EXPECT_EQ(m.num_bounces, m.after_bounce);
-    EXPECT_GT(m.evaluations, 0);
-    EXPECT_EQ(m.utime, 1000000 + m.after_bounce * 700000);
-  }
-  const auto& f = received.back();
-  EXPECT_LT(f.residual_m, 0.003);
-  for (int i = 0; i < f.num_bounces; ++i) EXPECT_NEAR(f.recorded_m[i], h[i + 1], 1e-12);
-  EXPECT_EQ(bus.handler_failures(), 0);
-  node.Stop();
 }
 
 TEST(FitExport, JsonAndAFittedBallProjectWithEveryValue) {

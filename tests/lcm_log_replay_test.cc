@@ -8,7 +8,7 @@
 #include "bouncefit/ball_box_t.hpp"
 #include "msgs/lcm_bus.h"
 #include "msgs/lcm_log_recorder.h"
-#include "replay/node/lcm_log_replay.h"
+#include "pipeline/lcm_log_replay.h"
 #include "tests/test_support.h"
 
 namespace bouncefit {

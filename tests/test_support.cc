@@ -10,6 +10,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "model/point_mass_drop.h"
+
 namespace bouncefit::testing {
 
 std::filesystem::path ScratchDir(const std::string& name) {
@@ -42,6 +44,32 @@ int RunCommand(const std::string& command_line, std::string* output) {
 }
 
 std::string BouncefitExe() { return std::string("'") + BOUNCEFIT_EXE + "'"; }
+
+std::string ShortDropClip() {
+  const auto dir = std::filesystem::current_path() / "scratch" / "short_drop_clip";
+  const std::string path = (dir / "drop.avi").string();
+  if (std::filesystem::exists(path)) return path;
+  std::filesystem::create_directories(dir);
+  const std::string tmp = (dir / ("drop." + std::to_string(::getpid()) + ".avi")).string();
+  std::string out;
+  const int rc = RunCommand(BouncefitExe() + " synth --duration 1.5 --fps 120 --size 320x240 "
+                                             "--drop-height 0.5 -q -o '" + tmp + "'", &out);
+  EXPECT_EQ(rc, 0) << out;
+  std::filesystem::rename(tmp, path);
+  return path;
+}
+
+std::vector<double> DropHeights(const BallPreset& ball, double drop, int n) {
+  PointMassDropConfig c;
+  c.ball = ball;
+  c.drop_height_m = drop;
+  c.end_time_s = 20;
+  const auto r = SimulatePointMassDrop(c);
+  std::vector<double> h{drop};
+  for (size_t i = 1; i < r.apex_heights_m.size() && static_cast<int>(h.size()) <= n; ++i)
+    h.push_back(r.apex_heights_m[i]);
+  return h;
+}
 
 std::filesystem::path RealClipsDir() {
   std::filesystem::path dir = BOUNCEFIT_REAL_CLIPS_DIR;

@@ -5,6 +5,10 @@
 #include <string>
 #include <vector>
 
+namespace bouncefit {
+struct BallPreset;
+}
+
 namespace bouncefit::testing {
 
 // A fresh, empty directory under the build tree for this test case
@@ -18,6 +22,15 @@ int RunCommand(const std::string& command_line, std::string* output);
 
 // The bouncefit executable under test, quoted for a shell.
 std::string BouncefitExe();
+
+// A 1.5 s synth drop at 120 fps, 320x240, from 0.5 m (`bouncefit synth`), rendered once into
+// the build tree and reused by every test that asks (written under a temporary name, then
+// renamed: ctest runs test cases in parallel).
+std::string ShortDropClip();
+
+// The drop height, then the first n apex heights of a point-mass ball dropped from it: a
+// recording whose coefficients are known.
+std::vector<double> DropHeights(const BallPreset& ball, double drop, int n);
 
 // Directory of the shared real clips ("" when absent on this machine).
 std::filesystem::path RealClipsDir();

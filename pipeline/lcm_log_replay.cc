@@ -1,4 +1,4 @@
-#include "replay/node/lcm_log_replay.h"
+#include "pipeline/lcm_log_replay.h"
 
 #include <chrono>
 #include <filesystem>
