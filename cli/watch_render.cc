@@ -97,6 +97,18 @@ std::string ImpactSummary(const WatchState& s) {
   return line;
 }
 
+// The latest fit's simulated apex for a peak's row, paired by bounce number: the ball starts
+// at the fit's start apex ("start") and its k-th rebound is bounce start + k; blank where the
+// fit is of another drop or did not reach the bounce.
+std::string SimulatedApexText(const WatchState& s, const bounce_peak_t& p) {
+  if (!s.fit() || s.fit()->sequence != p.sequence) return "";
+  const fit_update_t& f = *s.fit();
+  if (p.bounce == f.start_bounce) return "start";
+  const int i = p.bounce - f.start_bounce - 1;
+  if (i < 0 || p.bounce > f.after_bounce || i >= static_cast<int>(f.simulated_m.size())) return "";
+  return fmt::format("{:.4f}", f.simulated_m[static_cast<size_t>(i)]);
+}
+
 }  // namespace
 
 std::string Sparkline(const WatchState& state, int width, bool unicode) {
@@ -252,7 +264,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
   // Peaks (left) and coefficients (right), side by side when wide enough.
   std::vector<std::string> left, right;
   left.push_back(fmt::format("peaks, drop {}", std::max(s.current_sequence(), 0)));
-  left.push_back(" #    t (s)  height (m)  +- (mm)  flight (m)  e (-)");
+  left.push_back(" #    t (s)  height (m)  +- (mm)  flight (m)  e (-)    sim (m)");
   const auto& peaks = s.peaks();
   const size_t max_peaks = 12;
   const size_t first = peaks.size() > max_peaks ? peaks.size() - max_peaks : 0;
@@ -264,12 +276,12 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
       e = fmt::format("{:.3f}", std::sqrt(p.height_m / peaks[i - 1].height_m));
     }
     const double t = StreamSeconds(s, p.apex_utime), sigma_mm = p.height_sigma_m * 1e3;
-    left.push_back(fmt::format("{:2} {:>8}  {:>10}  {:>6}  {:>10}   {}", p.bounce,
+    left.push_back(fmt::format("{:2} {:>8}  {:>10}  {:>6}  {:>10}   {:<7}  {:>7}", p.bounce,
                                std::isfinite(t) ? fmt::format("{:.3f}", t) : kUnknown,
                                std::isfinite(p.height_m) ? fmt::format("{:.4f}", p.height_m) : kUnknown,
                                std::isfinite(sigma_mm) ? fmt::format("{:.2f}", sigma_mm) : kUnknown,
                                std::isfinite(p.flight_height_m) ? fmt::format("{:.4f}", p.flight_height_m) : kUnknown,
-                               e));
+                               e, SimulatedApexText(s, p)));
   }
   if (peaks.empty()) left.push_back(" (no apex yet)");
 
@@ -311,7 +323,7 @@ std::vector<std::string> RenderWatch(const WatchState& s, int64_t now,
   }
 
   lines.push_back(Rule(cols, "bounces and coefficients", o.unicode));
-  const size_t left_w = 54;
+  const size_t left_w = 63;
   if (cols >= 110) {
     const size_t n = std::max(left.size(), right.size());
     for (size_t i = 0; i < n; ++i) {

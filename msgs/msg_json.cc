@@ -77,6 +77,7 @@ nlohmann::json ToJson(const fit_update_t& m, int64_t t0) {
   return {{"t_s", SecondsSince(m.utime, t0)},
           {"published_t_s", m.published_utime ? nlohmann::json(SecondsSince(m.published_utime, t0)) : nlohmann::json()},
           {"sequence", m.sequence},
+          {"start_bounce", m.start_bounce},
           {"after_bounce", m.after_bounce},
           {"final", static_cast<bool>(m.final)},
           {"model", m.model},

@@ -57,6 +57,7 @@ fit_update_t ToFitUpdateMsg(const FitUpdate& u) {
   fit_update_t m{};
   m.utime = u.utime;
   m.sequence = u.sequence;
+  m.start_bounce = u.start_bounce;
   m.after_bounce = u.after_bounce;
   m.final = u.final;
   m.model = u.model;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <cctype>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -336,6 +337,24 @@ TEST(Run, WatchInAnotherProcessShowsTheRunsPeaksAndCoefficients) {
     const std::string text = fmt::format("{:.4f}", std::stod(p.at("fused_height_m")));
     EXPECT_NE(screen.find(text), std::string::npos) << "peak " << text << " not shown:\n" << screen;
   }
+  // Each fitted bounce's row shows the final fit's simulated apex for that bounce, as
+  // coefficients.json pairs them (by peaks.csv's bounce number, from the start apex).
+  const auto coeffs = nlohmann::json::parse(std::ifstream(dir / "out" / "coefficients.json"));
+  const auto& drop = coeffs["drops"][0];
+  ASSERT_GE(drop["bounces"].size(), 2u) << drop.dump();
+  std::istringstream lines(screen);
+  std::map<int, std::string> rows;  // bounce number -> its row of the peaks table
+  for (std::string line; std::getline(lines, line);)
+    if (line.size() > 3 && std::isdigit(static_cast<unsigned char>(line[1])) && line[2] == ' ' &&
+        (line[0] == ' ' || std::isdigit(static_cast<unsigned char>(line[0]))))
+      rows.emplace(std::stoi(line.substr(0, 2)), line);
+  for (size_t i = 0; i < drop["bounces"].size(); ++i) {
+    const int bounce = drop["bounces"][i].get<int>();
+    const std::string sim = fmt::format("{:.4f}", drop["simulated_m"][i].get<double>());
+    ASSERT_TRUE(rows.count(bounce)) << "bounce " << bounce << " has no row:\n" << screen;
+    EXPECT_NE(rows[bounce].find(sim), std::string::npos) << "bounce " << bounce << " sim " << sim << ":\n" << screen;
+  }
+  EXPECT_NE(rows[drop["start_bounce"].get<int>()].find("start"), std::string::npos) << screen;
   // The final fit's coefficients, by name.
   for (const char* name : {"restitution", "drag_coefficient", "(final)"})
     EXPECT_NE(screen.find(name), std::string::npos) << name << "\n" << screen;

@@ -142,6 +142,7 @@ class Producer {
     }
     fit_update_t m{};
     m.utime = utime;
+    m.start_bounce = 0;
     m.after_bounce = after;
     m.final = false;
     m.model = "point-mass";
@@ -266,6 +267,10 @@ TEST_F(WatchInTmux, ShowsPeaksAndCoefficientsSurvivesRestartAndQuitsOnQ) {
     std::ofstream(dir_ / "dashboard.txt") << screen;  // for a look by eye
     EXPECT_NE(screen.find("1.0000"), std::string::npos) << screen;  // release height
     EXPECT_NE(screen.find("0.4096"), std::string::npos) << screen;  // bounce 2
+    // Beside it, the latest fit's simulated apex of bounce 2 (0.99 of it), paired by number.
+    const size_t row = screen.rfind("\n", screen.find("0.4096")) + 1;
+    const std::string bounce2 = screen.substr(row, screen.find("\n", row) - row);
+    EXPECT_NE(bounce2.find("0.4055"), std::string::npos) << bounce2;
     EXPECT_NE(screen.find("0.800"), std::string::npos) << screen;   // restitution from heights
     EXPECT_NE(screen.find("restitution"), std::string::npos) << screen;
     EXPECT_NE(screen.find("0.8123"), std::string::npos) << screen;
