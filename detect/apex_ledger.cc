@@ -97,8 +97,19 @@ void ApexLedger::TryEmitApex(double t, int64_t utime, bool have_sample,
   if (!follower_.arcs()[idx].fit_ok || t < follower_.arcs()[idx].fit.t_apex + margin) return;
   // Rest is judged on the floor line: on the floor under the arc the shared football clip
   // shows two more hops (8 and 6 cm, beyond the 4-8 a person counts).
-  const double h = scene_.calibration().calibration.floor_centre_px() - follower_.arcs()[idx].fit.u_apex;
-  if (h < scene_.MinApexPx()) {
+  const DetectorArc& rising = follower_.arcs()[idx];
+  const double h = scene_.calibration().calibration.floor_centre_px() - rising.fit.u_apex;
+  // Nor is a hop whose rise from its own first sample, taken just after its impact, is that
+  // low, when the rise has enough samples to put that one within a sixth of the flight from the
+  // floor (so a real hop rises at least 0.7 of its height from it): a ball rolling away from
+  // the camera rests above the floor line of its first impacts (a tennis ball at 240 fps,
+  // 8 px up the picture), where its wobble would count as hops.
+  constexpr size_t kRisingSamples = 8;
+  size_t before_apex = 0;
+  for (const auto& q : rising.samples) before_apex += q.t <= rising.fit.t_apex;
+  const bool rose_little = before_apex >= kRisingSamples &&
+                           scene_.Down(rising.samples.front()) - rising.fit.u_apex < scene_.MinApexPx();
+  if (h < scene_.MinApexPx() || rose_little) {
     host_.EndSequence("rest", ev);
     return;
   }

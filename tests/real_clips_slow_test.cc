@@ -321,6 +321,10 @@ TEST(RealClips, TennisBrickSlowMotionReadOnItsCaptureClock) {
 TEST(RealClipsMustShow, PingpongWhiteBlackcloth24fps) {
   ExpectMustShow({"pingpong_white_blackcloth_24fps.mov", "pingpong", 4, 10});
 }
+// Phone slow motion with no tag, read on its 240 fps capture clock: the first fall on the ramp
+// into slow motion disagrees with the rebounds' gravity, and the ball rolls away from the
+// camera at the end (its wobble there is no hop).
+TEST(RealClipsMustShow, TennisBrickSlowMotion) { ExpectMustShow({"tennis_brick_slowmo.mp4", "tennis", 3, 6}); }
 // Captured at 120 fps, stored at 30: 4x slow (the container says com.android.capture.fps).
 TEST(RealClipsMustShow, RedBallSlowMotion120On30fps) {
   ExpectMustShow({"red_ball_ceiling_drop_slomo120_30fps.mp4", "pingpong", 2, 3, 0.25});
