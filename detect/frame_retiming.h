@@ -25,15 +25,10 @@
 #include <string>
 #include <vector>
 
+#include "msgs/frame_time.h"
 #include "track/ball_observation.h"
 
 namespace bouncefit {
-
-// The time a picture stamped at stamp_s was taken, on the tick of a source_fps capture:
-// floor(t f + c) / f. (report/ re-times the track with it, as the detector read it.)
-inline double TakenAtSeconds(double stamp_s, double source_fps, double phase) {
-  return std::floor(stamp_s * source_fps + phase + 1e-9) / source_fps;
-}
 
 enum class FrameTimes {
   kStamped,  // test and report only: nothing held, times as stamped

@@ -1,5 +1,6 @@
 #include "report/report_run_data.h"
 
+#include "msgs/frame_time.h"
 #include "msgs/peaks_csv.h"
 
 #include <algorithm>
@@ -9,7 +10,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "detect/frame_retiming.h"
 
 namespace bouncefit {
 namespace {
