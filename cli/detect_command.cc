@@ -1,8 +1,6 @@
 // bouncefit detect: the detect node as a process of its own (pipeline/detect_stage.h).
 // BALL_BOX and IMPACT in; CALIBRATION, BOUNCE_PEAK, IMPACT (seen) and DROP out; prints each
 // bounce as it comes.
-#include <signal.h>
-
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,6 +16,7 @@
 #include "cli/commands.h"
 #include "cli/number_checks.h"
 #include "cli/run_console.h"
+#include "cli/stop_signal.h"
 #include "pipeline/detect_stage.h"
 #include "pipeline/exit_status.h"
 #include "pipeline/output_dir.h"
@@ -46,9 +45,6 @@ struct DetectOptions {
   bool overwrite = false;
 };
 
-std::atomic<bool> g_stop{false};
-extern "C" void OnDetectSignal(int) { g_stop = true; }
-
 ExitStatus RunDetect(const DetectOptions& o) {
   DetectStageConfig cfg;
   cfg.channels = o.channels;
@@ -72,16 +68,12 @@ ExitStatus RunDetect(const DetectOptions& o) {
   console.Follow(bus, o.channels, /*fits=*/false);
   console.Info("detect: listening to " + o.channels.ball_box + " and " + o.channels.impact + " on " + o.lcm_url +
                "; publishing " + o.channels.calibration + ", " + o.channels.bounce_peak + " and " + o.channels.drop);
-  struct sigaction sa {};
-  sa.sa_handler = OnDetectSignal;
-  sigemptyset(&sa.sa_mask);
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
+  const std::atomic<bool>& stop = StopOnSignal();
 
   const auto start = std::chrono::steady_clock::now();
   std::string failure;
   try {
-    while (!g_stop && !stage.done() && stage.fatal().empty()) {
+    while (!stop && !stage.done() && stage.fatal().empty()) {
       bus.HandleOnce(50);
       if (o.exit_after_idle_s > 0) {
         const int64_t now = std::chrono::duration_cast<std::chrono::microseconds>(
@@ -103,7 +95,7 @@ ExitStatus RunDetect(const DetectOptions& o) {
   while (bus.HandleOnce(20)) {
   }  // its own last words, for the console
   std::printf("detect: %s%d boxes, %d bounces (rows of peaks.csv), %lld undecodable, %lld rejected%s\n",
-              g_stop ? "stopped: " : (failure.empty() ? "done: " : "failed: "), stage.boxes(), stage.rows(),
+              stop ? "stopped: " : (failure.empty() ? "done: " : "failed: "), stage.boxes(), stage.rows(),
               static_cast<long long>(bus.decode_failures()), static_cast<long long>(bus.handler_failures()),
               o.out.empty() ? "" : ("; wrote " + o.out).c_str());
   if (bus.decode_failures() > 0 && stage.boxes() == 0)
@@ -111,7 +103,7 @@ ExitStatus RunDetect(const DetectOptions& o) {
                          "version of bouncefit?\n");
   std::fflush(stdout);
   if (!failure.empty()) throw std::runtime_error(failure);
-  if (g_stop) return kExitInterrupted;
+  if (stop) return kExitInterrupted;
   return stage.rebounds() > 0 ? kExitAnswer : kExitNoBounce;
 }
 

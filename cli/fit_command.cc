@@ -3,7 +3,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <future>
@@ -15,6 +14,7 @@
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/fit_print.h"
+#include "cli/stop_signal.h"
 #include "fit/fit_export.h"
 #include "fit/fit_models.h"
 #include "pipeline/exit_status.h"
@@ -48,9 +48,6 @@ struct FitOptions {
   int max_evals = 0;
   int max_evals_bounce = 0;
 };
-
-std::atomic<bool> g_interrupted{false};
-void OnSignal(int) { g_interrupted = true; }
 
 std::vector<double> ParseHeights(const std::string& text) {
   std::vector<double> v;
@@ -129,8 +126,7 @@ ExitStatus RunNode(FitOptions o) {
   }
   FitStage stage(fc, bus, [](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); });
   stage.set_update_observer([&](const fit_update_t& m, const FitUpdate& u) { Emit(o, m, u); });
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  const std::atomic<bool>& stop = StopOnSignal();
   std::fprintf(stderr, "fit: %s model for %s, method %s; listening on %s (%s -> %s)\n", o.fit.model.c_str(),
                stage.ball().name.c_str(), o.fit.session.method.c_str(), o.lcm_url.c_str(),
                o.channels.bounce_peak.c_str(), o.channels.fit_update.c_str());
@@ -138,7 +134,7 @@ ExitStatus RunNode(FitOptions o) {
   const auto t0 = Clock::now();
   auto last_activity = Clock::now();
   int64_t last_message = 0;
-  while (!g_interrupted && !stage.done()) {
+  while (!stop && !stage.done()) {
     bus.HandleOnce(50);
     stage.Poll();
     if (o.exit_after_final && stage.final_fit()) break;
@@ -157,7 +153,7 @@ ExitStatus RunNode(FitOptions o) {
       std::fprintf(stderr, "wrote %s\n", path.string().c_str());
   std::fprintf(stderr, "fit: %s%s\n", stage.final_fit() ? "final fit written" : "no final fit",
                o.out.empty() ? "" : (" into " + o.out).c_str());
-  if (g_interrupted) return kExitInterrupted;
+  if (stop) return kExitInterrupted;
   return stage.final_fit() ? kExitAnswer : kExitNoFit;
 }
 

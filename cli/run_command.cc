@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 
 #include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -20,6 +19,7 @@
 #include "cli/run_options.h"
 #include "cli/sample_clip.h"
 #include "cli/tracker_flags.h"
+#include "cli/stop_signal.h"
 #include "fit/fit_export.h"
 #include "model/model_by_name.h"
 #include "msgs/msg_json.h"
@@ -28,9 +28,6 @@
 
 namespace bouncefit::cli {
 namespace {
-
-std::atomic<bool> g_stop{false};
-extern "C" void OnRunSignal(int) { g_stop = true; }
 
 // The answer in a few lines: the bounces, the fitted law with its uncertainty, where it went.
 std::string Summary(const PipelineOutcome& r, const RunConsole& console, const std::string& out_dir) {
@@ -136,16 +133,11 @@ ExitStatus RunOneClip(RunOptions o) {
                            st.description, st.nominal_fps, ball.name, ball.diameter_m * 1e3, ball.mass_kg * 1e3,
                            o.out, o.lcm_url, st.sound));
 
-  struct sigaction sa {};
-  sa.sa_handler = OnRunSignal;
-  sigemptyset(&sa.sa_mask);
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
-
+  const std::atomic<bool>& stop = StopOnSignal();
   CaptureStage& capture = pipeline.capture();
   bool final_said = false;
   const PipelineOutcome r = pipeline.Run(
-      &g_stop, [&] { console.Progress(capture.stream_s(), capture.total_s(), capture.frames(), capture.found()); },
+      &stop, [&] { console.Progress(capture.stream_s(), capture.total_s(), capture.frames(), capture.found()); },
       [&](int sims, int budget) {
         if (!final_said) {
           // The thorough fit takes seconds: say so before the silence.
