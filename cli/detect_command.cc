@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/ball_flags.h"
 #include "cli/bus_flags.h"
 #include "cli/frame_times_flags.h"
 #include "cli/commands.h"
@@ -30,8 +31,7 @@ namespace {
 struct DetectOptions {
   std::string lcm_url = kDefaultLcmUrl;
   Channels channels;
-  std::string ball;
-  double ball_diameter_m = 0;
+  BallFlags ball;
   double px_per_m = 0;
   double time_scale = 0;
   bool retime_frames = false;
@@ -48,7 +48,7 @@ struct DetectOptions {
 ExitStatus RunDetect(const DetectOptions& o) {
   DetectStageConfig cfg;
   cfg.channels = o.channels;
-  cfg.ball = ResolveBallPreset(o.ball.empty() ? "pingpong" : o.ball, o.ball_diameter_m);
+  cfg.ball = ResolveBall(o.ball);
   cfg.px_per_m = o.px_per_m;
   cfg.drop_height_m = o.drop_height_m;
   cfg.time_scale = o.time_scale;
@@ -115,11 +115,7 @@ void AddDetectCommand(CLI::App& app) {
       "Calibrate and detect bounce apexes from BALL_BOX; publish CALIBRATION and BOUNCE_PEAK");
   auto o = std::make_shared<DetectOptions>();
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
-  cmd->add_option("--ball", o->ball,
-                  "ball preset (" + BallPresetNames() + "; default pingpong): its size checks the scale, its "
-                  "drag times the flights heard");
-  cmd->add_option("--ball-diameter", o->ball_diameter_m,
-                  "ball diameter in metres, for the cross-check (overrides --ball's)");
+  AddBallFlags(cmd, &o->ball);
   auto* ppm = cmd->add_option("--px-per-m", o->px_per_m,
                               "image scale in px per metre (default: from free fall)");
   auto* dh = cmd->add_option("--drop-height", o->drop_height_m,

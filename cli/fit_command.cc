@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "cli/ball_flags.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/fit_print.h"
@@ -43,7 +44,8 @@ struct FitOptions {
   std::string out;
   bool overwrite = false;
   std::string lcm_url = kDefaultLcmUrl;
-  FitSetup fit;
+  BallFlags ball;
+  FitSetup fit;  // its ball resolved from `ball` when the command runs
   Channels channels;
   int max_evals = 0;
   int max_evals_bounce = 0;
@@ -94,7 +96,7 @@ ExitStatus RunOffline(FitOptions o) {
     for (const auto& path : o.peaks_csv)
       for (auto& drop : ReadPeaksDrops(path)) drops.push_back(std::move(drop));
   }
-  const BallPreset ball = ResolveBallPreset(o.fit.ball, o.fit.diameter_m, o.fit.mass_kg);
+  const BallPreset& ball = o.fit.ball;
   std::vector<std::pair<size_t, int>> fitted;
   const FitUpdate final_fit = FitDropsOffline(
       drops, o.fit, o.final_only, [&](const FitUpdate& u) { Emit(o, ToFitUpdateMsg(u), u); },
@@ -172,10 +174,7 @@ void AddFitCommand(CLI::App& app) {
                   "same ball, fitted jointly")
       ->check(CLI::ExistingFile)
       ->excludes(cmd->get_option("--heights"));
-  cmd->add_option("--ball", o->fit.ball, "ball preset (" + BallPresetNames() + ")")
-      ->capture_default_str();
-  cmd->add_option("--mass", o->fit.mass_kg, "ball mass, kg (overrides the preset)");
-  cmd->add_option("--diameter", o->fit.diameter_m, "ball diameter, m (overrides the preset)");
+  AddBallFlags(cmd, &o->ball);
   cmd->add_option("--model", o->fit.model, "model fitted: " + BallModelNames())
       ->capture_default_str();
   cmd->add_option("--method", o->fit.session.method,
@@ -228,6 +227,7 @@ void AddFitCommand(CLI::App& app) {
               "  bouncefit fit --peaks a/peaks.csv --peaks b/peaks.csv --ball tennis --export out/fit\n"
               "Exit status: 0 a final fit, 1 an error, 2 a bad flag, 4 no fit, 130 stopped.");
   cmd->callback([o] {
+    o->fit.ball = ResolveBall(o->ball);
     ApplyBudgets(o.get());
     const ExitStatus status = !o->heights.empty() || !o->peaks_csv.empty() ? RunOffline(*o) : RunNode(*o);
     if (status != kExitAnswer) throw CLI::RuntimeError(static_cast<int>(status));

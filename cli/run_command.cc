@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "capture/v4l2_camera.h"
+#include "cli/ball_flags.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/frame_times_flags.h"
@@ -68,11 +69,9 @@ std::string Summary(const PipelineOutcome& r, const RunConsole& console, const s
 
 }  // namespace
 
-FitSetup FitConfig(const RunOptions& o) {
+FitSetup FitConfig(const RunOptions& o, const BallPreset& ball) {
   FitSetup fc;
-  fc.ball = o.ball;
-  fc.mass_kg = o.mass_kg;
-  fc.diameter_m = o.diameter_m;
+  fc.ball = ball;
   fc.model = o.model;
   fc.session.method = o.method;
   fc.session.impact = o.impact;
@@ -80,19 +79,19 @@ FitSetup FitConfig(const RunOptions& o) {
   return fc;
 }
 
-ExitStatus RunOneClip(RunOptions o) {
+ExitStatus RunOneClip(RunOptions o, const BallPreset* resolved) {
   RunConsole console(o.json ? ConsoleMode::kJson : o.quiet ? ConsoleMode::kQuiet : ConsoleMode::kHuman, stdout);
   ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
   if (o.pick_window) CheckPickWindowDisplay();  // at once, before anything is rendered or written
 
   std::string clip = o.clips.empty() ? std::string() : o.clips.front();
+  BallFlags named;  // the ball the sample names
   if (clip.empty() && o.device.empty()) {
     const SampleClip sample = BuiltInSample([&](const std::string& s) { console.Info(s); });
     clip = sample.clip.string();
-    if (o.ball.empty()) o.ball = sample.ball;
+    named.name = sample.ball;
   }
-  if (o.ball.empty()) o.ball = "pingpong";
-  const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);
+  const BallPreset ball = resolved ? *resolved : ResolveBall(o.ball, named);
 
   PipelineConfig pc;
   pc.capture.clip = o.device.empty() ? clip : "";
@@ -119,7 +118,7 @@ ExitStatus RunOneClip(RunOptions o) {
   pc.detect.channels = o.channels;
   if (!o.no_fit) {
     FitStageConfig fc;
-    fc.fit = FitConfig(o);
+    fc.fit = FitConfig(o, ball);
     fc.channels = o.channels;
     pc.fit = fc;
   }
@@ -176,9 +175,7 @@ void AddRunCommand(CLI::App& app) {
   cmd->add_option("--device", o->device, "a V4L2 camera instead of a clip, e.g. /dev/video0")->excludes(clip);
   cmd->add_option("--out", o->out, "output directory (docs/FORMATS.md)")->capture_default_str();
   cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run: clear its files first");
-  cmd->add_option("--ball", o->ball, "ball preset: " + BallPresetNames() + " (default: the sample's, else pingpong)");
-  cmd->add_option("--diameter", o->diameter_m, "ball diameter, m (overrides the preset)")->check(Positive());
-  cmd->add_option("--mass", o->mass_kg, "ball mass, kg (overrides the preset)")->check(Positive());
+  AddBallFlags(cmd, &o->ball);
   cmd->add_option("--speed", o->speed, "replay at this multiple of real time (0: as fast as possible)")
       ->check(NonNegative())
       ->capture_default_str();

@@ -63,6 +63,24 @@ TEST(Cli, UnknownSubcommandAndNoSubcommandFail) {
   EXPECT_NE(out.find("frobnicate"), std::string::npos) << out;
 }
 
+// The lines of one group ("Ball:") in a command's --help, up to the blank line after them.
+std::string HelpGroup(const std::string& command, const std::string& group) {
+  std::string out;
+  EXPECT_EQ(RunCommand(BouncefitExe() + " " + command + " --help", &out), 0) << command << out;
+  const size_t start = out.find("\n" + group + ":\n");
+  if (start == std::string::npos) return "";
+  const size_t end = out.find("\n\n", start + 1);
+  return out.substr(start, end == std::string::npos ? std::string::npos : end - start);
+}
+
+// One ball flag, one meaning: every command that takes a ball says it in the same words.
+TEST(Cli, BallFlagsReadTheSameOnEveryCommand) {
+  const std::string run = HelpGroup("run", "Ball");
+  for (const char* flag : {"--ball", "--diameter", "--mass"}) EXPECT_NE(run.find(flag), std::string::npos) << run;
+  for (const char* sub : {"detect", "fit", "predict", "simulate", "synth"})
+    EXPECT_EQ(HelpGroup(sub, "Ball"), run) << sub;
+}
+
 // A number out of its range says which range in a line a person reads: CLI11's own check
 // printed the largest double, 309 digits, as the upper end.
 TEST(Cli, NumberOutOfRangeSaysTheRangeBriefly) {
