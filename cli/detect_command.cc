@@ -13,10 +13,11 @@
 
 #include "cli/ball_flags.h"
 #include "cli/bus_flags.h"
-#include "cli/frame_times_flags.h"
+#include "cli/clock_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
 #include "cli/run_console.h"
+#include "cli/scale_flags.h"
 #include "cli/stop_signal.h"
 #include "pipeline/detect_stage.h"
 #include "pipeline/exit_status.h"
@@ -32,15 +33,11 @@ struct DetectOptions {
   std::string lcm_url = kDefaultLcmUrl;
   Channels channels;
   BallFlags ball;
-  double px_per_m = 0;
-  double time_scale = 0;
-  bool retime_frames = false;
-  bool keep_frame_times = false;
+  ScaleFlags scale;
+  ClockFlags clock;
   std::vector<int> frame_size;  // W, H of the camera's picture, px (empty: not known)
-  double drop_height_m = 0;
   double exit_after_idle_s = 0;
   bool quiet = false;
-  bool force = false;
   std::string out;
   bool overwrite = false;
 };
@@ -49,11 +46,8 @@ ExitStatus RunDetect(const DetectOptions& o) {
   DetectStageConfig cfg;
   cfg.channels = o.channels;
   cfg.ball = ResolveBall(o.ball);
-  cfg.px_per_m = o.px_per_m;
-  cfg.drop_height_m = o.drop_height_m;
-  cfg.time_scale = o.time_scale;
-  cfg.keep_frame_times = o.keep_frame_times;
-  cfg.force = o.force;
+  SetScale(o.scale, &cfg);
+  SetClock(o.clock, &cfg);
   if (o.frame_size.size() == 2) {
     cfg.frame_width_px = o.frame_size[0];
     cfg.frame_height_px = o.frame_size[1];
@@ -116,16 +110,8 @@ void AddDetectCommand(CLI::App& app) {
   auto o = std::make_shared<DetectOptions>();
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   AddBallFlags(cmd, &o->ball);
-  auto* ppm = cmd->add_option("--px-per-m", o->px_per_m,
-                              "image scale in px per metre (default: from free fall)");
-  auto* dh = cmd->add_option("--drop-height", o->drop_height_m,
-                             "release height of the ball bottom in metres: scale from it");
-  ppm->excludes(dh);
-  cmd->add_option("--time-scale", o->time_scale,
-                  "real seconds per second of the boxes' timestamps (0.25: a 4x slow-motion "
-                  "file; default: as recorded)")
-      ->check(NonNegative());
-  AddFrameTimesFlags(cmd, &o->retime_frames, &o->keep_frame_times);
+  AddScaleFlags(cmd, &o->scale);
+  AddClockFlags(cmd, &o->clock);
   cmd->add_option("--frame-size", o->frame_size,
                   "the camera's picture size W,H in px (as `run` knows it): a fall first seen "
                   "just after its vertex, that vertex in the picture, is then known for a "
@@ -136,9 +122,6 @@ void AddDetectCommand(CLI::App& app) {
   cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
                   "exit when no box came for this many seconds (0: run until Ctrl-C)");
   cmd->add_flag("--quiet", o->quiet, "print only the summary");
-  cmd->add_flag("--force", o->force,
-                "keep --px-per-m, --drop-height or --time-scale even where the free fall and the "
-                "ball's size both contradict it by more than 2x");
   cmd->add_option("--out", o->out, "write peaks.csv, impacts.csv, calibration.json and summary.json into this directory");
   cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's detect files: clear them first");
   cmd->footer("Example:\n  bouncefit detect --ball tennis --out out/drop --exit-after-idle 5\n"

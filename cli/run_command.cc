@@ -13,14 +13,13 @@
 #include "cli/ball_flags.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
-#include "cli/frame_times_flags.h"
 #include "cli/number_checks.h"
 #include "cli/pick_window.h"
 #include "cli/run_console.h"
 #include "cli/run_options.h"
 #include "cli/sample_clip.h"
-#include "cli/tracker_flags.h"
 #include "cli/stop_signal.h"
+#include "cli/tracker_flags.h"
 #include "fit/fit_export.h"
 #include "model/model_by_name.h"
 #include "msgs/msg_json.h"
@@ -110,11 +109,8 @@ ExitStatus RunOneClip(RunOptions o, const BallPreset* resolved) {
         },
         &pc.capture.tracker));
   pc.detect.ball = ball;
-  pc.detect.px_per_m = o.px_per_m;
-  pc.detect.drop_height_m = o.drop_height_m;
-  pc.detect.time_scale = o.time_scale;
-  pc.detect.keep_frame_times = o.keep_frame_times;
-  pc.detect.force = o.force;
+  SetScale(o.scale, &pc.detect);
+  SetClock(o.clock, &pc.detect);
   pc.detect.channels = o.channels;
   if (!o.no_fit) {
     FitStageConfig fc;
@@ -198,20 +194,8 @@ void AddRunCommand(CLI::App& app) {
       ->check(CLI::IsMember({"boost", "restitution"}))
       ->capture_default_str();
   cmd->add_option("--max-evals", o->max_evals, "simulations for the final fit (0: default)")->check(NonNegative());
-  auto* ppm = cmd->add_option("--px-per-m", o->px_per_m, "image scale, px/m (default: from free fall)")->check(Positive());
-  cmd->add_option("--drop-height", o->drop_height_m, "release height of the ball bottom, m (sets the scale)")
-      ->check(Positive())
-      ->excludes(ppm);
-  cmd->add_option("--time-scale", o->time_scale,
-                  "real seconds per second of the file's timeline (0.25: a 4x slow-motion "
-                  "file; default: as recorded unless the container's capture rate and the "
-                  "ball's size agree it is slowed, or the free fall is 16x or 64x weaker than "
-                  "the size says: 4x or 8x slow motion that no wrong ball size explains)")
-      ->check(NonNegative());
-  cmd->add_flag("--force", o->force,
-                "keep --px-per-m, --drop-height or --time-scale even where the free fall and the "
-                "ball's size both contradict it by more than 2x");
-  AddFrameTimesFlags(cmd, &o->retime_frames, &o->keep_frame_times);
+  AddScaleFlags(cmd, &o->scale);
+  AddClockFlags(cmd, &o->clock);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")->check(NonNegative());
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   AddTrackerFlags(cmd, &o->tracker, &o->pick_window);

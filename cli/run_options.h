@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "cli/ball_flags.h"
+#include "cli/clock_flags.h"
+#include "cli/scale_flags.h"
 #include "fit/fit_models.h"
 #include "msgs/channels.h"
 #include "pipeline/exit_status.h"
@@ -31,12 +33,8 @@ struct RunOptions {
   std::string method = "nlopt";
   std::string impact = "restitution";  // the final fit's rebound law (docs/MODEL.md)
   int max_evals = 0;  // 0: the session's default
-  double px_per_m = 0;
-  double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
-  bool force = false;     // keep a scale or clock flag the measurement contradicts
-  bool retime_frames = false;  // --retime-frames: the default (re-time dropped pictures), said
-  bool keep_frame_times = false;  // never re-time them (only say so)
-  double drop_height_m = 0;
+  ScaleFlags scale;
+  ClockFlags clock;
   int64_t max_frames = 0;
   TrackerConfig tracker;
   bool pick_window = false;
