@@ -16,9 +16,10 @@
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
+#include "cli/output_flags.h"
 #include "cli/pick_window.h"
-#include "cli/tracker_flags.h"
 #include "cli/stop_signal.h"
+#include "cli/tracker_flags.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
 #include "pipeline/capture_stage.h"
@@ -196,8 +197,7 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_flag("--loop", o->loop, "replay: start the clip again at its end");
   cmd->add_option("--record", o->record, "camera: save the frames to this .avi (and its .times.csv)");
   cmd->add_option("--log", o->log, "record every message it sends to this LCM log (.lcm; --out: OUT/session.lcm)");
-  cmd->add_option("--out", o->out, "write track.csv, session.lcm and waveform.csv into this directory");
-  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's capture files: clear them first");
+  AddOutputFlags(cmd, &o->out, &o->overwrite, "track.csv, session.lcm and waveform.csv");
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(NonNegative());

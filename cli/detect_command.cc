@@ -16,6 +16,7 @@
 #include "cli/clock_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
+#include "cli/output_flags.h"
 #include "cli/run_console.h"
 #include "cli/scale_flags.h"
 #include "cli/stop_signal.h"
@@ -122,8 +123,7 @@ void AddDetectCommand(CLI::App& app) {
   cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
                   "exit when no box came for this many seconds (0: run until Ctrl-C)");
   cmd->add_flag("--quiet", o->quiet, "print only the summary");
-  cmd->add_option("--out", o->out, "write peaks.csv, impacts.csv, calibration.json and summary.json into this directory");
-  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's detect files: clear them first");
+  AddOutputFlags(cmd, &o->out, &o->overwrite, "peaks.csv, impacts.csv, calibration.json and summary.json");
   cmd->footer("Example:\n  bouncefit detect --ball tennis --out out/drop --exit-after-idle 5\n"
               "Exit status: 0 bounces written, 1 an error, 2 a bad flag, 3 no bounce found, 130 stopped.");
   cmd->callback([o] {

@@ -15,6 +15,7 @@
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/fit_print.h"
+#include "cli/output_flags.h"
 #include "cli/stop_signal.h"
 #include "fit/fit_export.h"
 #include "fit/fit_models.h"
@@ -217,10 +218,8 @@ void AddFitCommand(CLI::App& app) {
   cmd->add_flag("--exit-after-final", o->exit_after_final, "node: stop after the first final fit");
   cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
                   "node: exit when nothing came and nothing was fitted for this many seconds (0: never)");
-  cmd->add_option("--out", o->out,
-                  "node: write fit.jsonl and, when the stream is done, coefficients.json, fitted_ball/ and "
-                  "simulated.csv into this directory");
-  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's fit files: clear them first");
+  AddOutputFlags(cmd, &o->out, &o->overwrite,
+                 "fit.jsonl and, when the stream is done, coefficients.json, fitted_ball/ and simulated.csv");
   cmd->footer("Examples:\n"
               "  bouncefit fit --ball tennis --out out/drop --exit-after-idle 5     # the fit node\n"
               "  bouncefit fit --heights 1.0,0.62,0.40 --ball pingpong                # offline\n"

@@ -7,10 +7,11 @@
 #include <regex>
 #include <stdexcept>
 
+#include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
-#include "msgs/channels.h"
 #include "cli/stop_signal.h"
+#include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
 #include "pipeline/lcm_log_replay.h"
 
@@ -72,7 +73,7 @@ void AddReplayLogCommand(CLI::App& app) {
   cmd->add_option("--channels", o->replay.channels_regex,
                   "republish only channels matching this regular expression")
       ->capture_default_str();
-  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL")->capture_default_str();
+  AddLcmUrlFlag(cmd, &o->lcm_url);
   cmd->add_flag("--quiet,-q", o->quiet, "print only the final line");
   cmd->footer(
       "Example (with `bouncefit detect` and `bouncefit fit` listening in other terminals):\n"

@@ -14,6 +14,7 @@
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
+#include "cli/output_flags.h"
 #include "cli/pick_window.h"
 #include "cli/run_console.h"
 #include "cli/run_options.h"
@@ -169,8 +170,7 @@ void AddRunCommand(CLI::App& app) {
                                "several: drops of one ball, each run into OUT/<k>-<name>/, fitted jointly")
                    ->check(CLI::ExistingFile);
   cmd->add_option("--device", o->device, "a V4L2 camera instead of a clip, e.g. /dev/video0")->excludes(clip);
-  cmd->add_option("--out", o->out, "output directory (docs/FORMATS.md)")->capture_default_str();
-  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run: clear its files first");
+  AddOutputFlags(cmd, &o->out, &o->overwrite, "every file of the run")->capture_default_str();
   AddBallFlags(cmd, &o->ball);
   cmd->add_option("--speed", o->speed, "replay at this multiple of real time (0: as fast as possible)")
       ->check(NonNegative())
