@@ -2,9 +2,13 @@
 
 namespace bouncefit::cli {
 
-void AddBusFlags(CLI::App* cmd, std::string* lcm_url, Channels* channels) {
+void AddLcmUrlFlag(CLI::App* cmd, std::string* lcm_url) {
   cmd->add_option("--lcm-url", *lcm_url, "LCM URL (memq:// keeps it in this process)")
       ->capture_default_str();
+}
+
+void AddBusFlags(CLI::App* cmd, std::string* lcm_url, Channels* channels) {
+  AddLcmUrlFlag(cmd, lcm_url);
   cmd->add_option("--ball-box-channel", channels->ball_box, "channel of ball boxes")
       ->capture_default_str();
   cmd->add_option("--calibration-channel", channels->calibration, "channel of calibrations")

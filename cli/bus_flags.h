@@ -9,5 +9,7 @@
 namespace bouncefit::cli {
 
 void AddBusFlags(CLI::App* cmd, std::string* lcm_url, Channels* channels);
+// --lcm-url alone, for a command that takes any channel.
+void AddLcmUrlFlag(CLI::App* cmd, std::string* lcm_url);
 
 }  // namespace bouncefit::cli

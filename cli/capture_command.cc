@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <vector>
 #include <cstdlib>
@@ -17,7 +16,9 @@
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
+#include "cli/output_flags.h"
 #include "cli/pick_window.h"
+#include "cli/stop_signal.h"
 #include "cli/tracker_flags.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
@@ -53,9 +54,6 @@ struct CaptureOptions {
   bool no_audio = false;
   std::string audio_device;  // ALSA microphone beside --device
 };
-
-std::atomic<bool> g_stop{false};
-extern "C" void OnSignal(int) { g_stop = true; }
 
 void ParseSize(const std::string& text, int* w, int* h) {
   char x = 0;
@@ -144,14 +142,10 @@ void Run(CaptureOptions& o) {
     std::fflush(stdout);
   }
 
-  struct sigaction sa {};
-  sa.sa_handler = OnSignal;
-  sigemptyset(&sa.sa_mask);
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
+  const std::atomic<bool>& stop = StopOnSignal();
 
   auto last = std::chrono::steady_clock::now();
-  while (!g_stop && stage.Step()) {
+  while (!stop && stage.Step()) {
     if (!o.quiet && std::chrono::steady_clock::now() - last > std::chrono::seconds(1)) {
       last = std::chrono::steady_clock::now();
       fmt::print("capture: so far {} frames ({:.1f} s of stream), {} found\n", stage.frames(), stage.stream_s(),
@@ -159,18 +153,18 @@ void Run(CaptureOptions& o) {
       std::fflush(stdout);
     }
   }
-  stage.End(g_stop);
+  stage.End(stop);
   const stream_t& s = stage.end_message();
   fmt::print("capture: {}{} frames, {} dropped, {} found, {} published, wall {:.3f} s, stream {:.3f} s (read {:.2f} s, "
              "track {:.2f} s){}{}\n",
-             g_stop ? "stopped: " : (s.failure.empty() ? "done: " : "failed after "), s.frames, s.dropped, s.found,
+             stop ? "stopped: " : (s.failure.empty() ? "done: " : "failed after "), s.frames, s.dropped, s.found,
              s.frames - bus.publish_failures(), s.wall_s,
              s.frames > 0 ? (s.utime - stage.stream().utime) * 1e-6 : 0.0, s.read_s, s.track_s,
              o.out.empty() ? "" : "; wrote " + o.out,
              bus.publish_failures() ? fmt::format("; {} publish failures", bus.publish_failures()) : "");
   std::fflush(stdout);
   if (!s.failure.empty()) throw std::runtime_error(s.failure);
-  if (g_stop) throw CLI::RuntimeError(kExitInterrupted);
+  if (stop) throw CLI::RuntimeError(kExitInterrupted);
 }
 
 }  // namespace
@@ -203,8 +197,7 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_flag("--loop", o->loop, "replay: start the clip again at its end");
   cmd->add_option("--record", o->record, "camera: save the frames to this .avi (and its .times.csv)");
   cmd->add_option("--log", o->log, "record every message it sends to this LCM log (.lcm; --out: OUT/session.lcm)");
-  cmd->add_option("--out", o->out, "write track.csv, session.lcm and waveform.csv into this directory");
-  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's capture files: clear them first");
+  AddOutputFlags(cmd, &o->out, &o->overwrite, "track.csv, session.lcm and waveform.csv");
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")
       ->check(NonNegative());

@@ -1,8 +1,6 @@
 // bouncefit detect: the detect node as a process of its own (pipeline/detect_stage.h).
 // BALL_BOX and IMPACT in; CALIBRATION, BOUNCE_PEAK, IMPACT (seen) and DROP out; prints each
 // bounce as it comes.
-#include <signal.h>
-
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -13,11 +11,15 @@
 #include <string>
 #include <vector>
 
+#include "cli/ball_flags.h"
 #include "cli/bus_flags.h"
-#include "cli/frame_times_flags.h"
+#include "cli/clock_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
+#include "cli/output_flags.h"
 #include "cli/run_console.h"
+#include "cli/scale_flags.h"
+#include "cli/stop_signal.h"
 #include "pipeline/detect_stage.h"
 #include "pipeline/exit_status.h"
 #include "pipeline/output_dir.h"
@@ -31,33 +33,22 @@ namespace {
 struct DetectOptions {
   std::string lcm_url = kDefaultLcmUrl;
   Channels channels;
-  std::string ball;
-  double ball_diameter_m = 0;
-  double px_per_m = 0;
-  double time_scale = 0;
-  bool retime_frames = false;
-  bool keep_frame_times = false;
+  BallFlags ball;
+  ScaleFlags scale;
+  ClockFlags clock;
   std::vector<int> frame_size;  // W, H of the camera's picture, px (empty: not known)
-  double drop_height_m = 0;
   double exit_after_idle_s = 0;
   bool quiet = false;
-  bool force = false;
   std::string out;
   bool overwrite = false;
 };
 
-std::atomic<bool> g_stop{false};
-extern "C" void OnDetectSignal(int) { g_stop = true; }
-
 ExitStatus RunDetect(const DetectOptions& o) {
   DetectStageConfig cfg;
   cfg.channels = o.channels;
-  cfg.ball = ResolveBallPreset(o.ball.empty() ? "pingpong" : o.ball, o.ball_diameter_m);
-  cfg.px_per_m = o.px_per_m;
-  cfg.drop_height_m = o.drop_height_m;
-  cfg.time_scale = o.time_scale;
-  cfg.keep_frame_times = o.keep_frame_times;
-  cfg.force = o.force;
+  cfg.ball = ResolveBall(o.ball);
+  SetScale(o.scale, &cfg);
+  SetClock(o.clock, &cfg);
   if (o.frame_size.size() == 2) {
     cfg.frame_width_px = o.frame_size[0];
     cfg.frame_height_px = o.frame_size[1];
@@ -72,16 +63,12 @@ ExitStatus RunDetect(const DetectOptions& o) {
   console.Follow(bus, o.channels, /*fits=*/false);
   console.Info("detect: listening to " + o.channels.ball_box + " and " + o.channels.impact + " on " + o.lcm_url +
                "; publishing " + o.channels.calibration + ", " + o.channels.bounce_peak + " and " + o.channels.drop);
-  struct sigaction sa {};
-  sa.sa_handler = OnDetectSignal;
-  sigemptyset(&sa.sa_mask);
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
+  const std::atomic<bool>& stop = StopOnSignal();
 
   const auto start = std::chrono::steady_clock::now();
   std::string failure;
   try {
-    while (!g_stop && !stage.done() && stage.fatal().empty()) {
+    while (!stop && !stage.done() && stage.fatal().empty()) {
       bus.HandleOnce(50);
       if (o.exit_after_idle_s > 0) {
         const int64_t now = std::chrono::duration_cast<std::chrono::microseconds>(
@@ -103,7 +90,7 @@ ExitStatus RunDetect(const DetectOptions& o) {
   while (bus.HandleOnce(20)) {
   }  // its own last words, for the console
   std::printf("detect: %s%d boxes, %d bounces (rows of peaks.csv), %lld undecodable, %lld rejected%s\n",
-              g_stop ? "stopped: " : (failure.empty() ? "done: " : "failed: "), stage.boxes(), stage.rows(),
+              stop ? "stopped: " : (failure.empty() ? "done: " : "failed: "), stage.boxes(), stage.rows(),
               static_cast<long long>(bus.decode_failures()), static_cast<long long>(bus.handler_failures()),
               o.out.empty() ? "" : ("; wrote " + o.out).c_str());
   if (bus.decode_failures() > 0 && stage.boxes() == 0)
@@ -111,7 +98,7 @@ ExitStatus RunDetect(const DetectOptions& o) {
                          "version of bouncefit?\n");
   std::fflush(stdout);
   if (!failure.empty()) throw std::runtime_error(failure);
-  if (g_stop) return kExitInterrupted;
+  if (stop) return kExitInterrupted;
   return stage.rebounds() > 0 ? kExitAnswer : kExitNoBounce;
 }
 
@@ -123,21 +110,9 @@ void AddDetectCommand(CLI::App& app) {
       "Calibrate and detect bounce apexes from BALL_BOX; publish CALIBRATION and BOUNCE_PEAK");
   auto o = std::make_shared<DetectOptions>();
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
-  cmd->add_option("--ball", o->ball,
-                  "ball preset (" + BallPresetNames() + "; default pingpong): its size checks the scale, its "
-                  "drag times the flights heard");
-  cmd->add_option("--ball-diameter", o->ball_diameter_m,
-                  "ball diameter in metres, for the cross-check (overrides --ball's)");
-  auto* ppm = cmd->add_option("--px-per-m", o->px_per_m,
-                              "image scale in px per metre (default: from free fall)");
-  auto* dh = cmd->add_option("--drop-height", o->drop_height_m,
-                             "release height of the ball bottom in metres: scale from it");
-  ppm->excludes(dh);
-  cmd->add_option("--time-scale", o->time_scale,
-                  "real seconds per second of the boxes' timestamps (0.25: a 4x slow-motion "
-                  "file; default: as recorded)")
-      ->check(NonNegative());
-  AddFrameTimesFlags(cmd, &o->retime_frames, &o->keep_frame_times);
+  AddBallFlags(cmd, &o->ball);
+  AddScaleFlags(cmd, &o->scale);
+  AddClockFlags(cmd, &o->clock);
   cmd->add_option("--frame-size", o->frame_size,
                   "the camera's picture size W,H in px (as `run` knows it): a fall first seen "
                   "just after its vertex, that vertex in the picture, is then known for a "
@@ -148,11 +123,7 @@ void AddDetectCommand(CLI::App& app) {
   cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
                   "exit when no box came for this many seconds (0: run until Ctrl-C)");
   cmd->add_flag("--quiet", o->quiet, "print only the summary");
-  cmd->add_flag("--force", o->force,
-                "keep --px-per-m, --drop-height or --time-scale even where the free fall and the "
-                "ball's size both contradict it by more than 2x");
-  cmd->add_option("--out", o->out, "write peaks.csv, impacts.csv, calibration.json and summary.json into this directory");
-  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's detect files: clear them first");
+  AddOutputFlags(cmd, &o->out, &o->overwrite, "peaks.csv, impacts.csv, calibration.json and summary.json");
   cmd->footer("Example:\n  bouncefit detect --ball tennis --out out/drop --exit-after-idle 5\n"
               "Exit status: 0 bounces written, 1 an error, 2 a bad flag, 3 no bounce found, 130 stopped.");
   cmd->callback([o] {

@@ -3,7 +3,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <future>
@@ -12,9 +11,12 @@
 #include <stdexcept>
 #include <thread>
 
+#include "cli/ball_flags.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/fit_print.h"
+#include "cli/output_flags.h"
+#include "cli/stop_signal.h"
 #include "fit/fit_export.h"
 #include "fit/fit_models.h"
 #include "pipeline/exit_status.h"
@@ -43,14 +45,12 @@ struct FitOptions {
   std::string out;
   bool overwrite = false;
   std::string lcm_url = kDefaultLcmUrl;
-  FitSetup fit;
+  BallFlags ball;
+  FitSetup fit;  // its ball resolved from `ball` when the command runs
   Channels channels;
   int max_evals = 0;
   int max_evals_bounce = 0;
 };
-
-std::atomic<bool> g_interrupted{false};
-void OnSignal(int) { g_interrupted = true; }
 
 std::vector<double> ParseHeights(const std::string& text) {
   std::vector<double> v;
@@ -97,7 +97,7 @@ ExitStatus RunOffline(FitOptions o) {
     for (const auto& path : o.peaks_csv)
       for (auto& drop : ReadPeaksDrops(path)) drops.push_back(std::move(drop));
   }
-  const BallPreset ball = ResolveBallPreset(o.fit.ball, o.fit.diameter_m, o.fit.mass_kg);
+  const BallPreset& ball = o.fit.ball;
   std::vector<std::pair<size_t, int>> fitted;
   const FitUpdate final_fit = FitDropsOffline(
       drops, o.fit, o.final_only, [&](const FitUpdate& u) { Emit(o, ToFitUpdateMsg(u), u); },
@@ -129,8 +129,7 @@ ExitStatus RunNode(FitOptions o) {
   }
   FitStage stage(fc, bus, [](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); });
   stage.set_update_observer([&](const fit_update_t& m, const FitUpdate& u) { Emit(o, m, u); });
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  const std::atomic<bool>& stop = StopOnSignal();
   std::fprintf(stderr, "fit: %s model for %s, method %s; listening on %s (%s -> %s)\n", o.fit.model.c_str(),
                stage.ball().name.c_str(), o.fit.session.method.c_str(), o.lcm_url.c_str(),
                o.channels.bounce_peak.c_str(), o.channels.fit_update.c_str());
@@ -138,7 +137,7 @@ ExitStatus RunNode(FitOptions o) {
   const auto t0 = Clock::now();
   auto last_activity = Clock::now();
   int64_t last_message = 0;
-  while (!g_interrupted && !stage.done()) {
+  while (!stop && !stage.done()) {
     bus.HandleOnce(50);
     stage.Poll();
     if (o.exit_after_final && stage.final_fit()) break;
@@ -157,7 +156,7 @@ ExitStatus RunNode(FitOptions o) {
       std::fprintf(stderr, "wrote %s\n", path.string().c_str());
   std::fprintf(stderr, "fit: %s%s\n", stage.final_fit() ? "final fit written" : "no final fit",
                o.out.empty() ? "" : (" into " + o.out).c_str());
-  if (g_interrupted) return kExitInterrupted;
+  if (stop) return kExitInterrupted;
   return stage.final_fit() ? kExitAnswer : kExitNoFit;
 }
 
@@ -176,10 +175,7 @@ void AddFitCommand(CLI::App& app) {
                   "same ball, fitted jointly")
       ->check(CLI::ExistingFile)
       ->excludes(cmd->get_option("--heights"));
-  cmd->add_option("--ball", o->fit.ball, "ball preset (" + BallPresetNames() + ")")
-      ->capture_default_str();
-  cmd->add_option("--mass", o->fit.mass_kg, "ball mass, kg (overrides the preset)");
-  cmd->add_option("--diameter", o->fit.diameter_m, "ball diameter, m (overrides the preset)");
+  AddBallFlags(cmd, &o->ball);
   cmd->add_option("--model", o->fit.model, "model fitted: " + BallModelNames())
       ->capture_default_str();
   cmd->add_option("--method", o->fit.session.method,
@@ -222,16 +218,15 @@ void AddFitCommand(CLI::App& app) {
   cmd->add_flag("--exit-after-final", o->exit_after_final, "node: stop after the first final fit");
   cmd->add_option("--exit-after-idle", o->exit_after_idle_s,
                   "node: exit when nothing came and nothing was fitted for this many seconds (0: never)");
-  cmd->add_option("--out", o->out,
-                  "node: write fit.jsonl and, when the stream is done, coefficients.json, fitted_ball/ and "
-                  "simulated.csv into this directory");
-  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run's fit files: clear them first");
+  AddOutputFlags(cmd, &o->out, &o->overwrite,
+                 "fit.jsonl and, when the stream is done, coefficients.json, fitted_ball/ and simulated.csv");
   cmd->footer("Examples:\n"
               "  bouncefit fit --ball tennis --out out/drop --exit-after-idle 5     # the fit node\n"
               "  bouncefit fit --heights 1.0,0.62,0.40 --ball pingpong                # offline\n"
               "  bouncefit fit --peaks a/peaks.csv --peaks b/peaks.csv --ball tennis --export out/fit\n"
               "Exit status: 0 a final fit, 1 an error, 2 a bad flag, 4 no fit, 130 stopped.");
   cmd->callback([o] {
+    o->fit.ball = ResolveBall(o->ball);
     ApplyBudgets(o.get());
     const ExitStatus status = !o->heights.empty() || !o->peaks_csv.empty() ? RunOffline(*o) : RunNode(*o);
     if (status != kExitAnswer) throw CLI::RuntimeError(static_cast<int>(status));

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/ball_flags.h"
 #include "cli/commands.h"
 #include "fit/drop_ensemble.h"
 #include "fit/fit_export.h"
@@ -33,7 +34,7 @@ namespace {
 struct PredictOptions {
   std::string coeffs;
   double drop_m = 0;
-  std::string ball;  // "" = the file's
+  BallFlags ball;  // not given: the file's
   std::string gltf;  // "" = none; else the single run as a .glb
   bool json = false;
   double min_height_m = 0.01;
@@ -158,11 +159,10 @@ void Run(PredictOptions o) {
   if (!(o.min_height_m > 0)) throw std::invalid_argument("--min-height must be > 0 m");
   const CoefficientTable table = LoadCoefficientTable(o.coeffs);
   if (table.values.empty()) throw std::runtime_error(o.coeffs + ": no coefficients in it");
-  const std::string ball_name = !o.ball.empty() ? o.ball : !table.ball.empty() ? table.ball : "";
-  if (ball_name.empty())
+  if (o.ball.name.empty() && table.ball.empty())
     throw std::invalid_argument(o.coeffs + " does not name its ball: give --ball");
   const BallPreset ball =
-      ResolveBallPreset(ball_name, table.diameter_m.value_or(0), table.mass_kg.value_or(0));
+      ResolveBall(o.ball, {table.ball, table.diameter_m.value_or(0), table.mass_kg.value_or(0)});
   const std::string model_name = table.model.empty() ? "bullet-softbody" : table.model;
   const auto model = MakeBallModel(model_name, ball);
   if (const auto* soft = dynamic_cast<const SoftBallModel*>(model.get())) {
@@ -291,7 +291,7 @@ void AddPredictCommand(CLI::App& app) {
   cmd->add_option("--drop,--drop-height", o->drop_m,
                   "ball bottom above the floor at release, metres (a run's coefficients.json without it: "
                   "the apex its fit started from, the bounces numbered and timed as its peaks.csv)");
-  cmd->add_option("--ball", o->ball, "ball preset, when the file names none: " + BallPresetNames());
+  AddBallFlags(cmd, &o->ball);
   cmd->add_flag("--json", o->json,
                 "one JSON object: bounce_heights_m (means), bounce_heights_sd_m (the runs' spread and "
                 "the fitted coefficients' uncertainty in quadrature; each also on its own: "

@@ -2,14 +2,15 @@
 // and fit can be rerun without video (pipeline/lcm_log_replay.h).
 #include <fmt/format.h>
 
-#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <regex>
 #include <stdexcept>
 
+#include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
+#include "cli/stop_signal.h"
 #include "msgs/channels.h"
 #include "msgs/lcm_bus.h"
 #include "pipeline/lcm_log_replay.h"
@@ -24,10 +25,6 @@ struct ReplayLogOptions {
   bool quiet = false;
 };
 
-std::atomic<bool> g_stop{false};
-
-extern "C" void OnReplaySignal(int) { g_stop = true; }
-
 void Run(const ReplayLogOptions& o) {
   // A missing or foreign file, or a bad regex: one error line, nothing else.
   { LcmLogReader check(o.log); }
@@ -38,11 +35,7 @@ void Run(const ReplayLogOptions& o) {
                                 o.replay.channels_regex + "'");
   }
   LcmBus bus(o.lcm_url);
-  struct sigaction sa {};
-  sa.sa_handler = OnReplaySignal;
-  sigemptyset(&sa.sa_mask);
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
+  const std::atomic<bool>& stop = StopOnSignal();
   if (!o.quiet) {
     fmt::print("replay-log: {} -> {}, channels /{}/, {}\n", o.log, o.lcm_url, o.replay.channels_regex,
                o.replay.speed > 0 ? fmt::format("speed {:g}", o.replay.speed) : "as fast as possible");
@@ -51,7 +44,7 @@ void Run(const ReplayLogOptions& o) {
   LogReplayStats stats;
   std::string failure;
   try {
-    ReplayLcmLog(o.log, o.replay, PublishOn(bus), &stats, &g_stop);
+    ReplayLcmLog(o.log, o.replay, PublishOn(bus), &stats, &stop);
   } catch (const std::invalid_argument&) {
     throw;
   } catch (const std::exception& e) {
@@ -59,7 +52,7 @@ void Run(const ReplayLogOptions& o) {
   }
   if (stats.events > 0 || failure.empty())
     fmt::print("replay-log: {}{} of {} messages republished, log span {:.3f} s, wall {:.3f} s{}\n",
-               g_stop ? "stopped: " : (failure.empty() ? "done: " : "before the error: "), stats.published,
+               stop ? "stopped: " : (failure.empty() ? "done: " : "before the error: "), stats.published,
                stats.events, stats.log_s(), stats.wall_s,
                stats.publish_failures ? fmt::format(", {} publish failures", stats.publish_failures) : "");
   std::fflush(stdout);
@@ -80,7 +73,7 @@ void AddReplayLogCommand(CLI::App& app) {
   cmd->add_option("--channels", o->replay.channels_regex,
                   "republish only channels matching this regular expression")
       ->capture_default_str();
-  cmd->add_option("--lcm-url", o->lcm_url, "LCM URL")->capture_default_str();
+  AddLcmUrlFlag(cmd, &o->lcm_url);
   cmd->add_flag("--quiet,-q", o->quiet, "print only the final line");
   cmd->footer(
       "Example (with `bouncefit detect` and `bouncefit fit` listening in other terminals):\n"

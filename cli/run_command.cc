@@ -5,20 +5,21 @@
 #include <fmt/format.h>
 
 #include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 
 #include "capture/v4l2_camera.h"
+#include "cli/ball_flags.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
-#include "cli/frame_times_flags.h"
 #include "cli/number_checks.h"
+#include "cli/output_flags.h"
 #include "cli/pick_window.h"
 #include "cli/run_console.h"
 #include "cli/run_options.h"
 #include "cli/sample_clip.h"
+#include "cli/stop_signal.h"
 #include "cli/tracker_flags.h"
 #include "fit/fit_export.h"
 #include "model/model_by_name.h"
@@ -28,9 +29,6 @@
 
 namespace bouncefit::cli {
 namespace {
-
-std::atomic<bool> g_stop{false};
-extern "C" void OnRunSignal(int) { g_stop = true; }
 
 // The answer in a few lines: the bounces, the fitted law with its uncertainty, where it went.
 std::string Summary(const PipelineOutcome& r, const RunConsole& console, const std::string& out_dir) {
@@ -71,11 +69,9 @@ std::string Summary(const PipelineOutcome& r, const RunConsole& console, const s
 
 }  // namespace
 
-FitSetup FitConfig(const RunOptions& o) {
+FitSetup FitConfig(const RunOptions& o, const BallPreset& ball) {
   FitSetup fc;
-  fc.ball = o.ball;
-  fc.mass_kg = o.mass_kg;
-  fc.diameter_m = o.diameter_m;
+  fc.ball = ball;
   fc.model = o.model;
   fc.session.method = o.method;
   fc.session.impact = o.impact;
@@ -83,19 +79,19 @@ FitSetup FitConfig(const RunOptions& o) {
   return fc;
 }
 
-ExitStatus RunOneClip(RunOptions o) {
+ExitStatus RunOneClip(RunOptions o, const BallPreset* resolved) {
   RunConsole console(o.json ? ConsoleMode::kJson : o.quiet ? ConsoleMode::kQuiet : ConsoleMode::kHuman, stdout);
   ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
   if (o.pick_window) CheckPickWindowDisplay();  // at once, before anything is rendered or written
 
   std::string clip = o.clips.empty() ? std::string() : o.clips.front();
+  BallFlags named;  // the ball the sample names
   if (clip.empty() && o.device.empty()) {
     const SampleClip sample = BuiltInSample([&](const std::string& s) { console.Info(s); });
     clip = sample.clip.string();
-    if (o.ball.empty()) o.ball = sample.ball;
+    named.name = sample.ball;
   }
-  if (o.ball.empty()) o.ball = "pingpong";
-  const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);
+  const BallPreset ball = resolved ? *resolved : ResolveBall(o.ball, named);
 
   PipelineConfig pc;
   pc.capture.clip = o.device.empty() ? clip : "";
@@ -114,15 +110,12 @@ ExitStatus RunOneClip(RunOptions o) {
         },
         &pc.capture.tracker));
   pc.detect.ball = ball;
-  pc.detect.px_per_m = o.px_per_m;
-  pc.detect.drop_height_m = o.drop_height_m;
-  pc.detect.time_scale = o.time_scale;
-  pc.detect.keep_frame_times = o.keep_frame_times;
-  pc.detect.force = o.force;
+  SetScale(o.scale, &pc.detect);
+  SetClock(o.clock, &pc.detect);
   pc.detect.channels = o.channels;
   if (!o.no_fit) {
     FitStageConfig fc;
-    fc.fit = FitConfig(o);
+    fc.fit = FitConfig(o, ball);
     fc.channels = o.channels;
     pc.fit = fc;
   }
@@ -136,16 +129,11 @@ ExitStatus RunOneClip(RunOptions o) {
                            st.description, st.nominal_fps, ball.name, ball.diameter_m * 1e3, ball.mass_kg * 1e3,
                            o.out, o.lcm_url, st.sound));
 
-  struct sigaction sa {};
-  sa.sa_handler = OnRunSignal;
-  sigemptyset(&sa.sa_mask);
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
-
+  const std::atomic<bool>& stop = StopOnSignal();
   CaptureStage& capture = pipeline.capture();
   bool final_said = false;
   const PipelineOutcome r = pipeline.Run(
-      &g_stop, [&] { console.Progress(capture.stream_s(), capture.total_s(), capture.frames(), capture.found()); },
+      &stop, [&] { console.Progress(capture.stream_s(), capture.total_s(), capture.frames(), capture.found()); },
       [&](int sims, int budget) {
         if (!final_said) {
           // The thorough fit takes seconds: say so before the silence.
@@ -182,11 +170,8 @@ void AddRunCommand(CLI::App& app) {
                                "several: drops of one ball, each run into OUT/<k>-<name>/, fitted jointly")
                    ->check(CLI::ExistingFile);
   cmd->add_option("--device", o->device, "a V4L2 camera instead of a clip, e.g. /dev/video0")->excludes(clip);
-  cmd->add_option("--out", o->out, "output directory (docs/FORMATS.md)")->capture_default_str();
-  cmd->add_flag("--overwrite", o->overwrite, "--out holds an earlier run: clear its files first");
-  cmd->add_option("--ball", o->ball, "ball preset: " + BallPresetNames() + " (default: the sample's, else pingpong)");
-  cmd->add_option("--diameter", o->diameter_m, "ball diameter, m (overrides the preset)")->check(Positive());
-  cmd->add_option("--mass", o->mass_kg, "ball mass, kg (overrides the preset)")->check(Positive());
+  AddOutputFlags(cmd, &o->out, &o->overwrite, "every file of the run")->capture_default_str();
+  AddBallFlags(cmd, &o->ball);
   cmd->add_option("--speed", o->speed, "replay at this multiple of real time (0: as fast as possible)")
       ->check(NonNegative())
       ->capture_default_str();
@@ -209,20 +194,8 @@ void AddRunCommand(CLI::App& app) {
       ->check(CLI::IsMember({"boost", "restitution"}))
       ->capture_default_str();
   cmd->add_option("--max-evals", o->max_evals, "simulations for the final fit (0: default)")->check(NonNegative());
-  auto* ppm = cmd->add_option("--px-per-m", o->px_per_m, "image scale, px/m (default: from free fall)")->check(Positive());
-  cmd->add_option("--drop-height", o->drop_height_m, "release height of the ball bottom, m (sets the scale)")
-      ->check(Positive())
-      ->excludes(ppm);
-  cmd->add_option("--time-scale", o->time_scale,
-                  "real seconds per second of the file's timeline (0.25: a 4x slow-motion "
-                  "file; default: as recorded unless the container's capture rate and the "
-                  "ball's size agree it is slowed, or the free fall is 16x or 64x weaker than "
-                  "the size says: 4x or 8x slow motion that no wrong ball size explains)")
-      ->check(NonNegative());
-  cmd->add_flag("--force", o->force,
-                "keep --px-per-m, --drop-height or --time-scale even where the free fall and the "
-                "ball's size both contradict it by more than 2x");
-  AddFrameTimesFlags(cmd, &o->retime_frames, &o->keep_frame_times);
+  AddScaleFlags(cmd, &o->scale);
+  AddClockFlags(cmd, &o->clock);
   cmd->add_option("--max-frames", o->max_frames, "stop after this many frames (0: no limit)")->check(NonNegative());
   AddBusFlags(cmd, &o->lcm_url, &o->channels);
   AddTrackerFlags(cmd, &o->tracker, &o->pick_window);

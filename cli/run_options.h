@@ -5,6 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "cli/ball_flags.h"
+#include "cli/clock_flags.h"
+#include "cli/scale_flags.h"
 #include "fit/fit_models.h"
 #include "msgs/channels.h"
 #include "pipeline/exit_status.h"
@@ -17,9 +20,7 @@ struct RunOptions {
   std::string device;
   std::string out = "bouncefit-out";
   bool overwrite = false;  // clear an earlier run's files in --out first
-  std::string ball;  // empty: the sample's ball, else pingpong
-  double diameter_m = 0;
-  double mass_kg = 0;
+  BallFlags ball;  // no name: the sample's ball, else pingpong
   double speed = 1.0;
   bool quiet = false;
   bool json = false;
@@ -32,23 +33,20 @@ struct RunOptions {
   std::string method = "nlopt";
   std::string impact = "restitution";  // the final fit's rebound law (docs/MODEL.md)
   int max_evals = 0;  // 0: the session's default
-  double px_per_m = 0;
-  double time_scale = 0;  // real s per stream s (0: the clock decides, see detect/)
-  bool force = false;     // keep a scale or clock flag the measurement contradicts
-  bool retime_frames = false;  // --retime-frames: the default (re-time dropped pictures), said
-  bool keep_frame_times = false;  // never re-time them (only say so)
-  double drop_height_m = 0;
+  ScaleFlags scale;
+  ClockFlags clock;
   int64_t max_frames = 0;
   TrackerConfig tracker;
   bool pick_window = false;
 };
 
-// The fit node's configuration from the run's flags.
-FitSetup FitConfig(const RunOptions& o);
+// The fit node's configuration from the run's flags and its resolved ball.
+FitSetup FitConfig(const RunOptions& o, const BallPreset& ball);
 
 // One clip, the built-in sample or a camera: track, detect, hear, fit; writes o.out.
+// `ball`: the ball already resolved (null: from o.ball, or the sample's).
 // Returns what the exit status says (pipeline/exit_status.h); throws for errors.
-ExitStatus RunOneClip(RunOptions o);
+ExitStatus RunOneClip(RunOptions o, const BallPreset* ball = nullptr);
 
 // Several clips of one ball: each run as `run CLIP --no-fit` into OUT/<k>-<name>/, then their
 // drops fitted jointly into OUT (cli/run_several.cc).

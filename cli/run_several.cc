@@ -89,8 +89,7 @@ RecordedTrack RecordedFromRunDir(const std::filesystem::path& dir, const FitDrop
 ExitStatus RunSeveral(RunOptions o) {
   if (o.pick_window)
     throw std::invalid_argument("--pick-window picks on one clip: give --pick or --color, or run the clips one at a time");
-  if (o.ball.empty()) o.ball = "pingpong";
-  const BallPreset ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);  // validates it
+  const BallPreset ball = ResolveBall(o.ball);
   const bool talk = !o.quiet && !o.json;
   const std::filesystem::path root(o.out);
   ClaimOutputDir(root, {"coefficients.json", "fitted_ball", "fitted_ball.glb", "drops.csv", "summary.json"}, o.overwrite);
@@ -108,7 +107,7 @@ ExitStatus RunSeveral(RunOptions o) {
     std::fflush(stdout);
     nlohmann::json entry = {{"input", o.clips[k]}, {"out", one.out}};
     try {
-      const ExitStatus status = RunOneClip(one);
+      const ExitStatus status = RunOneClip(one, &ball);
       if (status == kExitInterrupted) return status;
       if (status == kExitNoBounce) throw std::runtime_error("no bounce found");
       any_bounce = true;
@@ -140,7 +139,7 @@ ExitStatus RunSeveral(RunOptions o) {
     }
     if (talk) std::printf("run: fitting the %zu drops jointly\n", drops.size());
     std::vector<std::pair<size_t, int>> fitted_drops;  // (clip's drop, the bounce its fit started from)
-    const FitUpdate final_fit = FitDropsOffline(drops, FitConfig(o), /*final_only=*/true, [&](const FitUpdate& u) {
+    const FitUpdate final_fit = FitDropsOffline(drops, FitConfig(o, ball), /*final_only=*/true, [&](const FitUpdate& u) {
       if (o.json)
         std::printf("%s\n", nlohmann::json{{"event", "fit"}, {"fit", ToJson(ToFitUpdateMsg(u), 0)}}.dump().c_str());
       else if (talk && u.final)

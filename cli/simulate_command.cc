@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/ball_flags.h"
 #include "cli/commands.h"
 #include "model/ball_preset.h"
 #include "model/coefficient_table.h"
@@ -23,8 +24,7 @@ namespace {
 
 struct SimulateOptions {
   std::string coeffs;
-  std::string ball;  // "" = the coefficient file's ball, else pingpong
-  double diameter_m = 0, mass_kg = 0;
+  BallFlags ball;  // not given: the coefficient file's ball, else pingpong
   double drop_m = 1.0;
   double duration_s = 6.0;
   double min_height_m = 0.01;
@@ -71,30 +71,23 @@ void ListCoefficients(const SoftBallModel& model) {
 
 void Run(const SimulateOptions& o) {
   if (o.csv && o.json) throw std::invalid_argument("--csv and --json exclude each other");
-  if (o.diameter_m < 0) throw std::invalid_argument("--diameter must be > 0 m");
-  if (o.mass_kg < 0) throw std::invalid_argument("--mass must be > 0 kg");
   if (!(o.rate_hz > 0)) throw std::invalid_argument("--rate must be > 0 Hz");
   // A fit's file names its ball (and its size and mass): the heights are that ball's.
   std::optional<CoefficientTable> file;
   if (!o.coeffs.empty() && o.coeffs != "preset" && o.coeffs.find('=') == std::string::npos)
     file = LoadCoefficientTable(o.coeffs);
-  std::string ball_name = o.ball;
-  if (file && !file->ball.empty()) {
-    if (!ball_name.empty() && ball_name != file->ball)
-      throw std::invalid_argument(o.coeffs + " holds coefficients for the " + file->ball +
-                                  " ball, not " + ball_name);
-    ball_name = file->ball;
-  }
-  if (ball_name.empty()) ball_name = "pingpong";
-  const double diameter = o.diameter_m > 0 ? o.diameter_m : file ? file->diameter_m.value_or(0) : 0;
-  const double mass = o.mass_kg > 0 ? o.mass_kg : file ? file->mass_kg.value_or(0) : 0;
-  const BallPreset ball = ResolveBallPreset(ball_name, diameter, mass);
+  BallFlags named;
+  if (file) named = {file->ball, file->diameter_m.value_or(0), file->mass_kg.value_or(0)};
+  if (!o.ball.name.empty() && !named.name.empty() && o.ball.name != named.name)
+    throw std::invalid_argument(o.coeffs + " holds coefficients for the " + named.name + " ball, not " +
+                                o.ball.name);
+  const BallPreset ball = ResolveBall(o.ball, named);
   const SoftBallModel model(ball);
   if (o.list) {
     ListCoefficients(model);
     return;
   }
-  const CoefficientValues given = ReadCoefficients(o.coeffs, ball_name, model);
+  const CoefficientValues given = ReadCoefficients(o.coeffs, ball.name, model);
   std::string error;
   const CoefficientValues values = model.Complete(given, &error);
   if (!error.empty()) throw std::invalid_argument(error);
@@ -209,11 +202,7 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_option("--coeffs", o->coeffs,
                   "Coefficients: a JSON file ({\"coefficients\": {name: value}}), name=value,... "
                   "or 'preset' (the ball's stored table); missing ones take their defaults");
-  cmd->add_option("--ball", o->ball,
-                  "Ball preset (default: the one the --coeffs file names, else pingpong): " +
-                      BallPresetNames());
-  cmd->add_option("--diameter", o->diameter_m, "Override the preset's diameter, metres");
-  cmd->add_option("--mass", o->mass_kg, "Override the preset's mass, kilograms");
+  AddBallFlags(cmd, &o->ball);
   cmd->add_option("--drop,--drop-height", o->drop_m,
                   "Ball bottom above the floor at release, metres")
       ->capture_default_str();

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cli/ball_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"
 #include "model/ball_preset.h"
@@ -16,8 +17,7 @@ namespace {
 
 struct SynthOptions {
   SynthClipConfig clip;
-  std::string ball = "pingpong";
-  double diameter_m = 0, mass_kg = 0;
+  BallFlags ball;
   double restitution = -1, restitution_per_mps = -1;  // < 0: the preset's
   std::string size = "640x480";
   std::string color, wall_color, floor_color;
@@ -62,9 +62,7 @@ void ParseSize(const std::string& text, int* w, int* h) {
 }
 
 void Run(SynthOptions o) {
-  o.clip.ball = ResolveBallPreset(o.ball, o.diameter_m, o.mass_kg);
-  if (o.diameter_m < 0) throw std::invalid_argument("--diameter must be > 0 m");
-  if (o.mass_kg < 0) throw std::invalid_argument("--mass must be > 0 kg");
+  o.clip.ball = ResolveBall(o.ball);
   if (o.restitution > 1) throw std::invalid_argument("--restitution must be in 0-1");
   if (o.restitution >= 0) o.clip.ball.restitution = o.restitution;
   if (o.restitution_per_mps >= 0) o.clip.ball.restitution_per_mps = o.restitution_per_mps;
@@ -116,9 +114,7 @@ void AddSynthCommand(CLI::App& app) {
   SynthClipConfig& c = o->clip;
   cmd->add_option("--out,-o", o->out, "Output clip: .avi (MJPEG) or .mp4 (needs FFmpeg); a variable rate: .mp4, .mov or .mkv")
       ->capture_default_str();
-  cmd->add_option("--ball", o->ball, "Ball preset: " + BallPresetNames())->capture_default_str();
-  cmd->add_option("--diameter", o->diameter_m, "Override the preset's diameter, metres");
-  cmd->add_option("--mass", o->mass_kg, "Override the preset's mass, kilograms");
+  AddBallFlags(cmd, &o->ball);
   cmd->add_option("--drop-height", c.drop_height_m,
                   "Ball bottom above the floor at release, metres")
       ->capture_default_str();

@@ -1,23 +1,20 @@
 #include "cli/watch_terminal.h"
 
 #include <poll.h>
-#include <signal.h>
 #include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
-#include <csignal>
-#include <cstring>
 #include <stdexcept>
+
+#include "cli/stop_signal.h"
 
 namespace bouncefit::cli {
 namespace {
 
-volatile std::sig_atomic_t g_stop = 0;
+const std::atomic<bool>* g_stop = nullptr;
 termios g_saved{};
 bool g_saved_valid = false;
-
-void OnStopSignal(int) { g_stop = 1; }
 
 void WriteAll(const std::string& s) {
   size_t done = 0;
@@ -30,17 +27,9 @@ void WriteAll(const std::string& s) {
 
 }  // namespace
 
-void WatchTerminal::InstallStopHandlers() {
-  struct sigaction sa;
-  std::memset(&sa, 0, sizeof sa);
-  sa.sa_handler = OnStopSignal;
-  sigemptyset(&sa.sa_mask);
-  ::sigaction(SIGINT, &sa, nullptr);
-  ::sigaction(SIGTERM, &sa, nullptr);
-  ::sigaction(SIGHUP, &sa, nullptr);
-}
+void WatchTerminal::InstallStopHandlers() { g_stop = &StopOnSignal(/*hang_up=*/true); }
 
-bool WatchTerminal::StopRequested() { return g_stop != 0; }
+bool WatchTerminal::StopRequested() { return g_stop != nullptr && *g_stop; }
 
 WatchTerminal::WatchTerminal() {
   if (!::isatty(STDIN_FILENO) || !::isatty(STDOUT_FILENO)) {

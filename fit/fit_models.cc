@@ -55,7 +55,7 @@ void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
 
 FitModels MakeFitModels(const FitSetup& setup) {
   FitModels m;
-  m.ball = ResolveBallPreset(setup.ball, setup.diameter_m, setup.mass_kg);
+  m.ball = setup.ball;
   m.model = MakeBallModel(setup.model, m.ball);
   m.quick = std::make_unique<PointMassModel>(m.ball);
   m.session = setup.session;

@@ -15,12 +15,10 @@ namespace bouncefit {
 void ConfigureSessionForModel(const BallModel& model, const BallPreset& ball,
                               FitSessionConfig* config);
 
-// What a fit is set up with before its first peak: the ball, the model fitted and the
-// session's settings.
+// What a fit is set up with before its first peak: the ball (resolved by whoever reads it
+// from the user), the model fitted and the session's settings.
 struct FitSetup {
-  std::string ball = "pingpong";
-  double mass_kg = 0;       // > 0 overrides the preset
-  double diameter_m = 0;    // > 0 overrides the preset
+  BallPreset ball = ResolveBallPreset("pingpong");
   std::string model = "bullet-softbody";  // or "point-mass"
   FitSessionConfig session;
 };
@@ -33,7 +31,7 @@ struct FitModels {
   std::unique_ptr<BallModel> quick;
   FitSessionConfig session;
 };
-// Throws std::invalid_argument for an unknown ball or model.
+// Throws std::invalid_argument for an unknown model.
 FitModels MakeFitModels(const FitSetup& setup);
 
 }  // namespace bouncefit

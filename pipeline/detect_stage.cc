@@ -35,8 +35,13 @@ std::string RefitHeights(const SequenceSummary& d) {
 DetectStage::DetectStage(DetectStageConfig config, LcmBus& bus, NoticeFn notice)
     : config_(std::move(config)), bus_(bus), notice_(std::move(notice)) {
   if (!notice_) notice_ = [](const std::string&) {};
-  if (config_.px_per_m > 0 && config_.drop_height_m > 0)
-    throw std::invalid_argument("give --px-per-m or --drop-height, not both");
+  // The scale given, checked before the first frame: the calibrator's rules, not a copy.
+  CalibratorConfig& scale = detector_config_.calibration;
+  scale.ball_diameter_m = config_.ball.diameter_m;
+  scale.px_per_m = config_.px_per_m;
+  scale.drop_height_m = config_.drop_height_m;
+  std::string error;
+  if (!scale.IsValid(&error)) throw std::invalid_argument(error);
   sound_ = std::make_unique<SoundFusion>(config_.ball);
   const Channels& ch = config_.channels;
   bus_.Subscribe<stream_t>(ch.stream, [this](const stream_t& m) { OnStream(m); });
@@ -54,9 +59,6 @@ void DetectStage::StartStream(int64_t t0_utime) {
   started_ = true;
   t0_ = now_ = t0_utime;
   BounceDetectorConfig& dc = detector_config_;
-  dc.calibration.ball_diameter_m = config_.ball.diameter_m;
-  dc.calibration.px_per_m = config_.px_per_m;
-  dc.calibration.drop_height_m = config_.drop_height_m;
   dc.time_scale = config_.time_scale;
   retiming_config_.mode = config_.keep_frame_times ? FrameTimes::kStamped : FrameTimes::kRetimed;
   ContainerClock container;

@@ -41,14 +41,19 @@ TEST(Cli, WrongFlagIsOneLineErrorAndNonZero) {
   }
 }
 
-// Flags that contradict each other: one line naming both.
+// Flags that contradict each other: a bad flag, one line naming both.
 TEST(Cli, ExclusiveFlagsAreOneLineErrors) {
-  for (const char* sub : {"run", "detect"}) {
-    std::string out;
-    EXPECT_NE(RunCommand(BouncefitExe() + " " + sub + " --retime-frames --keep-frame-times", &out), 0) << sub;
-    EXPECT_EQ(LineCount(out), 1) << sub << ": " << out;
-    EXPECT_NE(out.find("--retime-frames excludes --keep-frame-times"), std::string::npos) << out;
-  }
+  const std::pair<const char*, const char*> cases[] = {
+      {"--retime-frames --keep-frame-times", "--retime-frames excludes --keep-frame-times"},
+      {"--drop-height 1 --px-per-m 300", "--px-per-m excludes --drop-height"},
+  };
+  for (const char* sub : {"run", "detect"})
+    for (const auto& [args, says] : cases) {
+      std::string out;
+      EXPECT_EQ(RunCommand(BouncefitExe() + " " + sub + " " + args, &out), 2) << sub << " " << args;
+      EXPECT_EQ(LineCount(out), 1) << sub << ": " << out;
+      EXPECT_NE(out.find(says), std::string::npos) << out;
+    }
 }
 
 TEST(Cli, UnknownSubcommandAndNoSubcommandFail) {
@@ -61,6 +66,31 @@ TEST(Cli, UnknownSubcommandAndNoSubcommandFail) {
   EXPECT_NE(RunCommand(BouncefitExe() + " frobnicate --help", &out), 0);
   EXPECT_EQ(LineCount(out), 1) << out;
   EXPECT_NE(out.find("frobnicate"), std::string::npos) << out;
+}
+
+// The lines of one group ("Ball:") in a command's --help, up to the blank line after them.
+std::string HelpGroup(const std::string& command, const std::string& group) {
+  std::string out;
+  EXPECT_EQ(RunCommand(BouncefitExe() + " " + command + " --help", &out), 0) << command << out;
+  const size_t start = out.find("\n" + group + ":\n");
+  if (start == std::string::npos) return "";
+  const size_t end = out.find("\n\n", start + 1);
+  return out.substr(start, end == std::string::npos ? std::string::npos : end - start);
+}
+
+// One ball flag, one meaning: every command that takes a ball says it in the same words.
+TEST(Cli, BallFlagsReadTheSameOnEveryCommand) {
+  const std::string run = HelpGroup("run", "Ball");
+  for (const char* flag : {"--ball", "--diameter", "--mass"}) EXPECT_NE(run.find(flag), std::string::npos) << run;
+  for (const char* sub : {"detect", "fit", "predict", "simulate", "synth"})
+    EXPECT_EQ(HelpGroup(sub, "Ball"), run) << sub;
+}
+
+TEST(Cli, ScaleAndClockFlagsReadTheSameOnRunAndDetect) {
+  for (const char* group : {"Scale", "Clock"}) {
+    EXPECT_FALSE(HelpGroup("run", group).empty()) << group;
+    EXPECT_EQ(HelpGroup("detect", group), HelpGroup("run", group)) << group;
+  }
 }
 
 // A number out of its range says which range in a line a person reads: CLI11's own check

@@ -124,7 +124,7 @@ TEST(FitAnyStart, TwoDropsFittedJointlyEachFromItsOwnStart) {
   for (int i = 2; i <= 6; ++i) drops[0].push_back({0, i - 1, a[i]});  // numbered from 1: release unseen
   for (int i = 0; i <= 4; ++i) drops[1].push_back({0, i, b[i]});
   FitSetup setup;
-  setup.ball = "pingpong";
+  setup.ball = ResolveBallPreset("pingpong");
   setup.model = "point-mass";
   setup.session = PointMassConfig();
   const FitUpdate u = FitDropsOffline(drops, setup, true, [](const FitUpdate&) {});

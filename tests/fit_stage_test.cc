@@ -43,7 +43,7 @@ TEST(FitStage, PeaksInUpdatesAndFilesOut) {
   std::vector<fit_update_t> received;
   bus.Subscribe<fit_update_t>("FIT_UPDATE", [&](const fit_update_t& m) { received.push_back(m); });
   FitStageConfig cfg;
-  cfg.fit.ball = "tennis";
+  cfg.fit.ball = ResolveBallPreset("tennis");
   cfg.fit.model = "point-mass";
   cfg.fit.session.max_evaluations_per_bounce = 10;
   cfg.fit.session.max_evaluations_final = 30;

@@ -602,7 +602,7 @@ TEST(SynthCli, BadOptionsAreOneLineErrors) {
 TEST(SynthCli, HelpGivesUnits) {
   std::string out;
   ASSERT_EQ(RunCommand(BouncefitExe() + " synth --help", &out), 0);
-  for (const char* s : {"metres", "seconds", "pixels", "degrees", "grey levels", "kilograms",
+  for (const char* s : {"metres", "seconds", "pixels", "degrees", "grey levels", "mass, kg",
                         "frames per second", "pingpong", "B,G,R"})
     EXPECT_NE(out.find(s), std::string::npos) << s;
 }
