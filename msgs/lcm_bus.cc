@@ -2,6 +2,8 @@
 
 #include <poll.h>
 
+#include <cerrno>
+
 #include <stdexcept>
 
 namespace bouncefit {
@@ -32,6 +34,9 @@ void LcmBus::SubscribeRaw(const std::string& channel_regex, RawHandler handler) 
 
 bool LcmBus::HandleOnce(int timeout_ms) {
   const int rc = lcm_.handleTimeout(timeout_ms);
+  // A signal (Ctrl-C, SIGTERM) interrupts the wait: no message, and the caller's loop sees its
+  // stop flag and exits as stopped, not as a failed bus.
+  if (rc < 0 && errno == EINTR) return false;
   if (rc < 0) throw std::runtime_error("LCM receive failed");
   return rc > 0;
 }

@@ -46,8 +46,8 @@ class LcmBus {
                                         std::size_t size, int64_t recv_utime)>;
   void SubscribeRaw(const std::string& channel_regex, RawHandler handler);
 
-  // Waits up to timeout_ms for one message and dispatches it. Returns false on timeout.
-  // Throws std::runtime_error if LCM reports an error.
+  // Waits up to timeout_ms for one message and dispatches it. Returns false on timeout or when
+  // a signal interrupts the wait. Throws std::runtime_error if LCM reports an error.
   bool HandleOnce(int timeout_ms);
   // Dispatches everything already queued, without waiting.
   void Drain();

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <thread>
 
 #include "msgs/peaks_csv.h"
@@ -94,6 +95,30 @@ TEST(RunExitStatus, OneHundredThirtyWhenStoppedAfterWritingWhatWasRecorded) {
   EXPECT_TRUE(fs::exists(dir / "out" / "track.csv"));
   EXPECT_TRUE(fs::exists(dir / "out" / "summary.json"));
   EXPECT_GE(ReadPeaksCsv(dir / "out" / "peaks.csv").size(), 1u);
+}
+
+// A node waiting on an idle bus and stopped by Ctrl-C exits as stopped (130), not as a failed
+// bus (1): the signal interrupts its wait for a message.
+TEST(RunExitStatus, AnIdleNodeStoppedByCtrlCIsStopped) {
+  for (const char* node : {"detect", "fit"}) {
+    const fs::path dir = testing::ScratchDir(std::string("idle_") + node);
+    const std::string log = (dir / "log.txt").string();
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      FILE* f = std::fopen(log.c_str(), "w");
+      if (f) ::dup2(fileno(f), 1), ::dup2(fileno(f), 2);
+      ::execl(BOUNCEFIT_EXE, "bouncefit", node, "--lcm-url", "memq://", static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    std::ifstream in(log);
+    const std::string out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_TRUE(WIFEXITED(status)) << node << ": " << out;
+    EXPECT_EQ(WEXITSTATUS(status), 130) << node << ": " << out;
+  }
 }
 
 TEST(RunExitStatus, AnEarlierRunIsRefusedOrClearedWithOverwrite) {
