@@ -1,85 +1,72 @@
-// The automatic choice of the ball (Tracker's part of it): a candidate of the finder adopted,
-// its lock reviewed every frame until its track becomes a ballistic arc, dropped or replaced
-// when it does not.
-#include "track/tracker.h"
+#include "track/auto_choice.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
-#include <string>
-#include <vector>
 
 namespace bouncefit {
 
-bool Tracker::AutoChoose(const Frame& frame) {
+namespace {
+BallFinderParams StillReviewParams(const TrackerConfig& c) {
+  BallFinderParams p = c.finder;
+  if (c.still_review_work_pixels > 0) p.max_work_pixels = std::min(p.max_work_pixels, c.still_review_work_pixels);
+  return p;
+}
+}  // namespace
+
+AutoChoice::AutoChoice(const TrackerConfig& config)
+    : config_(config), finder_(config.finder, config.color), still_finder_(StillReviewParams(config), config.color),
+      arc_(config.arc) {}
+
+std::optional<BallCandidate> AutoChoice::Choose(const Frame& frame, cv::Rect roi) {
   const double t = static_cast<double>(frame.utime) * 1e-6;
-  const auto cands = finder_.Find(frame, roi_);
-  still_finder_.Remember(frame, roi_);
+  const auto cands = finder_.Find(frame, roi);
+  still_finder_.Remember(frame, roi);
   for (const BallCandidate& c : cands)
-    if (!Rejected(c, t)) {
-      Adopt(c);
-      return true;
-    }
-  if (how_.rfind("automatic: dropped", 0) != 0)
-    how_ = "automatic: waiting for a round blob that moves and stands out of its surroundings";
-  return false;
+    if (!Rejected(c, t)) return c;
+  return std::nullopt;
 }
 
-bool Tracker::Rejected(const BallCandidate& c, double t) const {
+bool AutoChoice::Rejected(const BallCandidate& c, double t) const {
   for (const RejectedLock& r : rejected_)
     if (t < r.until_t && std::hypot(c.x - r.x, c.y - r.y) < 1.5 * std::max(r.r, c.r) + 4) return true;
   return false;
 }
 
-void Tracker::Adopt(const BallCandidate& c) {
+void AutoChoice::Reject(double x, double y, double r, double t) {
+  rejected_.push_back({x, y, r, t + config_.auto_reject_s});
+}
+
+void AutoChoice::Adopt(const BallCandidate& c) {
   chosen_ = c;
-  auto_ = true;
+  unconfirmed_ = true;
   last_review_t_ = -1e9;  // a new choice is reviewed at once (pingpong_white: a wrong one)
   last_found_t_ = c.t;
   has_seed_ = true;
   arc_.Reset();
-  predictor_.Reset();
-  arc_speed_px_s_ = 0;
-  radius_ = 0;
-  lost_ = 1 << 20;
-  distractors_.clear();
-  last_candidates_.clear();
-  luma_.reset();
   ++choices_;
-  if (c.by_luma) {
-    StartLumaMode(c.polarity, c.contrast);
+  if (c.by_luma)
     forget_ball_ = true;
-    how_ = "automatic: " + c.Why() + how_;
-  } else {
-    color_ = c.color;
+  else
     lookalikes_pending_ = true;
-    how_ = "automatic: " + c.Why() + ": " + color_.ToString();
-  }
-  anchor_ = color_;
 }
 
-void Tracker::RememberLookalikes(const Frame& frame) {
-  Planes(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
-  cv::Mat mask;
-  for (const Blob& b : SegmentBlobs(wide_, color_, SegmentParamsFor(chosen_.r), &mask)) {
-    const double r = EquivalentRadius(b);
-    if (std::hypot(b.centroid.x - chosen_.x, b.centroid.y - chosen_.y) < 2 * (r + chosen_.r)) continue;
-    if (distractors_.size() < 32) distractors_.push_back({b.centroid, static_cast<float>(r), true});
-  }
-}
-
-void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
+LockReview AutoChoice::Review(const Frame& frame, cv::Rect roi, const BallObservation& obs, bool shapeless_lock,
+                              const FollowedBall& ball) {
+  LockReview review;
   const double t = static_cast<double>(frame.utime) * 1e-6;
   if (obs.found) last_found_t_ = t;
-  const bool shapeless = obs.found && shapeless_;
-  if (obs.found && arc_.Add(t, obs.cx - cam_x_, obs.cy - cam_y_, obs.radius_px, !shapeless)) {
-    auto_ = false;
-    how_ += fmt::format("; confirmed at {:.2f} s: its track became a ballistic arc", t);
-    if (choices_ > 1) how_ += fmt::format(" (choice {})", choices_);
-    return;
+  const bool shapeless = obs.found && shapeless_lock;
+  if (obs.found && arc_.Add(t, obs.cx - ball.shift_x(), obs.cy - ball.shift_y(), obs.radius_px, !shapeless)) {
+    unconfirmed_ = false;
+    review.verdict = LockReview::Verdict::kConfirmed;
+    review.what = fmt::format("; confirmed at {:.2f} s: its track became a ballistic arc", t);
+    if (choices_ > 1) review.what += fmt::format(" (choice {})", choices_);
+    return review;
   }
-  const double here_x = obs.found ? obs.cx : last_cx_, here_y = obs.found ? obs.cy : last_cy_;
-  const double here_r = std::max(radius_, chosen_.r);
+  const double here_x = obs.found ? obs.cx : ball.last_x(), here_y = obs.found ? obs.cy : ball.last_y();
+  const double here_r = std::max(ball.radius(), chosen_.r);
   std::string drop;
   if (arc_.moving_s() > config_.auto_drop_moving_s)
     drop = fmt::format("moved for {:.1f} s without a ballistic arc", arc_.moving_s());
@@ -99,9 +86,9 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   const bool looks_for_colour = obs.found && chosen_.by_luma && chosen_.weaker_colour <= 0;
   const bool due = t - last_review_t_ >= config_.auto_review_s;
   if (drop.empty() && !looks_for_colour && (!unsure || !due)) {
-    finder_.Remember(frame, roi_);
-    still_finder_.Remember(frame, roi_);
-    return;
+    finder_.Remember(frame, roi);
+    still_finder_.Remember(frame, roi);
+    return review;
   }
   last_review_t_ = t;
   // With the lock holding, a review only asks whether something else moves like a ball (a
@@ -112,56 +99,55 @@ void Tracker::ReviewAutoLock(const Frame& frame, const BallObservation& obs) {
   // once: the ball it hides may have left it small and fast (a toss from the hand).
   if (drop.empty() && !shapeless) {
     bool worth_a_look = false;
-    for (const BallCandidate& c : still_finder_.Find(frame, roi_)) {
+    for (const BallCandidate& c : still_finder_.Find(frame, roi)) {
       const double d = std::hypot(c.x - here_x, c.y - here_y), near = 3 * std::max(here_r, c.r);
       worth_a_look = worth_a_look || (looks_for_colour && !c.by_luma && d < 1.5 * near) ||
                      (unsure && !Rejected(c, t) && d >= near && c.score >= 0.25 * 0.5 * chosen_.score);
     }
     if (!worth_a_look) {
-      finder_.Remember(frame, roi_);
-      return;
+      finder_.Remember(frame, roi);
+      return review;
     }
   } else {
-    still_finder_.Remember(frame, roi_);
+    still_finder_.Remember(frame, roi);
   }
-  const std::vector<BallCandidate> found = finder_.Find(frame, roi_);
+  const std::vector<BallCandidate> found = finder_.Find(frame, roi);
   for (const BallCandidate& c : found) {
     const bool same = std::hypot(c.x - here_x, c.y - here_y) < 3 * std::max(here_r, c.r);
-    if (obs.found && chosen_.by_luma && !c.by_luma && SameAsLock(c, here_x, here_y, here_r)) {
+    if (obs.found && chosen_.by_luma && !c.by_luma && SameAsLock(c, here_x, here_y, here_r, ball)) {
       // The same ball, now with a colour of its own against its surroundings: colour
       // segments it better than a background model.
-      Adopt(c);
-      return;
+      review.verdict = LockReview::Verdict::kSwitch;
+      review.next = c;
+      return review;
     }
     if (Rejected(c, t) || same) continue;
     if (drop.empty() && !(unsure && c.score >= 0.5 * chosen_.score)) break;
     // The lock failed, or stands still while something else moves like a ball: switch.
-    if (!drop.empty())
-      rejected_.push_back({here_x, here_y, here_r, t + config_.auto_reject_s});
+    if (!drop.empty()) Reject(here_x, here_y, here_r, t);
     ++dropped_locks_;
-    Adopt(c);
-    return;
+    review.verdict = LockReview::Verdict::kSwitch;
+    review.next = c;
+    return review;
   }
-  if (drop.empty()) return;
-  rejected_.push_back({here_x, here_y, here_r, t + config_.auto_reject_s});
+  if (drop.empty()) return review;
+  Reject(here_x, here_y, here_r, t);
   ++dropped_locks_;
-  auto_ = false;
-  color_ = ColorModel();
-  luma_.reset();
-  predictor_.Reset();
-  arc_speed_px_s_ = 0;
-  lost_ = 1 << 20;
-  how_ = fmt::format("automatic: dropped the lock at {:.0f},{:.0f} ({}); waiting for another", here_x, here_y, drop);
+  unconfirmed_ = false;
+  review.verdict = LockReview::Verdict::kDrop;
+  review.what =
+      fmt::format("automatic: dropped the lock at {:.0f},{:.0f} ({}); waiting for another", here_x, here_y, drop);
+  return review;
 }
 
-bool Tracker::SameAsLock(const BallCandidate& c, double here_x, double here_y, double here_r) const {
+bool AutoChoice::SameAsLock(const BallCandidate& c, double here_x, double here_y, double here_r,
+                            const FollowedBall& ball) const {
   // Where the lock was when the finder saw the candidate (its middle frame, a lag before
   // now, or the newest): a ball falling at 20 fps moves radii a frame, and a patch of colour
   // three radii from where the lock is now may be six from where it was then.
   double x = here_x, y = here_y;
-  if (arc_.PositionAt(c.t, &x, &y)) x += cam_x_, y += cam_y_;
-  return std::hypot(c.x - x, c.y - y) < 3 * std::max(here_r, c.r) &&
-         SizeMatches(c.r, here_r);
+  if (arc_.PositionAt(c.t, &x, &y)) x += ball.shift_x(), y += ball.shift_y();
+  return std::hypot(c.x - x, c.y - y) < 3 * std::max(here_r, c.r) && ball.SizeMatches(c.r, here_r);
 }
 
 }  // namespace bouncefit
