@@ -2,8 +2,6 @@
 // presets, distractors, empty scenes, YUYV input.
 #include <gtest/gtest.h>
 
-#include <fmt/format.h>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include <cstdio>
@@ -444,117 +442,6 @@ TEST(Tracker, ACloseUpWhiteBallIsFollowedByItsBrightness) {
   // is taken (26 px off): a known gap, allowed once.
   EXPECT_LE(s.far, 1);
   EXPECT_EQ(s.on_strip, 0);
-}
-
-// Draws `shape` as `scene` renders it (its ball colour) over `image`: a second object.
-void DrawOver(const SynthScene& scene, const BallShape& shape, cv::Mat* image) {
-  cv::Mat with, diff;
-  scene.Render({shape}, &with);
-  cv::absdiff(with, scene.background(), diff);
-  cv::cvtColor(diff, diff, cv::COLOR_BGR2GRAY);
-  with.copyTo(*image, diff > 0);
-}
-
-// The automatic lock first falls on a decoy of the ball's colour that slid in and stopped;
-// the ball is held still, then dropped. While the lock stands still the finder looks for a
-// better candidate only every auto_review_s: the switch to the falling ball may come that
-// much later than with a search on every frame, no more.
-TEST(Tracker, AStillLockIsReviewedOftenEnoughToSwitchToTheDroppedBall) {
-  SynthSceneConfig sc;
-  sc.width = 320, sc.height = 480, sc.floor_y_px = 440;
-  const SynthScene scene(sc);
-  const double fps = 60, r = 10, g_px = 2500, drop_t = 0.6;  // px, px/s^2, s
-  auto frame_at = [&](int i) {
-    const double t = i / fps;
-    BallShape ball, decoy;
-    ball.x = 230, ball.y = 80, ball.a = ball.b = r;
-    if (t > drop_t) ball.y += std::min(0.5 * g_px * (t - drop_t) * (t - drop_t), sc.floor_y_px - r - 80);
-    decoy.x = 40 + 240 * std::min(t, 0.3), decoy.y = 300, decoy.a = decoy.b = r;
-    Frame f;
-    scene.Render({ball}, &f.image);
-    DrawOver(scene, decoy, &f.image);
-    f.utime = static_cast<int64_t>(std::llround(t * 1e6));
-    f.index = i;
-    return f;
-  };
-  // The first frame after the drop at which the lock is on the ball, and the description.
-  auto run = [&](double review_s, std::string* how) {
-    TrackerConfig config;
-    config.auto_review_s = review_s;
-    Tracker tracker(config);
-    int first = -1;
-    for (int i = 0; i < 72; ++i) {
-      const Frame f = frame_at(i);
-      const BallObservation o = tracker.Track(f);
-      if (first < 0 && f.utime * 1e-6 > drop_t && o.found && std::abs(o.cx - 230) < r) first = i;
-    }
-    *how = tracker.Describe();
-    return first;
-  };
-  std::string how_every, how_review;
-  const int every = run(0, &how_every);
-  const int reviewed = run(0.05, &how_review);
-  std::printf("on the ball from frame %d searching every frame, %d every 0.05 s (drop at frame %.0f)\n  %s\n",
-              every, reviewed, drop_t * fps, how_review.c_str());
-  ASSERT_GE(every, 0) << how_every;
-  ASSERT_GE(reviewed, 0) << how_review;
-  EXPECT_NE(how_review.find("dropped or replaced"), std::string::npos) << "the decoy was locked first: " << how_review;
-  EXPECT_NE(how_review.find("ballistic"), std::string::npos) << how_review;
-  EXPECT_LE(reviewed - every, static_cast<int>(std::ceil(0.05 * fps))) << how_review;
-}
-
-// A colourless ball is followed by brightness until its fall proves it ballistic; a candidate
-// of the finder with a colour is the same ball only where the ball was when the finder saw it.
-// At 20 fps a falling ball moves nearly two radii a frame: a patch of colour that moved beside
-// the ball's path a frame ago (the finder's middle frame), 2.7 radii from where the ball is
-// now but 3.2 from where it was then, is something else (a shaken copy of the shared football
-// clip lost its drop to a patch of the door this way).
-TEST(Tracker, AFallingBrightnessLockIsNotSwappedForAColourPatchBesideItsPath) {
-  SynthSceneConfig sc;
-  sc.width = 400, sc.height = 600, sc.floor_y_px = 580;
-  sc.wall_bgr = {60, 62, 64};
-  sc.floor_bgr = {40, 42, 44};
-  sc.ball_bgr = {238, 238, 238};
-  const SynthScene ball_scene(sc);
-  sc.ball_bgr = {20, 120, 250};
-  const SynthScene patch_scene(sc);
-  const double fps = 20, r = 30, g_px = 6000, drop_t = 0.3, x = 150;  // px, px/s^2, s
-  auto ball_y = [&](double t) { return 80 + (t > drop_t ? 0.5 * g_px * (t - drop_t) * (t - drop_t) : 0.0); };
-  const int patch_frame = 9;  // the patch moves between frames 8 and 9 and is gone in 10
-  auto frame_at = [&](int i) {
-    const double t = i / fps;
-    BallShape ball;
-    ball.x = x, ball.y = ball_y(t), ball.a = ball.b = r;
-    Frame f;
-    ball_scene.Render({ball}, &f.image);
-    if (i == patch_frame - 1 || i == patch_frame) {
-      BallShape patch;
-      patch.a = patch.b = r;
-      patch.x = x + 2.7 * r + (i == patch_frame ? 0 : -8);
-      patch.y = ball_y((patch_frame + 1) / fps);
-      DrawOver(patch_scene, patch, &f.image);
-    }
-    f.utime = static_cast<int64_t>(std::llround(t * 1e6));
-    f.index = i;
-    return f;
-  };
-  Tracker tracker{TrackerConfig{}};
-  int on_ball = 0, checked = 0;
-  std::string track;
-  for (int i = 0; i < 15; ++i) {
-    const Frame f = frame_at(i);
-    const BallObservation o = tracker.Track(f);
-    const double t = i / fps;
-    track += fmt::format("  frame {}: ball at {:.0f},{:.0f}; {} {:.1f},{:.1f}\n", i, x, ball_y(t),
-                         o.found ? "found at" : "not found", o.cx, o.cy);
-    if (i > patch_frame && ball_y(t) + r < sc.floor_y_px - 5) {
-      ++checked;
-      on_ball += o.found && std::hypot(o.cx - x, o.cy - ball_y(t)) < 0.5 * r;
-    }
-  }
-  std::printf("%s%s\n", track.c_str(), tracker.Describe().c_str());
-  ASSERT_GE(checked, 3) << track;
-  EXPECT_EQ(on_ball, checked) << track << tracker.Describe();
 }
 
 }  // namespace
