@@ -20,6 +20,14 @@ inline TrackerConfig OrangeGiven() {
   return ConfigForColor(orange, "orange");
 }
 
+// The ball found at (x, y), radius r, pixels.
+inline BallObservation Sighting(double x, double y, double r) {
+  BallObservation o;
+  o.found = true;
+  o.cx = static_cast<float>(x), o.cy = static_cast<float>(y), o.radius_px = static_cast<float>(r);
+  return o;
+}
+
 // The searches over frames of `size`, the colour locked.
 struct TrackerParts {
   explicit TrackerParts(cv::Size size) : roi(0, 0, size.width, size.height) {

@@ -77,8 +77,7 @@ TEST(WholeFrameSearch, TheBallThatMovedRatherThanTheOneThatDidNot) {
 TEST(WholeFrameSearch, ASliverAtTheFramesBorderIsNotTheBallFollowed) {
   Search s;
   cv::RNG rng(4);
-  BallObservation seen;
-  seen.found = true, seen.cx = 300, seen.cy = 400, seen.radius_px = 15;
+  const BallObservation seen = testing::Sighting(300, 400, 15);
   s.ball.Found(0, seen);
   cv::Mat img(480, 640, CV_8UC3, kWall);
   img(cv::Rect(300, 0, 12, 5)).setTo(kOrange);

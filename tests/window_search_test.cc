@@ -48,11 +48,7 @@ TEST(WindowSearch, ABlobOfAnotherSizeIsNotTheBallFollowed) {
   cv::RNG rng(2);
   cv::Mat img = Wall();
   testing::DrawBall(img, 300, 200, 20, kOrange);
-  s.ball.Found(0, [] {
-    BallObservation o;
-    o.found = true, o.cx = 300, o.cy = 200, o.radius_px = 10;  // the ball followed is half as big
-    return o;
-  }());
+  s.ball.Found(0, testing::Sighting(300, 200, 10));  // the ball followed is half as big
   BallObservation o;
   EXPECT_FALSE(s.window.Find(Drawn(img, 1, rng), {300, 200}, 60, 15, &o));
 }
@@ -97,8 +93,7 @@ TEST(WindowSearch, ThePredictionsWindowsFollowAFallAndItsBounce) {
 TEST(WindowSearch, AStreakIsFoundAtItsMiddle) {
   Search s;
   cv::RNG rng(4);
-  BallObservation seen;
-  seen.found = true, seen.cx = 300, seen.cy = 100, seen.radius_px = 10;
+  const BallObservation seen = testing::Sighting(300, 100, 10);
   s.ball.Found(0, seen);
   cv::Mat img = Wall(), acc(img.size(), CV_32FC3, cv::Scalar(0, 0, 0));
   const int subs = 16;
@@ -123,8 +118,7 @@ TEST(WindowSearch, ABallTheFramesBorderCutsIsShapeless) {
   cv::Mat img = Wall();
   img(cv::Rect(0, 190, 40, 20)).setTo(kOrange);  // an arm of the ball's colour from the edge
   const Frame f = Drawn(img, 0, rng);
-  BallObservation seen;
-  seen.found = true, seen.cx = 30, seen.cy = 200, seen.radius_px = 12;
+  const BallObservation seen = testing::Sighting(30, 200, 12);
   s.ball.Found(0, seen);
   BallObservation o;
   ASSERT_TRUE(s.window.Find(f, {30, 200}, 40, 20, &o));
@@ -139,8 +133,7 @@ TEST(WindowSearch, TheLookBackLeavesTheColourAsItIs) {
   Search now, back;
   cv::RNG rng(6);
   const cv::Scalar redder(20, 80, 240);
-  BallObservation seen;
-  seen.found = true, seen.cx = 300, seen.cy = 200, seen.radius_px = 20;
+  const BallObservation seen = testing::Sighting(300, 200, 20);
   now.ball.Found(0, seen);
   back.ball.Found(0, seen);
   const double nu = now.lock.color().nu();
