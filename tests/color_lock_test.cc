@@ -128,7 +128,9 @@ TEST(ColorLock, ABrightnessLockKeepsAMovingBallOutOfItsBackgroundAndLetsAStillOn
     const std::vector<Blob> blobs = Blobs(lock, f);
     const bool seen = blobs.size() == 1 && std::abs(blobs[0].centroid.x - x) < 1;
     // (The first frames overlap where it was when the background started.)
-    if (i > 10 && i < 40) EXPECT_TRUE(seen) << "frame " << i << ": moving";
+    if (i > 10 && i < 40) {
+      EXPECT_TRUE(seen) << "frame " << i << ": moving";
+    }
     if (i >= 40) still_frames_seen += seen;
     BallObservation o;
     o.found = seen;

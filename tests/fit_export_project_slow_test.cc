@@ -149,7 +149,7 @@ TEST_P(FitExportProject, BuildsAgainstBulletAndPrintsSimulatesHeights) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Impacts, FitExportProject, ::testing::Values("boost", "restitution"),
-                         [](const auto& info) { return std::string(info.param); });
+                         [](const auto& param_info) { return std::string(param_info.param); });
 
 TEST(FitExportPointMass, APointMassFitSaysThereIsNothingToBuild) {
   const BallPreset ball = *FindBallPreset("pingpong");
