@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/fit_session.h"
+#include "fit/fit_update.h"
 #include "model/ball_model.h"
 
 namespace bouncefit {
