@@ -14,7 +14,10 @@ namespace bouncefit {
 
 namespace {
 
-nlohmann::json Num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+// JSON has no NaN: an unknown value is null.
+nlohmann::json JsonNumberOrNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
 
 }  // namespace
 
@@ -25,21 +28,24 @@ nlohmann::json RestitutionJson(const FitUpdate& u) {
     points.push_back({{"drop", p.drop}, {"bounce", p.bounce}, {"impact_speed_mps", p.speed_mps}, {"e", p.e},
                       {"sigma", p.sigma}});
   std::vector<nlohmann::json> drop_e, drop_sigma;
-  for (size_t d = 0; d < r.drop_e.size(); ++d) drop_e.push_back(Num(r.drop_e[d])), drop_sigma.push_back(Num(r.drop_e_sigma[d]));
-  return {{"points", points},          {"reference_speed_mps", Num(r.reference_mps)},
-          {"scatter", Num(r.scatter)}, {"drop_e", drop_e},
+  for (size_t d = 0; d < r.drop_e.size(); ++d) {
+    drop_e.push_back(JsonNumberOrNull(r.drop_e[d]));
+    drop_sigma.push_back(JsonNumberOrNull(r.drop_e_sigma[d]));
+  }
+  return {{"points", points},          {"reference_speed_mps", JsonNumberOrNull(r.reference_mps)},
+          {"scatter", JsonNumberOrNull(r.scatter)}, {"drop_e", drop_e},
           {"drop_e_sigma", drop_sigma}, {"drops_agree", r.drops_agree},
-          {"chi2_drops", Num(r.chi2_drops)}, {"suspect", r.suspect}};
+          {"chi2_drops", JsonNumberOrNull(r.chi2_drops)}, {"suspect", r.suspect}};
 }
 
 nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
   nlohmann::json coeffs = nlohmann::json::object();
   for (const auto& c : u.coefficients)
-    coeffs[c.name] = {{"value", Num(c.value)},   {"sigma", Num(c.sigma)},
+    coeffs[c.name] = {{"value", JsonNumberOrNull(c.value)},   {"sigma", JsonNumberOrNull(c.sigma)},
                       {"identifiable", c.identifiable}, {"unit", c.unit},
                       {"note", c.note}, {"at_bound", c.bound.empty() ? nlohmann::json() : nlohmann::json(c.bound)}};
   nlohmann::json values = nlohmann::json::object();
-  for (const auto& [name, v] : u.values) values[name] = Num(v);
+  for (const auto& [name, v] : u.values) values[name] = JsonNumberOrNull(v);
   return {{"model", u.model},
           {"method", u.method},
           {"final", u.final},
@@ -58,12 +64,12 @@ nlohmann::json FitUpdateToJson(const FitUpdate& u, const BallPreset& ball) {
           {"covariance", {{"names", u.covariance_names}, {"matrix", u.covariance}}},
           {"recorded_m", u.recorded_m},
           {"simulated_m", u.simulated_m},
-          {"residual_m", Num(u.residual_m)},
+          {"residual_m", JsonNumberOrNull(u.residual_m)},
           {"segment_simulated_m", u.segment_simulated_m},
-          {"segment_residual_m", Num(u.segment_residual_m)},
+          {"segment_residual_m", JsonNumberOrNull(u.segment_residual_m)},
           {"free_run_mean_m", u.free_run_mean_m},
           {"free_run_sd_m", u.free_run_sd_m},
-          {"free_run_residual_m", Num(u.free_run_residual_m)},
+          {"free_run_residual_m", JsonNumberOrNull(u.free_run_residual_m)},
           // A joint fit: the other drops' heights follow this drop's in the lists above.
           {"other_drop_heights_m", u.other_drop_heights_m},
           {"other_drop_bounces", u.other_drop_bounces},
@@ -79,7 +85,7 @@ nlohmann::json FitGltfExtras(const FitUpdate& u, const BallPreset& ball,
                              const FitExportContext& context) {
   auto value = [&](const char* name) {
     const auto it = u.values.find(name);
-    return it == u.values.end() ? nlohmann::json() : Num(it->second);
+    return it == u.values.end() ? nlohmann::json() : JsonNumberOrNull(it->second);
   };
   nlohmann::json j;
   j["ball"] = {{"preset", ball.name}, {"diameter_m", ball.diameter_m}, {"mass_kg", ball.mass_kg}};
@@ -91,14 +97,14 @@ nlohmann::json FitGltfExtras(const FitUpdate& u, const BallPreset& ball,
       {"k_per_mps", soft ? value("rebound_restitution_per_mps") : value("restitution_per_mps")}};
   j["drag_coefficient"] = soft ? value("drag") : value("drag_coefficient");
   nlohmann::json values = nlohmann::json::object();
-  for (const auto& [name, v] : u.values) values[name] = Num(v);
+  for (const auto& [name, v] : u.values) values[name] = JsonNumberOrNull(v);
   j["fit"] = {{"model", u.model},
               {"method", u.method},
               {"drop_height_m", u.drop_height_m},
               {"bounces", u.recorded_m.size()},
               {"recorded_m", u.recorded_m},
               {"simulated_m", u.simulated_m},
-              {"residual_m", Num(u.residual_m)},
+              {"residual_m", JsonNumberOrNull(u.residual_m)},
               {"time_step_s", u.time_step_s},
               {"iterations", u.iterations},
               {"values", values},
@@ -107,8 +113,8 @@ nlohmann::json FitGltfExtras(const FitUpdate& u, const BallPreset& ball,
   if (!context.fitted_by.empty()) j["fit"]["fitted_by"] = context.fitted_by;
   if (context.drops && !context.drops->empty()) {  // where the animation's t = 0 is in the clip
     const FitDrop& d = context.drops->front();
-    j["start"] = {{"bounce", d.start_bounce}, {"drop", d.drop}, {"t_s", Num(d.start_t_s)},
-                  {"height_m", Num(d.start_height_m)}, {"time_scale", 1 / context.run_s_per_real_s}};
+    j["start"] = {{"bounce", d.start_bounce}, {"drop", d.drop}, {"t_s", JsonNumberOrNull(d.start_t_s)},
+                  {"height_m", JsonNumberOrNull(d.start_height_m)}, {"time_scale", 1 / context.run_s_per_real_s}};
   }
   return j;
 }
@@ -145,7 +151,7 @@ std::vector<std::filesystem::path> WriteFitExports(const std::filesystem::path& 
       const FitDrop& own = context.drops->front();
       j["drop"] = own.drop;
       j["start_bounce"] = own.start_bounce;
-      j["start_t_s"] = Num(own.start_t_s);
+      j["start_t_s"] = JsonNumberOrNull(own.start_t_s);
       if (!own.bounces.empty()) j["after_bounce"] = own.bounces.back();
       j["drops"] = FitDropsToJson(*context.drops);
       // Real seconds per second of the run's clock (summary.json's clock.time_scale).

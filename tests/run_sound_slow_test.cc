@@ -25,7 +25,7 @@ using testing::RunCommand;
 using testing::ScratchDir;
 
 
-double Num(const std::map<std::string, std::string>& row, const std::string& col) {
+double CellNumber(const std::map<std::string, std::string>& row, const std::string& col) {
   const auto it = row.find(col);
   return it == row.end() || it->second.empty() ? NAN : std::stod(it->second);
 }
@@ -57,9 +57,9 @@ double CheckHeard(const SynthTruth& t, const std::filesystem::path& run, double 
     if (t.impact_speeds_mps[k] <= 0.5 || t.impact_times_s[k] + t.sound_offset_s > 4.45) continue;
     bool heard = false;
     for (const auto& r : rows)
-      if (r.at("source") != "video" && std::abs(Num(r, "t_s") - t.impact_times_s[k]) < tol) {
+      if (r.at("source") != "video" && std::abs(CellNumber(r, "t_s") - t.impact_times_s[k]) < tol) {
         heard = true;
-        worst = std::max(worst, std::abs(Num(r, "t_s") - t.impact_times_s[k]));
+        worst = std::max(worst, std::abs(CellNumber(r, "t_s") - t.impact_times_s[k]));
       }
     EXPECT_TRUE(heard) << "impact at " << t.impact_times_s[k] << " s ("
                        << t.impact_speeds_mps[k] << " m/s) not heard";
@@ -67,7 +67,7 @@ double CheckHeard(const SynthTruth& t, const std::filesystem::path& run, double 
   for (const auto& r : rows) {
     if (r.at("source") == "video") continue;
     bool real = false;
-    for (double ti : t.impact_times_s) real = real || std::abs(Num(r, "t_s") - ti) < tol;
+    for (double ti : t.impact_times_s) real = real || std::abs(CellNumber(r, "t_s") - ti) < tol;
     EXPECT_TRUE(real) << "invented impact at " << r.at("t_s") << " s";
   }
   return worst;
@@ -81,9 +81,9 @@ TEST(RunSound, CleanSoundTimesAndFlightHeights) {
   // Flight-time heights of every bounce of 2 cm or more within 0.5%.
   int checked = 0;
   for (const auto& r : ReadCsv(run / "impacts.csv")) {
-    const double h = Num(r, "flight_height_m");
+    const double h = CellNumber(r, "flight_height_m");
     if (!std::isfinite(h)) continue;
-    const double t0 = Num(r, "t_s");
+    const double t0 = CellNumber(r, "t_s");
     for (size_t k = 0; k + 1 < t.impact_times_s.size(); ++k)
       if (std::abs(t.impact_times_s[k] - t0) < 0.001 && k + 1 < t.apex_heights_m.size() &&
           t.apex_heights_m[k + 1] >= 0.02) {
@@ -122,10 +122,10 @@ TEST(RunSound, ThirtyFpsApexHeightsBetterWithSound) {
         if (b == 0 || b >= static_cast<int>(t.apex_heights_m.size()) || r.at("heard") == "heard only")
           continue;
         const double truth = t.apex_heights_m[b];
-        const double h = Num(r, "fused_height_m");
+        const double h = CellNumber(r, "fused_height_m");
         if (with_sound) {
           EXPECT_NEAR(h, truth, std::max(0.002, 0.01 * truth)) << "bounce " << b;
-          EXPECT_NEAR(Num(r, "t_s"), t.apex_times_s[b], 0.05) << "bounce " << b;
+          EXPECT_NEAR(CellNumber(r, "t_s"), t.apex_times_s[b], 0.05) << "bounce " << b;
         }
         sq[with_sound] += (h - truth) * (h - truth);
         ++n[with_sound];
@@ -278,14 +278,14 @@ TEST(RunSound, PhoneClipsEveryHeardBounceInOrder) {
     ASSERT_GE(peaks.size(), c.min_rows);
     for (size_t k = 1; k < peaks.size(); ++k) {
       EXPECT_EQ(std::stoi(peaks[k].at("bounce")), std::stoi(peaks[k - 1].at("bounce")) + 1) << "row " << k;
-      EXPECT_LT(Num(peaks[k], "fused_height_m"), Num(peaks[k - 1], "fused_height_m")) << "row " << k;
+      EXPECT_LT(CellNumber(peaks[k], "fused_height_m"), CellNumber(peaks[k - 1], "fused_height_m")) << "row " << k;
     }
     const auto impacts = ReadCsv(run / "impacts.csv");
     double last_heard_s = 0;
     for (const auto& r : impacts)
-      if (r.at("source") != "video") last_heard_s = Num(r, "t_s");
+      if (r.at("source") != "video") last_heard_s = CellNumber(r, "t_s");
     for (const auto& r : impacts) {
-      if (Num(r, "t_s") < last_heard_s) { EXPECT_NE(r.at("source"), "video") << r.at("t_s"); }
+      if (CellNumber(r, "t_s") < last_heard_s) { EXPECT_NE(r.at("source"), "video") << r.at("t_s"); }
     }
   }
 }
@@ -313,12 +313,12 @@ TEST(RunSound, ABounceHeardBeforeThePictureFoundTheBallNumbersTheRest) {
   for (const auto& r : peaks)
     if (r.at("heard") == "heard only") {
       ASSERT_FALSE(r.at("height_m").empty());
-      EXPECT_DOUBLE_EQ(Num(r, "height_m"), Num(r, "flight_height_m"));
+      EXPECT_DOUBLE_EQ(CellNumber(r, "height_m"), CellNumber(r, "flight_height_m"));
     }
   for (size_t k = 0; k < peaks.size(); ++k) {
     EXPECT_EQ(std::stoi(peaks[k].at("bounce")), static_cast<int>(k) + 1);
     if (k > 0) {
-      EXPECT_LT(Num(peaks[k], "fused_height_m"), Num(peaks[k - 1], "fused_height_m"));
+      EXPECT_LT(CellNumber(peaks[k], "fused_height_m"), CellNumber(peaks[k - 1], "fused_height_m"));
     }
   }
 }
@@ -338,14 +338,14 @@ TEST(RunSound, ArcsThePictureFollowedWithoutSeeingAreImpactsNotBounces) {
   for (const auto& r : peaks) {
     rebounds += std::stoi(r.at("bounce")) >= 1;
     heard_only += r.at("heard") == "heard only";
-    last_row_t = std::max(last_row_t, Num(r, "t_s"));
+    last_row_t = std::max(last_row_t, CellNumber(r, "t_s"));
   }
   EXPECT_GE(rebounds, 4);
   EXPECT_LE(rebounds, 8);
   EXPECT_GE(heard_only, 1) << "the arc that begins at the last seen impact";
   int heard_later = 0;
   for (const auto& i : ReadCsv(run / "impacts.csv"))
-    heard_later += i.at("source") == "audio" && Num(i, "t_s") > last_row_t;
+    heard_later += i.at("source") == "audio" && CellNumber(i, "t_s") > last_row_t;
   EXPECT_GE(heard_later, 3) << "the impacts heard after the last row are still listed";
 }
 
@@ -363,7 +363,7 @@ TEST(RunSound, AClipThatBeginsMidBounceNumbersItsFirstApexOne) {
     EXPECT_EQ(rows[k].at("bounce"), std::to_string(k + 1)) << "row " << k;
     // The truth lists the apexes in the clip: the first rebound first.
     if (k < t.apex_heights_m.size() && t.apex_heights_m[k] >= 0.05) {
-      EXPECT_NEAR(Num(rows[k], "height_m"), t.apex_heights_m[k], std::max(0.002, 0.01 * t.apex_heights_m[k]))
+      EXPECT_NEAR(CellNumber(rows[k], "height_m"), t.apex_heights_m[k], std::max(0.002, 0.01 * t.apex_heights_m[k]))
           << "row " << k;
     }
   }
@@ -390,19 +390,19 @@ TEST(RunSound, AClickHeardWhileTheBallIsHeldLeavesTheReleaseBounceZero) {
   ASSERT_TRUE(summary["drops"][0]["released_from_hold"].get<bool>());
   bool click_heard = false;
   for (const auto& r : ReadCsv(run / "impacts.csv"))
-    if (std::abs(Num(r, "t_s") - click_s) < 0.002) {
+    if (std::abs(CellNumber(r, "t_s") - click_s) < 0.002) {
       click_heard = true;
       EXPECT_TRUE(r.at("flight_s").empty()) << "a flight across the hold";
     }
   EXPECT_TRUE(click_heard) << "the fusion did not take the click for an impact: nothing tested";
   const auto rows = ReadCsv(run / "peaks.csv");
   ASSERT_GE(rows.size(), 5u);
-  EXPECT_NEAR(Num(rows[0], "t_s"), t.release_t_s, 0.02);
+  EXPECT_NEAR(CellNumber(rows[0], "t_s"), t.release_t_s, 0.02);
   EXPECT_TRUE(rows[0].at("heard").empty());
   for (size_t k = 0; k < rows.size(); ++k) {
     EXPECT_EQ(rows[k].at("bounce"), std::to_string(k)) << "row " << k;
     if (k < t.apex_heights_m.size() && t.apex_heights_m[k] >= 0.05) {
-      EXPECT_NEAR(Num(rows[k], "fused_height_m"), t.apex_heights_m[k], std::max(0.002, 0.01 * t.apex_heights_m[k]))
+      EXPECT_NEAR(CellNumber(rows[k], "fused_height_m"), t.apex_heights_m[k], std::max(0.002, 0.01 * t.apex_heights_m[k]))
           << "row " << k;
     }
   }
@@ -421,11 +421,11 @@ TEST(RunSound, RealClipHeldThenDroppedIsAReleaseAndThreeRebounds) {
   ASSERT_EQ(rows.size(), 4u);
   const double author_m[] = {0.479, 0.365, 0.281, 0.220};
   EXPECT_TRUE(rows[0].at("heard").empty()) << "the release on a heard arc";
-  EXPECT_NEAR(Num(rows[0], "t_s"), 0.617, 1 / 30.0) << "the author's track: still at 0.600 s, falling at 0.633 s";
+  EXPECT_NEAR(CellNumber(rows[0], "t_s"), 0.617, 1 / 30.0) << "the author's track: still at 0.600 s, falling at 0.633 s";
   for (size_t k = 0; k < rows.size(); ++k) {
     EXPECT_EQ(rows[k].at("bounce"), std::to_string(k)) << "row " << k;
     if (k > 0) {
-      EXPECT_NEAR(Num(rows[k], "fused_height_m") / Num(rows[k - 1], "fused_height_m"), author_m[k] / author_m[k - 1],
+      EXPECT_NEAR(CellNumber(rows[k], "fused_height_m") / CellNumber(rows[k - 1], "fused_height_m"), author_m[k] / author_m[k - 1],
                   0.04)
           << "row " << k;
     }
@@ -444,8 +444,8 @@ TEST(RunSound, HopsHeardShorterThanThePictureResolvesAreImpactsNotBounces) {
   const double min_m = 9.81 * std::pow(4 / 30.0, 2) / 8;
   double last_row_t = 0;
   for (const auto& r : rows) {
-    last_row_t = std::max(last_row_t, Num(r, "t_s"));
-    if (r.at("heard") == "heard only") { EXPECT_GE(Num(r, "height_m"), min_m) << "row " << r.at("bounce"); }
+    last_row_t = std::max(last_row_t, CellNumber(r, "t_s"));
+    if (r.at("heard") == "heard only") { EXPECT_GE(CellNumber(r, "height_m"), min_m) << "row " << r.at("bounce"); }
   }
   int resolvable = 0;
   for (size_t k = 1; k < t.apex_heights_m.size(); ++k) resolvable += t.apex_heights_m[k] >= min_m;
@@ -453,7 +453,7 @@ TEST(RunSound, HopsHeardShorterThanThePictureResolvesAreImpactsNotBounces) {
   for (const auto& r : rows) rebounds += std::stoi(r.at("bounce")) >= 1;
   EXPECT_EQ(rebounds, resolvable);
   int heard_later = 0;
-  for (const auto& i : impacts) heard_later += i.at("source") == "audio" && Num(i, "t_s") > last_row_t;
+  for (const auto& i : impacts) heard_later += i.at("source") == "audio" && CellNumber(i, "t_s") > last_row_t;
   EXPECT_GE(heard_later, 2) << "the short hops' impacts are still listed";
 }
 
