@@ -3,11 +3,14 @@
 // flight_follower.h, apex_ledger.h) wired together by the least a DropHost must do, so that
 // each part's test can drive it with a rendered drop without the BounceDetector: the scale
 // refitted with the drop's arcs (no clock decision, no samples taken back), the apexes
-// handed to the ledger, the drop ended. It records what the parts asked of it.
+// handed to the ledger, the drop ended. It records what the parts asked of it. A part's test
+// may stop it mid-drop (Feed) and ask the part's own class about the drop as it is then.
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "detect/bounce_detector.h"
+#include "detect_sim.h"
 #include "track/ball_observation.h"
 
 namespace bouncefit::testing {
@@ -20,11 +23,20 @@ class PartsHost : public DropHost {
 
   // Every observation, then the end of the stream; the events the parts sent.
   std::vector<DetectorEvent> Run(const std::vector<BallObservation>& obs) {
+    std::vector<DetectorEvent> ev = Feed(obs);
+    if (in_flight) EndSequence("end of stream", ev);
+    return ev;
+  }
+  // The observations before stream time `until` (s), the drop left as it is then.
+  std::vector<DetectorEvent> Feed(const std::vector<BallObservation>& obs,
+                                  double until = std::numeric_limits<double>::infinity()) {
     std::vector<DetectorEvent> ev;
     for (const auto& o : obs) {
+      if (o.utime * 1e-6 >= until) break;
       double t = 0;
       if (!scene.Advance(o.utime, &t) || !o.found) continue;
       DetectorSample s{t, o.cx, o.cy, o.radius_px, o.utime};
+      samples.push_back(s);
       scene.Saw(s);
       scene.set_last_seen_t(t);
       if (in_flight) {
@@ -34,7 +46,6 @@ class PartsHost : public DropHost {
         OnWaiting(s, ev);
       }
     }
-    if (in_flight) EndSequence("end of stream", ev);
     return ev;
   }
 
@@ -100,6 +111,41 @@ class PartsHost : public DropHost {
   std::vector<DropStartFound> starts;
   std::vector<double> impact_confirmed_t;  // the sample that confirmed each impact, s
   std::vector<std::string> end_reasons;
+  std::vector<DetectorSample> samples;  // every sample fed, in time order
+};
+
+// Where a clip's camera shows the ball's centre at t, px down the picture (no roll).
+inline double TruthDown(const SimClip& clip, double t) {
+  return clip.options.floor_y - clip.truth.At(t).height_m * clip.options.px_per_m - clip.radius_px;
+}
+
+// A rendered drop fed to the parts and stopped mid-flight (Stop), with the follower's arcs as
+// they are then in a FlightArcs of its own, for a part's test to ask about them.
+struct StoppedDrop {
+  explicit StoppedDrop(const SimOptions& o = {}) : clip(MakeSimClip(o)), arcs(config, host.scene) {
+    PartsHost all;
+    all.Run(clip.obs);
+    samples = all.samples;
+  }
+  // The parts fed every observation before stream time `until` (s).
+  void Stop(double until) {
+    host.Feed(clip.obs, until);
+    arcs.arcs() = host.follower.arcs();
+  }
+  // The clip's first n samples after stream time t (s), as the parts see them.
+  std::vector<DetectorSample> After(double t, size_t n) const {
+    std::vector<DetectorSample> out;
+    for (const auto& s : samples)
+      if (s.t > t && out.size() < n) out.push_back(s);
+    return out;
+  }
+  double frame() const { return 1 / clip.options.fps; }
+
+  const FlightFollowerConfig config;
+  SimClip clip;
+  std::vector<DetectorSample> samples;  // the whole clip's
+  PartsHost host;
+  FlightArcs arcs;
 };
 
 }  // namespace bouncefit::testing
