@@ -83,8 +83,9 @@ TEST(ApexLedger, ARebound20PercentOffItsFlightGoesOutWithTheFlightsHeight) {
   // Unchecked, the picture's heights are the scale's: 25% high.
   for (const BouncePeak& p : run(0)) {
     const auto b = static_cast<size_t>(p.bounce);
-    if (b >= 1 && b < clip.truth.apex_heights_m.size() && clip.truth.apex_heights_m[b] >= 0.05)
+    if (b >= 1 && b < clip.truth.apex_heights_m.size() && clip.truth.apex_heights_m[b] >= 0.05) {
       EXPECT_GT(p.height_m, 1.2 * clip.truth.apex_heights_m[b]) << "bounce " << b;
+    }
   }
 }
 
