@@ -1,10 +1,11 @@
-// The detector on `bouncefit synth` clips with known truth, for all four presets from 1.0 m
-// and 1.6 m at 120 fps and a 60 fps clip, with camera roll up to 2 degrees:
+// The bounce detector on whole clips. On `bouncefit synth` clips with known truth, for all four
+// presets from 1.0 m and 1.6 m at 120 fps and a 60 fps clip, with camera roll up to 2 degrees:
 //  (a) on the synth truth centres plus tracker-like noise (the detector alone),
 //  (b) on what the tracker finds in the rendered video (the real pipeline);
 // every apex above 1 cm found, no false peaks, heights within max(2 mm, 1%) using the
-// detector's own calibration, latency median <= 2 and max <= 4 frames. And the `detect`
-// command as a process of its own over UDP multicast, fed by this process.
+// detector's own calibration, latency median <= 2 and max <= 4 frames. Then a real clip, a
+// phone's slow-motion file, a file that shows each picture twice, and the `detect` command as
+// a process of its own over UDP multicast, fed by this process.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>

@@ -1,5 +1,7 @@
-// report.html as a person sees it: opened offline in headless Chromium, every figure decoded
-// and painted. Skips with a message when Chromium is not installed (scripts/setup adds it).
+// report.html as a person sees it: the report of a real `bouncefit run` (its height curve
+// meets the detected apexes, its sound strip the impacts heard), and opened offline in headless
+// Chromium, every figure decoded and painted. The Chromium tests skip with a message when
+// Chromium is not installed (scripts/setup adds it).
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>

@@ -1,4 +1,4 @@
-// The soft-body coefficient tables built into the binary (fit/CMakeLists.txt embeds
+// The soft-body coefficient tables built into the binary (model/CMakeLists.txt embeds
 // model/presets/*.json), $BOUNCEFIT_PRESETS_DIR overriding them, and `simulate --coeffs preset`
 // from a copy of the binary with the source tables hidden.
 #include <gtest/gtest.h>
