@@ -1,4 +1,6 @@
-// The tracker's parts on their own: robust circle fit, parabolic prediction, colour model.
+// The tracker's small parts on their own, a suite or two each (a test executable each would
+// cost more to build than they take to run): track/mask_components, circle_fit,
+// motion_predictor, color_model, ycc_planes, shrink, change_map, ball_finder, ball_extent.
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
