@@ -88,8 +88,12 @@ TEST_P(AnyStart, FitsTheTruthAndPredictsItFromOnePointSixMetres) {
       << log;
   ASSERT_TRUE(fs::exists(out / "coefficients.json")) << log;
   const auto fit = nlohmann::json::parse(std::ifstream(out / "coefficients.json"));
-  if (!s.release_in_view) EXPECT_GE(fit["start_bounce"].get<int>(), 1) << "a release out of view taken for one";
-  if (s.clips.size() > 1) EXPECT_EQ(fit["other_drop_heights_m"].size(), s.clips.size() - 1) << log;
+  if (!s.release_in_view) {
+    EXPECT_GE(fit["start_bounce"].get<int>(), 1) << "a release out of view taken for one";
+  }
+  if (s.clips.size() > 1) {
+    EXPECT_EQ(fit["other_drop_heights_m"].size(), s.clips.size() - 1) << log;
+  }
   // The fitted ball's heights against the truth's (the apex nearest each recorded one).
   const auto recorded = fit["recorded_m"].get<std::vector<double>>();
   const auto simulated = fit["simulated_m"].get<std::vector<double>>();
@@ -139,7 +143,7 @@ INSTANTIATE_TEST_SUITE_P(
                   0.76, 0.005, true},
         // Carpet: e 0.47 at 7 m/s (0.61 - 0.02 x 7).
         Situation{"soft_floor_2_5_m", {"--drop-height 2.5 --size 480x800 --duration 3.5"}, 0.61, 0.02, true}),
-    [](const auto& info) { return std::string(info.param.name); });
+    [](const auto& param_info) { return std::string(param_info.param.name); });
 
 }  // namespace
 }  // namespace bouncefit

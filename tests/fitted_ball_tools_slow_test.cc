@@ -147,7 +147,7 @@ TEST(FittedBallReport, ChromiumDrawsTheBallOnTheFloorAtTwoImpacts) {
   std::smatch m;
   ASSERT_TRUE(std::regex_search(json, m, impacts));
   const fs::path profile = testing::ScratchDir("chromium");
-  for (const std::string t : {m[1].str(), m[2].str()}) {
+  for (const std::string& t : {m[1].str(), m[2].str()}) {
     std::string dom;
     ASSERT_EQ(RunCommand("timeout 120 " + chromium +
                              " --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader"

@@ -73,7 +73,7 @@ INSTANTIATE_TEST_SUITE_P(
                                                              "1.5,1.58,1.5 --size 360x640 --fps 60 --exposure 0.004"},
                       Clip{"own_colour_near_far_nearer_60fps", "--drops 3 --drop-distances 1.6,2.6,1.1 "
                                                                "--drop-heights 0.8,0.7,0.6 --size 360x640 --fps 60 --exposure 0.004"}),
-    [](const ::testing::TestParamInfo<Clip>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<Clip>& param_info) { return std::string(param_info.param.name); });
 
 }  // namespace
 }  // namespace bouncefit

@@ -56,7 +56,7 @@ INSTANTIATE_TEST_SUITE_P(
               "--color 40,60,210 --throw-right 1.0 --throw-up 0.8 --ball-x 0 --fps 30 --exposure 0.016"},
         Throw{"begun_after_the_release_30fps", "pingpong",
               "--start-after-release 0.6 --throw-right 0.3 --ball-x 0.2 --fps 30 --exposure 0.016"}),
-    [](const ::testing::TestParamInfo<Throw>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<Throw>& param_info) { return std::string(param_info.param.name); });
 
 }  // namespace
 }  // namespace bouncefit

@@ -117,7 +117,7 @@ TEST_P(Transfer, FittedAtOneMetrePredictsTheDropFromOnePointSixMetres) {
 INSTANTIATE_TEST_SUITE_P(Balls, Transfer,
                          ::testing::Values(TruthBall{"pingpong", 0.92, 0.02},
                                            TruthBall{"airball", 0.80, 0.02}),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const auto& param_info) { return std::string(param_info.param.name); });
 
 // Several clips of one ball, one run: `bouncefit run a.avi b.avi` runs each clip into its
 // own directory and fits the drops jointly: the coefficients name both
