@@ -41,11 +41,12 @@ TEST(Cli, WrongFlagIsOneLineErrorAndNonZero) {
   }
 }
 
-// Flags that contradict each other: a bad flag, one line naming both.
+// Flags that contradict each other: a bad flag, one line naming both (the scale's rule is the
+// calibrator config's, in its words).
 TEST(Cli, ExclusiveFlagsAreOneLineErrors) {
   const std::pair<const char*, const char*> cases[] = {
       {"--retime-frames --keep-frame-times", "--retime-frames excludes --keep-frame-times"},
-      {"--drop-height 1 --px-per-m 300", "--px-per-m excludes --drop-height"},
+      {"--drop-height 1 --px-per-m 300", "a px per metre scale or a drop height, not both"},
   };
   for (const char* sub : {"run", "detect"})
     for (const auto& [args, says] : cases) {
