@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <system_error>
 
@@ -57,6 +58,12 @@ class SystemIo final : public V4l2Io {
 V4l2Io& SystemV4l2Io() {
   static SystemIo io;
   return io;
+}
+
+std::string V4l2ErrnoText(int err) {
+  if (err == ENODEV) return "No such device (ENODEV)";
+  if (err == EAGAIN) return "Resource temporarily unavailable (EAGAIN)";
+  return std::strerror(err);
 }
 
 }  // namespace bouncefit

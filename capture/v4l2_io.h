@@ -28,4 +28,7 @@ class V4l2Io {
 // The real kernel. Ioctl retries on EINTR as v4l2 applications should.
 V4l2Io& SystemV4l2Io();
 
+// A failed call's errno as the camera's errors say it (ENODEV and EAGAIN by name).
+std::string V4l2ErrnoText(int err);
+
 }  // namespace bouncefit

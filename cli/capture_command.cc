@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "capture/v4l2_camera.h"
+#include "capture/v4l2_device_query.h"
 #include "cli/bus_flags.h"
 #include "cli/commands.h"
 #include "cli/number_checks.h"

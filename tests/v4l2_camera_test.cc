@@ -9,29 +9,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include "capture/v4l2_camera.h"
+#include "capture/v4l2_device_query.h"
 #include "tests/v4l2_fake_device.h"
 
 namespace bouncefit {
 namespace {
 
 using Ev = FakeV4l2Event;
-
-FakeV4l2Script Typical(std::vector<FakeV4l2Event> events) {
-  FakeV4l2Script s;
-  s.formats = FakeV4l2Device::TypicalFormats();
-  s.events = std::move(events);
-  return s;
-}
-
-V4l2CameraConfig Config(int w = 640, int h = 480, double fps = 120) {
-  V4l2CameraConfig c;
-  c.device = "/dev/video0";
-  c.width = w;
-  c.height = h;
-  c.fps = fps;
-  c.timeout_ms = 200;
-  return c;
-}
+using Fake = FakeV4l2Device;
 
 // Where the red square is in a decoded frame (the fake encodes the sequence number there).
 cv::Point FindSquare(const Frame& frame) {
@@ -70,8 +55,8 @@ void CheckStream(V4l2Camera& camera, int n) {
 }
 
 TEST(V4l2Camera, NegotiatesYuyvAt120WhenYuyvReachesIt) {
-  FakeV4l2Device dev(Typical(FakeV4l2Device::Frames(0, 10, 120)));
-  V4l2Camera camera(Config(), dev);
+  FakeV4l2Device dev(Fake::TypicalScript(Fake::Frames(0, 10, 120)));
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   const auto& n = camera.negotiated();
   EXPECT_EQ(n.fourcc, V4L2_PIX_FMT_YUYV);
   EXPECT_EQ(n.width, 640);
@@ -86,21 +71,21 @@ TEST(V4l2Camera, NegotiatesYuyvAt120WhenYuyvReachesIt) {
 }
 
 TEST(V4l2Camera, YuyvFramesCarryTheDevicePictureTimestampAndSequence) {
-  FakeV4l2Device dev(Typical(FakeV4l2Device::Frames(100, 12, 120, {}, 5000000)));
-  V4l2Camera camera(Config(), dev);
+  FakeV4l2Device dev(Fake::TypicalScript(Fake::Frames(100, 12, 120, {}, 5000000)));
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   for (int i = 0; i < 12; ++i) {
     auto f = camera.Next();
     ASSERT_TRUE(f);
     EXPECT_EQ(f->format, PixelFormat::kYuyv);
     EXPECT_EQ(f->sequence, 100 + i);
     EXPECT_EQ(f->utime, 5000000 + std::llround(i * 1e6 / 120));  // the driver's clock
-    EXPECT_EQ(FindSquare(*f), FakeV4l2Device::SquareCorner(640, 480, 100 + i));
+    EXPECT_EQ(FindSquare(*f), Fake::SquareCorner(640, 480, 100 + i));
   }
 }
 
 TEST(V4l2Camera, ChoosesMjpegWhereOnlyMjpegReachesTheRateAndDecodesIt) {
-  FakeV4l2Device dev(Typical(FakeV4l2Device::Frames(0, 5, 120)));
-  V4l2Camera camera(Config(1280, 720, 120), dev);
+  FakeV4l2Device dev(Fake::TypicalScript(Fake::Frames(0, 5, 120)));
+  V4l2Camera camera(Fake::CameraConfig(1280, 720, 120), dev);
   EXPECT_EQ(camera.negotiated().fourcc, V4L2_PIX_FMT_MJPEG);
   EXPECT_EQ(camera.negotiated().width, 1280);
   EXPECT_DOUBLE_EQ(camera.negotiated().interval.fps(), 120.0);
@@ -112,45 +97,16 @@ TEST(V4l2Camera, ChoosesMjpegWhereOnlyMjpegReachesTheRateAndDecodesIt) {
     EXPECT_EQ(f->format, PixelFormat::kBgr24);
     EXPECT_EQ(f->image.type(), CV_8UC3);
     EXPECT_EQ(f->image.size(), cv::Size(1280, 720));
-    const cv::Point c = FindSquare(*f), want = FakeV4l2Device::SquareCorner(1280, 720, i);
+    const cv::Point c = FindSquare(*f), want = Fake::SquareCorner(1280, 720, i);
     EXPECT_LE(std::abs(c.x - want.x) + std::abs(c.y - want.y), 2);
   }
 }
 
-TEST(V4l2Camera, KeepsYuyvAt30WhenThatIsAllAsked) {
-  FakeV4l2Device dev(Typical(FakeV4l2Device::Frames(0, 2, 30)));
-  V4l2Camera camera(Config(1280, 720, 30), dev);
-  EXPECT_EQ(camera.negotiated().fourcc, V4L2_PIX_FMT_YUYV);
-  EXPECT_DOUBLE_EQ(camera.negotiated().interval.fps(), 30.0);
-}
-
-TEST(V4l2Camera, ForcedFormatIsHonouredOrRefusedClearly) {
-  {
-    FakeV4l2Device dev(Typical(FakeV4l2Device::Frames(0, 2, 120)));
-    auto c = Config();
-    c.pixel_format = "mjpeg";
-    V4l2Camera camera(c, dev);
-    EXPECT_EQ(camera.negotiated().fourcc, V4L2_PIX_FMT_MJPEG);
-  }
-  FakeV4l2Script s = Typical({});
-  s.formats.erase(s.formats.begin() + 1);  // YUYV only
-  FakeV4l2Device dev(s);
-  auto c = Config();
-  c.pixel_format = "mjpeg";
-  try {
-    V4l2Camera camera(c, dev);
-    FAIL() << "expected an error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_STREQ(e.what(), "/dev/video0 (Fake UVC Camera) does not offer MJPEG (offers YUYV)");
-  }
-  EXPECT_EQ(dev.open_fds(), 0);
-}
-
 TEST(V4l2Camera, SaysPlainlyWhenTheDriverGrantsOnly60Fps) {
-  FakeV4l2Script s = Typical(FakeV4l2Device::Frames(0, 6, 60));
+  FakeV4l2Script s = Fake::TypicalScript(Fake::Frames(0, 6, 60));
   s.grant_only = V4l2Interval{1, 60};
   FakeV4l2Device dev(s);
-  V4l2Camera camera(Config(), dev);
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   EXPECT_DOUBLE_EQ(camera.negotiated().interval.fps(), 60.0);
   EXPECT_EQ(camera.Info().nominal_fps, 60.0);
   EXPECT_EQ(camera.negotiated().summary,
@@ -159,22 +115,11 @@ TEST(V4l2Camera, SaysPlainlyWhenTheDriverGrantsOnly60Fps) {
   CheckStream(camera, 6);
 }
 
-TEST(V4l2Camera, SaysWhenTheDriverCannotSetTheRateOrTheSize) {
-  FakeV4l2Script s = Typical(FakeV4l2Device::Frames(0, 2, 30));
-  s.timeperframe = false;
-  FakeV4l2Device dev(s);
-  V4l2Camera camera(Config(800, 600, 120), dev);
-  EXPECT_FALSE(camera.negotiated().interval_settable);
-  const std::string& m = camera.negotiated().summary;
-  EXPECT_NE(m.find("the driver cannot set the frame rate"), std::string::npos) << m;
-  EXPECT_NE(m.find("asked 800x600: the driver gave 640x480"), std::string::npos) << m;
-}
-
 TEST(V4l2Camera, UsesSeveralMmapBuffersAndRequeuesThem) {
-  FakeV4l2Script s = Typical(FakeV4l2Device::Frames(0, 50, 120));
+  FakeV4l2Script s = Fake::TypicalScript(Fake::Frames(0, 50, 120));
   s.max_buffers = 3;  // fewer than asked: 50 frames through 3 buffers needs requeueing
   FakeV4l2Device dev(s);
-  auto c = Config();
+  auto c = Fake::CameraConfig();
   c.buffers = 6;
   V4l2Camera camera(c, dev);
   EXPECT_EQ(dev.requested_buffers(), 6);
@@ -187,8 +132,8 @@ TEST(V4l2Camera, UsesSeveralMmapBuffersAndRequeuesThem) {
 
 TEST(V4l2Camera, CountsDroppedSequenceNumbers) {
   // The driver skipped sequence numbers 3, 4, 9 and 20..24: 8 frames lost.
-  FakeV4l2Device dev(Typical(FakeV4l2Device::Frames(0, 30, 120, {3, 4, 9, 20, 21, 22, 23, 24})));
-  V4l2Camera camera(Config(), dev);
+  FakeV4l2Device dev(Fake::TypicalScript(Fake::Frames(0, 30, 120, {3, 4, 9, 20, 21, 22, 23, 24})));
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   std::vector<int64_t> seqs;
   while (seqs.size() < 30) {
     auto f = camera.Next();
@@ -204,12 +149,12 @@ TEST(V4l2Camera, CountsDroppedSequenceNumbers) {
 }
 
 TEST(V4l2Camera, FlaggedAndCorruptFramesAreSkippedAndCountedAsDropped) {
-  auto events = FakeV4l2Device::Frames(0, 4, 120);
+  auto events = Fake::Frames(0, 4, 120);
   events.insert(events.begin() + 2, {Ev::kErrorFrame, 2, 0});
   events.insert(events.begin() + 3, {Ev::kCorruptFrame, 3, 0});
   for (std::size_t i = 4; i < events.size(); ++i) events[i].sequence += 2;
-  FakeV4l2Device dev(Typical(events));
-  V4l2Camera camera(Config(), dev);
+  FakeV4l2Device dev(Fake::TypicalScript(events));
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   std::vector<int64_t> seqs;
   for (int i = 0; i < 4; ++i) seqs.push_back(camera.Next()->sequence);
   EXPECT_EQ(seqs, (std::vector<int64_t>{0, 1, 4, 5}));
@@ -218,7 +163,7 @@ TEST(V4l2Camera, FlaggedAndCorruptFramesAreSkippedAndCountedAsDropped) {
 }
 
 TEST(V4l2Camera, EagainAndEioAreRetriedWithoutLosingFrames) {
-  auto events = FakeV4l2Device::Frames(0, 8, 120);
+  auto events = Fake::Frames(0, 8, 120);
   std::vector<FakeV4l2Event> script;
   for (std::size_t i = 0; i < events.size(); ++i) {
     script.push_back({Ev::kEagain, 0, 0});
@@ -226,8 +171,8 @@ TEST(V4l2Camera, EagainAndEioAreRetriedWithoutLosingFrames) {
     if (i == 5) script.push_back({Ev::kEio, 0, 0});
     script.push_back(events[i]);
   }
-  FakeV4l2Device dev(Typical(script));
-  V4l2Camera camera(Config(), dev);
+  FakeV4l2Device dev(Fake::TypicalScript(script));
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   CheckStream(camera, 8);
   EXPECT_EQ(camera.eagain_count(), 11);
   EXPECT_EQ(camera.dropped_frames(), 0);
@@ -235,12 +180,12 @@ TEST(V4l2Camera, EagainAndEioAreRetriedWithoutLosingFrames) {
 }
 
 TEST(V4l2Camera, EnodevMidStreamIsAClearErrorAndKeepsWhatWasCaptured) {
-  auto events = FakeV4l2Device::Frames(0, 5, 120, {2});
+  auto events = Fake::Frames(0, 5, 120, {2});
   events.push_back({Ev::kEnodev, 0, 0});
-  FakeV4l2Device dev(Typical(events));
+  FakeV4l2Device dev(Fake::TypicalScript(events));
   std::vector<Frame> kept;
   {
-    V4l2Camera camera(Config(), dev);
+    V4l2Camera camera(Fake::CameraConfig(), dev);
     for (int i = 0; i < 5; ++i) kept.push_back(*camera.Next());
     try {
       camera.Next();
@@ -257,12 +202,12 @@ TEST(V4l2Camera, EnodevMidStreamIsAClearErrorAndKeepsWhatWasCaptured) {
   // The frames captured before the camera vanished are intact.
   ASSERT_EQ(kept.size(), 5u);
   EXPECT_EQ(kept[4].sequence, 5);
-  EXPECT_EQ(FindSquare(kept[4]), FakeV4l2Device::SquareCorner(640, 480, 5));
+  EXPECT_EQ(FindSquare(kept[4]), Fake::SquareCorner(640, 480, 5));
 }
 
 TEST(V4l2Camera, NoFrameWithinTheTimeoutIsAnError) {
-  FakeV4l2Device dev(Typical(FakeV4l2Device::Frames(0, 2, 120)));
-  V4l2Camera camera(Config(), dev);
+  FakeV4l2Device dev(Fake::TypicalScript(Fake::Frames(0, 2, 120)));
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   camera.Next();
   camera.Next();
   try {
@@ -274,10 +219,10 @@ TEST(V4l2Camera, NoFrameWithinTheTimeoutIsAnError) {
 }
 
 TEST(V4l2Camera, ADriverStuckOnEagainIsAnErrorNotASpin) {
-  FakeV4l2Script s = Typical(FakeV4l2Device::Frames(0, 3, 120));
+  FakeV4l2Script s = Fake::TypicalScript(Fake::Frames(0, 3, 120));
   s.stuck_after_events = true;  // poll: ready; DQBUF: EAGAIN, forever
   FakeV4l2Device dev(s);
-  V4l2Camera camera(Config(), dev);
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(camera.Next());
   const auto t0 = std::chrono::steady_clock::now();
   try {
@@ -294,8 +239,8 @@ TEST(V4l2Camera, ADriverStuckOnEagainIsAnErrorNotASpin) {
 }
 
 TEST(V4l2Camera, StopsCleanly) {
-  FakeV4l2Device dev(Typical(FakeV4l2Device::Frames(0, 3, 120)));
-  V4l2Camera camera(Config(), dev);
+  FakeV4l2Device dev(Fake::TypicalScript(Fake::Frames(0, 3, 120)));
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   camera.Next();
   camera.Stop();
   EXPECT_EQ(dev.streamoff_calls(), 1);
@@ -310,20 +255,20 @@ TEST(V4l2Camera, StopsCleanly) {
 }
 
 TEST(V4l2Camera, ReadIoFallbackWhenTheDriverCannotStream) {
-  FakeV4l2Script s = Typical(FakeV4l2Device::Frames(0, 3, 120));
+  FakeV4l2Script s = Fake::TypicalScript(Fake::Frames(0, 3, 120));
   s.streaming = false;
   FakeV4l2Device dev(s);
-  V4l2Camera camera(Config(), dev);
+  V4l2Camera camera(Fake::CameraConfig(), dev);
   EXPECT_FALSE(camera.negotiated().streaming);
   for (int i = 0; i < 3; ++i) {
     auto f = camera.Next();
     ASSERT_TRUE(f);
-    EXPECT_EQ(FindSquare(*f), FakeV4l2Device::SquareCorner(640, 480, i));
+    EXPECT_EQ(FindSquare(*f), Fake::SquareCorner(640, 480, i));
   }
 }
 
 TEST(V4l2Camera, MissingDeviceIsAOneLineError) {
-  auto c = Config();
+  auto c = Fake::CameraConfig();
   c.device = "/dev/video-does-not-exist";
   try {
     V4l2Camera camera(c);
@@ -331,25 +276,6 @@ TEST(V4l2Camera, MissingDeviceIsAOneLineError) {
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "cannot open /dev/video-does-not-exist: No such file or directory");
   }
-}
-
-TEST(V4l2Camera, ListsDevicesAndFormats) {
-  FakeV4l2Device dev(Typical({}));
-  const auto devices = ListV4l2Devices(dev);
-  ASSERT_EQ(devices.size(), 1u);
-  EXPECT_EQ(devices[0].path, "/dev/video0");
-  EXPECT_EQ(devices[0].card, "Fake UVC Camera");
-  EXPECT_EQ(devices[0].driver, "uvcvideo");
-  const auto formats = ListV4l2Formats("/dev/video0", dev);
-  ASSERT_EQ(formats.size(), 2u);
-  EXPECT_EQ(FourccToString(formats[0].fourcc), "YUYV");
-  EXPECT_EQ(FourccToString(formats[1].fourcc), "MJPG");
-  EXPECT_TRUE(formats[1].compressed);
-  ASSERT_EQ(formats[0].sizes.size(), 2u);
-  EXPECT_EQ(formats[0].sizes[1].width, 1280);
-  ASSERT_EQ(formats[0].sizes[1].intervals.size(), 2u);
-  EXPECT_DOUBLE_EQ(formats[0].sizes[1].intervals[0].fps(), 30.0);
-  EXPECT_EQ(dev.open_fds(), 0);
 }
 
 // The same stream checks against every real capture device on this machine.

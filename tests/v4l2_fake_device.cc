@@ -70,6 +70,23 @@ std::vector<FakeV4l2Format> FakeV4l2Device::TypicalFormats() {
   };
 }
 
+FakeV4l2Script FakeV4l2Device::TypicalScript(std::vector<FakeV4l2Event> events) {
+  FakeV4l2Script s;
+  s.formats = TypicalFormats();
+  s.events = std::move(events);
+  return s;
+}
+
+V4l2CameraConfig FakeV4l2Device::CameraConfig(int width, int height, double fps) {
+  V4l2CameraConfig c;
+  c.device = "/dev/video0";
+  c.width = width;
+  c.height = height;
+  c.fps = fps;
+  c.timeout_ms = 200;
+  return c;
+}
+
 std::vector<FakeV4l2Event> FakeV4l2Device::Frames(int64_t first_sequence, int count, double fps,
                                                   const std::vector<int64_t>& skip,
                                                   int64_t t0_us) {

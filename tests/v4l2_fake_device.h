@@ -66,6 +66,10 @@ class FakeV4l2Device final : public V4l2Io {
   // A typical UVC webcam: YUYV 640x480 up to 120 fps and 1280x720 up to 30 fps, MJPEG at
   // both sizes up to 120 fps.
   static std::vector<FakeV4l2Format> TypicalFormats();
+  // That webcam at /dev/video0 playing these events.
+  static FakeV4l2Script TypicalScript(std::vector<FakeV4l2Event> events);
+  // A camera config for it: w x h at fps, a 200 ms timeout so silence fails fast.
+  static V4l2CameraConfig CameraConfig(int width = 640, int height = 480, double fps = 120);
   // count good frames from sequence first_sequence at fps, leaving out the listed sequence
   // numbers (frames the "driver" dropped); timestamps start at t0_us.
   static std::vector<FakeV4l2Event> Frames(int64_t first_sequence, int count, double fps,
