@@ -46,11 +46,6 @@ class CaptureReplaySlow : public ::testing::Test {
 std::filesystem::path CaptureReplaySlow::dir_;
 std::string CaptureReplaySlow::clip_;
 
-std::string Slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
-
 std::vector<std::vector<uint8_t>> Boxes(const std::string& log) {
   std::vector<std::vector<uint8_t>> out;
   LcmLogReader reader(log);
@@ -121,9 +116,9 @@ TEST_F(CaptureReplaySlow, TwoProcessesOverUdpmLoggerAndReplayGiveTheSameBoxesAnd
   EXPECT_NE(out.find("detect rc 0"), std::string::npos) << out;
   EXPECT_NE(out.find("replay rc 0"), std::string::npos) << out;
   EXPECT_NE(out.find("detect2 rc 0"), std::string::npos) << out;
-  const std::string capture = Slurp(d / "capture.txt");
-  const std::string detect1 = Slurp(d / "detect1.txt");
-  const std::string detect2 = Slurp(d / "detect2.txt");
+  const std::string capture = testing::ReadFile(d / "capture.txt");
+  const std::string detect1 = testing::ReadFile(d / "detect1.txt");
+  const std::string detect2 = testing::ReadFile(d / "detect2.txt");
   EXPECT_NE(capture.find("capture: done: 600 frames, 0 dropped"), std::string::npos) << capture;
   EXPECT_NE(capture.find("600 published"), std::string::npos) << capture;
 

@@ -48,11 +48,6 @@ std::string WriteLog(const std::filesystem::path& dir) {
   return path;
 }
 
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
-
 struct Published {
   std::string channel;
   std::vector<uint8_t> data;
@@ -167,7 +162,7 @@ std::string ErrorOf(const std::string& path, int64_t* published = nullptr) {
 
 TEST(LogReplay, CorruptLogsAreOneLineErrorsAfterTheGoodPart) {
   const auto dir = testing::ScratchDir("lcm_log_corrupt");
-  const std::string bytes = Slurp(WriteLog(dir));
+  const std::string bytes = testing::ReadFile(WriteLog(dir));
   const auto write = [&](const std::string& name, const std::string& content) {
     const std::string p = (dir / name).string();
     std::ofstream(p, std::ios::binary) << content;

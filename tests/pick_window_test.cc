@@ -50,8 +50,6 @@ pid_t Spawn(const std::string& command, const std::string& display, const fs::pa
   return pid;
 }
 
-std::string ReadFile(const fs::path& p);
-
 // Exit status of `pid`, or -1 (and the process killed) after `timeout`. Before the kill, what
 // the process was doing goes next to `log`: its threads' stacks (when gdb is installed) and a
 // picture of the display.
@@ -70,15 +68,10 @@ int WaitFor(pid_t pid, std::chrono::seconds timeout, const std::string& display,
   RunCommand("timeout 20 ffmpeg -loglevel error -y -f x11grab -video_size 1280x1024 -i " + display +
                  " -frames:v 1 '" + stem + ".screen.png'",
              &out);
-  std::printf("timed out: %s\nstacks and screen in %s.*\n", ReadFile(log).c_str(), stem.c_str());
+  std::printf("timed out: %s\nstacks and screen in %s.*\n", testing::ReadFile(log).c_str(), stem.c_str());
   ::kill(pid, SIGKILL);
   ::waitpid(pid, &status, 0);
   return -1;
-}
-
-std::string ReadFile(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
 // A virtual X server on a display number it picks itself (-displayfd: never one in use).
@@ -212,7 +205,7 @@ TEST(PickWindow, ClickDragEnterThenTracksTheBall) {
   const fs::path out = dir / "out", log = dir / "run.txt";
   const pid_t run = Spawn(RunWithWindow(clip.clip_path, out), x.name(), log);
   const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
-  ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
+  ASSERT_FALSE(id.empty()) << "no window appeared: " << testing::ReadFile(log);
   // The region: the ball's column, 100 px either side of it, floor included; the lookalike on
   // the floor at 80% of the width stays outside.
   const double x0 = t0.cx - 100, y0 = 2, x1 = t0.cx + 100, y1 = clip.truth.height - 3;
@@ -228,7 +221,7 @@ TEST(PickWindow, ClickDragEnterThenTracksTheBall) {
             0)
       << xo;
   const int rc = WaitFor(run, std::chrono::seconds(90), x.name(), log);
-  const std::string text = ReadFile(log);
+  const std::string text = testing::ReadFile(log);
   ASSERT_EQ(rc, 0) << text;
   EXPECT_NE(text.find("pick-window: ball at " + std::to_string(std::lround(t0.cx)) + "," +
                       std::to_string(std::lround(t0.cy))),
@@ -275,7 +268,7 @@ TEST(PickWindow, CaptureTakesItToo) {
   const fs::path log = dir / "capture.txt";
   const pid_t cap = Spawn(CaptureWithWindow(clip.clip_path, "--max-frames 60"), x.name(), log);
   const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
-  ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
+  ASSERT_FALSE(id.empty()) << "no window appeared: " << testing::ReadFile(log);
   const PickLayout l = LayoutPickView({clip.truth.width, clip.truth.height}, PickViewParams{});
   std::string xo;
   ASSERT_EQ(Xdotool(x.name(), id, "mousemove --window " + id + " " + At(l, t0.cx, t0.cy) +
@@ -283,8 +276,8 @@ TEST(PickWindow, CaptureTakesItToo) {
                     &xo),
             0)
       << xo;
-  ASSERT_EQ(WaitFor(cap, std::chrono::seconds(60), x.name(), log), 0) << ReadFile(log);
-  const std::string text = ReadFile(log);
+  ASSERT_EQ(WaitFor(cap, std::chrono::seconds(60), x.name(), log), 0) << testing::ReadFile(log);
+  const std::string text = testing::ReadFile(log);
   EXPECT_NE(text.find("capture: pick-window: ball at"), std::string::npos) << text;
   EXPECT_NE(text.find("tolerance 0.70"), std::string::npos) << "+ twice: 0.45 x 1.25^2\n" << text;
   EXPECT_NE(text.find("60 frames, 0 dropped, 60 found"), std::string::npos) << text;
@@ -301,7 +294,7 @@ TEST(PickWindow, LargeFrameShrinksAndClicksMapBack) {
   const fs::path log = dir / "capture.txt";
   const pid_t cap = Spawn(CaptureWithWindow(clip.clip_path, "--max-frames 30"), x.name(), log);
   const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
-  ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
+  ASSERT_FALSE(id.empty()) << "no window appeared: " << testing::ReadFile(log);
   const PickLayout l = LayoutPickView({clip.truth.width, clip.truth.height}, PickViewParams{});
   ASSERT_LT(l.scale, 0.6);
   std::string xo;
@@ -310,8 +303,8 @@ TEST(PickWindow, LargeFrameShrinksAndClicksMapBack) {
                     &xo),
             0)
       << xo;
-  ASSERT_EQ(WaitFor(cap, std::chrono::seconds(60), x.name(), log), 0) << ReadFile(log);
-  const std::string text = ReadFile(log);
+  ASSERT_EQ(WaitFor(cap, std::chrono::seconds(60), x.name(), log), 0) << testing::ReadFile(log);
+  const std::string text = testing::ReadFile(log);
   double px = 0, py = 0;
   const size_t at = text.find("pick-window: ball at ");
   ASSERT_NE(at, std::string::npos) << text;
@@ -331,13 +324,13 @@ TEST(PickWindow, EscCancelsAndWritesNothing) {
   const fs::path out = dir / "out", log = dir / "run.txt";
   const pid_t run = Spawn(RunWithWindow(clip.clip_path, out), x.name(), log);
   const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
-  ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
+  ASSERT_FALSE(id.empty()) << "no window appeared: " << testing::ReadFile(log);
   std::string xo;
   // Enter before any click does not confirm; Esc then cancels.
   ASSERT_EQ(Xdotool(x.name(), id, "mousemove --window " + id + " 20 20 key Return sleep 0.3 key Escape", &xo), 0)
       << xo;
   EXPECT_EQ(WaitFor(run, std::chrono::seconds(30), x.name(), log), 1);
-  const std::string text = ReadFile(log);
+  const std::string text = testing::ReadFile(log);
   EXPECT_EQ(text, "bouncefit run: error: --pick-window: cancelled (Esc); nothing written\n");
   EXPECT_FALSE(fs::exists(out));
 }
@@ -352,10 +345,10 @@ TEST(PickWindow, ClosingTheWindowCancels) {
   const fs::path log = dir / "capture.txt";
   const pid_t cap = Spawn(CaptureWithWindow(clip.clip_path, ""), x.name(), log);
   const std::string id = PickWindowId(x.name(), {clip.truth.width, clip.truth.height});
-  ASSERT_FALSE(id.empty()) << "no window appeared: " << ReadFile(log);
+  ASSERT_FALSE(id.empty()) << "no window appeared: " << testing::ReadFile(log);
   CloseLikeAWindowManager(x.name(), id);
   EXPECT_EQ(WaitFor(cap, std::chrono::seconds(30), x.name(), log), 1);
-  EXPECT_EQ(ReadFile(log), "bouncefit capture: error: --pick-window: cancelled (the window was closed); nothing written\n");
+  EXPECT_EQ(testing::ReadFile(log), "bouncefit capture: error: --pick-window: cancelled (the window was closed); nothing written\n");
 }
 
 // No display: a one-line error at once, before anything is written (no Xvfb needed).

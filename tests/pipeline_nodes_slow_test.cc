@@ -20,11 +20,6 @@ namespace fs = std::filesystem;
 using testing::BouncefitExe;
 using testing::RunCommand;
 
-std::string Slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(f), {}};
-}
-
 // The three nodes, each a process of its own, into `out`; returns what they printed.
 std::string RunThreeNodes(const fs::path& clip, const std::string& ball, const fs::path& out) {
   const std::string url = testing::UniqueUdpmUrl();
@@ -37,7 +32,7 @@ std::string RunThreeNodes(const fs::path& clip, const std::string& ball, const f
       " --quiet; wait $D; wait $F; true";
   std::string printed;
   RunCommand("bash -c \"" + script + "\"", &printed);
-  return printed + Slurp(out.string() + ".detect.txt") + Slurp(out.string() + ".fit.txt");
+  return printed + testing::ReadFile(out.string() + ".detect.txt") + testing::ReadFile(out.string() + ".fit.txt");
 }
 
 void ExpectSameAsRun(const fs::path& clip, const std::string& ball, const std::string& name) {
@@ -50,7 +45,7 @@ void ExpectSameAsRun(const fs::path& clip, const std::string& ball, const std::s
   const std::string nodes_out = RunThreeNodes(clip, ball, dir / "nodes");
   for (const char* file : {"peaks.csv", "impacts.csv"}) {
     ASSERT_TRUE(fs::exists(dir / "nodes" / file)) << file << "\n" << nodes_out;
-    EXPECT_EQ(Slurp(dir / "run" / file), Slurp(dir / "nodes" / file)) << file << "\n" << nodes_out;
+    EXPECT_EQ(testing::ReadFile(dir / "run" / file), testing::ReadFile(dir / "nodes" / file)) << file << "\n" << nodes_out;
   }
   const size_t rows = ReadPeaksCsv(dir / "run" / "peaks.csv").size();
   EXPECT_GE(rows, 2u);

@@ -20,13 +20,6 @@ using testing::BouncefitExe;
 using testing::RunCommand;
 using testing::ScratchDir;
 
-std::string Slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 int Lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 TEST(Report, Base64MatchesKnownVectors) {
@@ -44,7 +37,7 @@ TEST(Report, FullRunGivesEveryFigureEmbeddedInOneSelfContainedPage) {
   std::string out;
   ASSERT_EQ(RunCommand(BouncefitExe() + " report '" + dir.string() + "'", &out), 0) << out;
   const char* ids[] = {"height", "trajectory", "bounces", "coefficients", "aspect"};
-  const std::string html = Slurp(dir / "report.html");
+  const std::string html = testing::ReadFile(dir / "report.html");
   for (const char* id : ids) {
     const fs::path png = dir / (std::string("report_") + id + ".png");
     const cv::Mat img = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
@@ -54,7 +47,7 @@ TEST(Report, FullRunGivesEveryFigureEmbeddedInOneSelfContainedPage) {
     EXPECT_GT(cv::countNonZero(img < 128), 500) << id;
     EXPECT_NE(html.find(std::string("id=\"fig-") + id + "\""), std::string::npos) << id;
     // The very bytes of the PNG are in the page.
-    EXPECT_NE(html.find(Base64Encode(Slurp(png)).substr(0, 2000)), std::string::npos) << id;
+    EXPECT_NE(html.find(Base64Encode(testing::ReadFile(png)).substr(0, 2000)), std::string::npos) << id;
   }
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
   EXPECT_EQ(html.find("src=\"file"), std::string::npos);
@@ -70,7 +63,7 @@ TEST(Report, FullRunGivesEveryFigureEmbeddedInOneSelfContainedPage) {
   EXPECT_NE(html.find("0.800"), std::string::npos);                // restitution column
   EXPECT_NE(html.find("<b>no</b>"), std::string::npos);            // spin_damping
   // Apex labels drawn by gnuplot come from peaks.csv.
-  const std::string apexes = Slurp(dir / "report_plots" / "apexes.dat");
+  const std::string apexes = testing::ReadFile(dir / "report_plots" / "apexes.dat");
   EXPECT_NE(apexes.find("\"1: 0.640 m\""), std::string::npos) << apexes;
 }
 
@@ -86,7 +79,7 @@ TEST(Report, RunWithoutFitStillReportsWhatItHas) {
   const auto outcome = WriteReport(dir, options);
   ASSERT_EQ(outcome.figures.size(), 3u);  // height, bounces, aspect
   EXPECT_EQ(outcome.skipped.size(), 2u);
-  const std::string html = Slurp(outcome.html);
+  const std::string html = testing::ReadFile(outcome.html);
   EXPECT_NE(html.find("No fit yet (fit.jsonl absent)"), std::string::npos);
   EXPECT_NE(html.find("simulated.csv absent"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "report_trajectory.png"));
@@ -95,21 +88,21 @@ TEST(Report, RunWithoutFitStillReportsWhatItHas) {
 TEST(Report, CoefficientHistoryIsTheFinalModelsOnly) {
   const auto dir = ScratchDir("report_two_models");
   testing::WriteReportFixture(dir);
-  const std::string fits = Slurp(dir / "fit.jsonl");
+  const std::string fits = testing::ReadFile(dir / "fit.jsonl");
   std::ofstream(dir / "fit.jsonl")
       << "{\"after_bounce\":1,\"final\":false,\"model\":\"quick-model\",\"method\":\"x\","
          "\"coefficients\":[{\"name\":\"other_coefficient\",\"value\":3}],"
          "\"residual_m\":0.5}\n"
       << fits;
   const auto outcome = WriteReport(dir, ReportOptions{});
-  const std::string gp = Slurp(dir / "report_plots" / "coefficients.gp");
+  const std::string gp = testing::ReadFile(dir / "report_plots" / "coefficients.gp");
   EXPECT_EQ(gp.find("other_coefficient"), std::string::npos) << gp;
   EXPECT_NE(gp.find("'restitution'"), std::string::npos) << gp;
   EXPECT_NE(gp.find("point-mass model"), std::string::npos) << gp;
   // 500 mm of the other model's residual is not on the residual panel.
-  EXPECT_EQ(Slurp(dir / "report_plots" / "residual.dat").find(" 500 "), std::string::npos);
+  EXPECT_EQ(testing::ReadFile(dir / "report_plots" / "residual.dat").find(" 500 "), std::string::npos);
   // The history table still lists every fit.
-  EXPECT_NE(Slurp(outcome.html).find("quick-model"), std::string::npos);
+  EXPECT_NE(testing::ReadFile(outcome.html).find("quick-model"), std::string::npos);
 }
 
 TEST(Report, NoCalibrationPlotsPixels) {
@@ -119,7 +112,7 @@ TEST(Report, NoCalibrationPlotsPixels) {
   testing::WriteReportFixture(dir, opt);
   const auto outcome = WriteReport(dir, ReportOptions{});
   EXPECT_GE(outcome.figures.size(), 4u);
-  const std::string gp = Slurp(dir / "report_plots" / "height.gp");
+  const std::string gp = testing::ReadFile(dir / "report_plots" / "height.gp");
   EXPECT_NE(gp.find("(px)"), std::string::npos);
 }
 
@@ -130,7 +123,7 @@ TEST(Report, RelativeDirectoryKeepsGnuplotChatterInItsLog) {
   ASSERT_EQ(RunCommand("cd '" + dir.parent_path().string() + "' && " + BouncefitExe() +
                            " report -q report_relative", &out), 0) << out;
   EXPECT_EQ(out, "");
-  EXPECT_NE(Slurp(dir / "report_plots" / "coefficients.gp.log").find("Warning"), std::string::npos);
+  EXPECT_NE(testing::ReadFile(dir / "report_plots" / "coefficients.gp.log").find("Warning"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "report.html"));
 }
 

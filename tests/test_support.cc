@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <array>
@@ -43,7 +44,7 @@ int RunCommand(const std::string& command_line, std::string* output) {
   return -1;
 }
 
-std::string BouncefitExe() { return std::string("'") + BOUNCEFIT_EXE + "'"; }
+std::string BouncefitExe() { return fmt::format("'{}'", BOUNCEFIT_EXE); }
 
 std::string ShortDropClip() {
   const auto dir = std::filesystem::current_path() / "scratch" / "short_drop_clip";
@@ -79,6 +80,11 @@ std::filesystem::path RealClipsDir() {
 std::string UniqueUdpmUrl() {
   const int port = 20000 + static_cast<int>(::getpid() % 20000);
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 std::vector<std::map<std::string, std::string>> ReadCsv(const std::filesystem::path& path) {

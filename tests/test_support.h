@@ -38,6 +38,9 @@ std::filesystem::path RealClipsDir();
 // A UDP multicast URL with ttl=0 on a port unique to this process, so tests never collide.
 std::string UniqueUdpmUrl();
 
+// A whole file's bytes ("" when it cannot be read).
+std::string ReadFile(const std::filesystem::path& path);
+
 // A CSV file with a header line (a run's track.csv, peaks.csv, impacts.csv) as rows of
 // column name -> cell; a cell a line lacks is "".
 std::vector<std::map<std::string, std::string>> ReadCsv(const std::filesystem::path& path);
