@@ -144,6 +144,10 @@ void AddSynthCommand(CLI::App& app) {
                   "Several drops (or --drops 1): the ball moves towards the camera at this speed while "
                   "it bounces, m/s (negative: away)")
       ->capture_default_str();
+  cmd->add_option("--camera-pitch", c.camera_pitch_deg,
+                  "Several drops (or --drops 1): the camera looks down this much, degrees, raised to "
+                  "look at the first drop (0: level)")
+      ->capture_default_str();
   cmd->add_option("--roll-time", c.roll_s, "Several drops: the roll from one drop's place to the next, seconds")
       ->capture_default_str();
   cmd->add_option("--lift-time", c.lift_s, "Several drops: the hand's lift to the next release, seconds")

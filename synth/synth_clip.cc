@@ -84,6 +84,9 @@ void ValidateSynthClipConfig(const SynthClipConfig& c) {
   for (double h : c.drop_heights_m)
     Require(std::isfinite(h) && h > 0 && h <= 20, "drop heights must be in (0, 20] m");
   Require(std::isfinite(c.approach_mps) && std::abs(c.approach_mps) <= 5, "approach must be within +-5 m/s");
+  Require(c.camera_pitch_deg >= 0 && c.camera_pitch_deg <= 60, "the camera's pitch must be 0 to 60 degrees down");
+  Require(c.camera_pitch_deg == 0 || !c.drop_distances_m.empty(),
+          "a camera looking down needs the drops' distances (--drops)");
   Require(c.roll_s > 0 && c.roll_s <= 30 && c.lift_s > 0 && c.lift_s <= 30,
           "roll and lift times must be in (0, 30] s");
 }

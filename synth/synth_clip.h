@@ -76,6 +76,10 @@ struct SynthClipConfig {
   // ... and while each of those drops bounces, the ball moves towards the camera at this
   // speed, m/s (negative: away): its scale and floor line change from bounce to bounce.
   double approach_mps = 0;
+  // ... and the camera of those drops looks down this much, degrees (0: level): it is raised
+  // until the first drop's middle is on its axis, so the ball's size in the picture changes as
+  // it rises and as it comes closer, and no line of the picture is level with the floor.
+  double camera_pitch_deg = 0;
   int quality = 95;             // MJPEG quality, 1-100
   std::filesystem::path out = "synth.avi";  // .avi (MJPEG) or .mp4
   std::optional<SynthAudioConfig> sound;    // a sound track with the impacts' clicks (not .mp4)

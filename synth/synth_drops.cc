@@ -33,6 +33,18 @@ struct PlannedDrop {
   double lift_t = 0;      // the next drop's lift begins (after the roll and a pause)
 };
 
+// Drop k of c, from its release: the point-mass ball's bounces to rest.
+PointMassDropResult SimulateDrop(const SynthClipConfig& c, size_t k) {
+  PointMassDropConfig pm;
+  pm.ball = c.ball;
+  pm.drop_height_m = HeightOf(c, k);
+  pm.g_mps2 = c.g_mps2;
+  pm.air_density_kgpm3 = c.air_density_kgpm3;
+  pm.drag = c.drag;
+  pm.end_time_s = 40;
+  return SimulatePointMassDrop(pm);
+}
+
 constexpr double kSettleS = 0.3;  // still on the floor before it rolls, and after
 
 std::vector<PlannedDrop> PlanDrops(const SynthClipConfig& c, const SynthPinhole& cam) {
@@ -46,15 +58,8 @@ std::vector<PlannedDrop> PlanDrops(const SynthClipConfig& c, const SynthPinhole&
     // Left and right of where the first drop is, in turn, within the picture.
     const double shift[3] = {0, 0.15, -0.15};
     const double x_frac = std::clamp(c.ball_x + shift[k % 3], 0.15, 0.85);
-    d.x_m = (x_frac * (c.width - 1) - cx) * d.distance_m / cam.focal_px;
-    PointMassDropConfig pm;
-    pm.ball = c.ball;
-    pm.drop_height_m = d.height_m;
-    pm.g_mps2 = c.g_mps2;
-    pm.air_density_kgpm3 = c.air_density_kgpm3;
-    pm.drag = c.drag;
-    pm.end_time_s = 40;
-    d.sim = std::make_shared<PointMassDropResult>(SimulatePointMassDrop(pm));
+    d.x_m = (x_frac * (c.width - 1) - cx) * cam.See(0, 0, d.distance_m).depth_m / cam.focal_px;
+    d.sim = std::make_shared<PointMassDropResult>(SimulateDrop(c, k));
     if (!d.sim->comes_to_rest)
       throw std::invalid_argument("drop " + std::to_string(k + 1) + " does not come to rest within 40 s");
     d.release_t = t;
@@ -94,6 +99,16 @@ WorldBall BallAt(const std::vector<PlannedDrop>& drops, const SynthClipConfig& c
 
 }  // namespace
 
+SynthPinhole::View SynthPinhole::See(double x_m, double up_m, double distance_m) const {
+  const double above = up_m - height_m;
+  const double c = std::cos(pitch_rad), s = std::sin(pitch_rad);
+  View v;
+  v.depth_m = distance_m * c - above * s;
+  v.right = x_m / v.depth_m;
+  v.down = (-above * c - distance_m * s) / v.depth_m;
+  return v;
+}
+
 SynthPinhole FitSynthPinhole(const SynthClipConfig& c) {
   const double r = c.ball.radius_m();
   const double cy = (c.height - 1) / 2.0;
@@ -103,14 +118,22 @@ SynthPinhole FitSynthPinhole(const SynthClipConfig& c) {
     far = std::max(far, c.drop_distances_m[k]);
   }
   SynthPinhole cam;
-  cam.height_m = 0.5 * top;  // level with the middle of the highest drop
-  cam.focal_px = std::numeric_limits<double>::infinity();
-  const double room = cy - 0.05 * c.height;
+  cam.pitch_rad = c.camera_pitch_deg * M_PI / 180;
+  // Level with the middle of the highest drop; looking down, raised until the first drop's
+  // middle is on the axis.
+  cam.height_m = 0.5 * top + c.drop_distances_m.front() * std::tan(cam.pitch_rad);
+  // Each drop's release top and floor line inside the picture, 5% from its top and bottom edges;
+  // a ball that comes closer as it bounces, its floor line where it rests too.
+  double reach = 0;
   for (size_t k = 0; k < c.drop_distances_m.size(); ++k) {
     const double d = c.drop_distances_m[k];
-    const double above = HeightOf(c, k) + 2 * r - cam.height_m;
-    cam.focal_px = std::min(cam.focal_px, room * d / std::max(above, cam.height_m));
+    for (double up : {HeightOf(c, k) + 2 * r, 0.0}) reach = std::max(reach, std::abs(cam.See(0, up, d).down));
+    if (c.approach_mps > 0) {
+      const double nearest = d - c.approach_mps * SimulateDrop(c, k).rest_time_s;
+      if (nearest > 0) reach = std::max(reach, std::abs(cam.See(0, 0, nearest).down));
+    }
   }
+  cam.focal_px = (cy - 0.05 * c.height) / reach;
   cam.wall_distance_m = 1.25 * far;
   return cam;
 }
@@ -130,22 +153,24 @@ SynthClipResult RenderSynthDropsClip(const SynthClipConfig& c, const SynthProgre
       throw std::invalid_argument("the ball would come within 0.2 m of the camera: less --approach");
   const double r = c.ball.radius_m();
   const double cx = (c.width - 1) / 2.0, cy = (c.height - 1) / 2.0;
-  auto floor_y = [&](double distance) { return cy + cam.focal_px * cam.height_m / distance; };
+  auto floor_y = [&](double distance) { return cy + cam.focal_px * cam.See(0, 0, distance).down; };
+  // The scale at a distance: px per m of height at the ball's centre there, at rest.
+  auto px_per_m = [&](double distance) { return cam.focal_px / cam.See(0, r, distance).depth_m; };
 
-  const SynthScene scene(SynthSceneConfigOf(c, floor_y(cam.wall_distance_m), r * cam.focal_px / drops[0].distance_m));
+  const SynthScene scene(SynthSceneConfigOf(c, floor_y(cam.wall_distance_m), r * px_per_m(drops[0].distance_m)));
   auto ball_at = [&](double t) {
     const WorldBall w = BallAt(drops, c, t);
-    const double scale = cam.focal_px / w.distance_m;
+    const SynthPinhole::View v = cam.See(w.x_m, w.bottom_m + r, w.distance_m);
     SynthBallAt b;
     b.bottom_m = w.bottom_m;
-    b.shape.x = cx + w.x_m * scale;
-    b.shape.y = cy + (cam.height_m - w.bottom_m - r) * scale;
-    b.shape.a = b.shape.b = r * scale;
+    b.shape.x = cx + cam.focal_px * v.right;
+    b.shape.y = cy + cam.focal_px * v.down;
+    b.shape.a = b.shape.b = r * cam.focal_px / v.depth_m;
     b.shape.floor_y = floor_y(w.distance_m);
     return b;
   };
 
-  SynthTruth truth = SynthTruthHeader(c, scene, cam.focal_px / drops[0].distance_m, floor_y(drops[0].distance_m));
+  SynthTruth truth = SynthTruthHeader(c, scene, px_per_m(drops[0].distance_m), floor_y(drops[0].distance_m));
   truth.trajectory = "point-mass";
   truth.drop_height_m = drops[0].height_m;
   truth.release_t_s = drops[0].release_t;
@@ -158,7 +183,7 @@ SynthClipResult RenderSynthDropsClip(const SynthClipConfig& c, const SynthProgre
     SynthTruthDrop td;
     td.distance_m = d.distance_m;
     td.approach_mps = c.approach_mps;
-    td.px_per_m = cam.focal_px / d.distance_m;
+    td.px_per_m = px_per_m(d.distance_m);
     td.radius_px = r * td.px_per_m;
     const cv::Point2d fp = scene.ToImage({cx, floor_y(d.distance_m)});
     td.floor_offset_px = fp.x * truth.down_x + fp.y * truth.down_y;

@@ -71,6 +71,35 @@ TEST(SynthDrops, EachDropHasItsOwnScaleFloorAndRelease) {
   EXPECT_NEAR(back.camera_height_m, cam.height_m, 1e-9);
 }
 
+// A camera looking down, raised to look at the drop: the held ball and the ball at rest (come
+// closer as it bounced) are where the pitched pinhole puts them, every frame in the picture.
+TEST(SynthDrops, ACameraLookingDownSeesTheBallWhereItsPinholeSays) {
+  const auto dir = testing::ScratchDir("synth_drops_pitched");
+  SynthClipConfig c = TwoDrops(dir / "pitched.avi");
+  c.drop_distances_m = {1.5};
+  c.drop_heights_m = {0.5};
+  c.camera_pitch_deg = 30;
+  c.approach_mps = 0.1;
+  const SynthClipResult r = RenderSynthClip(c);
+  const SynthTruth& t = r.truth;
+  const SynthPinhole cam = FitSynthPinhole(c);
+  const double radius = c.ball.radius_m();
+  EXPECT_NEAR(cam.pitch_rad, 30 * M_PI / 180, 1e-12);
+  // The drop's middle on the axis.
+  EXPECT_NEAR(cam.See(0, 0.5 * (0.5 + 2 * radius), 1.5).down, 0, 1e-12);
+  EXPECT_TRUE(std::all_of(t.frames.begin(), t.frames.end(), [](const SynthTruthFrame& f) { return f.fully_in_view; }));
+  const double cy = (c.height - 1) / 2.0;
+  const SynthTruthFrame& held = t.frames.front();
+  EXPECT_NEAR(held.cy, cy + cam.focal_px * cam.See(0, 0.5 + radius, 1.5).down, 1e-6);
+  const SynthTruthDrop& d = t.drops.front();
+  const SynthTruthFrame& rest = t.frames.back();
+  ASSERT_GT(rest.t_s, d.rest_t_s);
+  const double nearer = 1.5 - c.approach_mps * (d.rest_t_s - d.release_t_s);
+  EXPECT_NEAR(rest.cy, cy + cam.focal_px * cam.See(0, radius, nearer).down, 1e-6);
+  // Nearer, lower in the picture than where it first met the floor.
+  EXPECT_GT(rest.cy, cy + cam.focal_px * cam.See(0, radius, 1.5).down + 5);
+}
+
 TEST(SynthDrops, BadConfigsAreOneLineErrors) {
   const auto dir = testing::ScratchDir("synth_drops_bad");
   SynthClipConfig c = TwoDrops(dir / "bad.avi");
@@ -81,6 +110,9 @@ TEST(SynthDrops, BadConfigsAreOneLineErrors) {
   EXPECT_THROW(RenderSynthClip(c), std::invalid_argument);
   c = TwoDrops(dir / "bad.avi");
   c.approach_mps = 3;  // within 0.2 m of the camera before it rests
+  EXPECT_THROW(RenderSynthClip(c), std::invalid_argument);
+  c = TwoDrops(dir / "bad.avi");
+  c.camera_pitch_deg = 75;
   EXPECT_THROW(RenderSynthClip(c), std::invalid_argument);
 }
 
