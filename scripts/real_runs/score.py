@@ -23,7 +23,7 @@ def main(list_path, out):
         except OSError:
             rows = []
         if count != '-':
-            lo, hi = map(int, count.split('-'))
+            lo, hi = (map(int, count.split('-')) if '-' in count else (int(count), int(count)))
             n = sum(1 for r in rows if int(r['bounce']) >= 1)
             total += 1
             if lo <= n <= hi:
@@ -31,7 +31,7 @@ def main(list_path, out):
             else:
                 off.append(f'{name} {n} (counted {count})')
         for r in rows:
-            if r.get('flight_height_m') and r.get('refit_height_m'):
+            if r.get('flight_height_m') and r.get('refit_height_m') and float(r['flight_height_m']) > 0:
                 fl = float(r['flight_height_m'])
                 refit.append((abs(float(r['refit_height_m']) / fl - 1), fl))
                 live.append((abs(float(r['height_m']) / fl - 1), fl))
