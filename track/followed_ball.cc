@@ -86,6 +86,8 @@ bool FollowedBall::IsCloseUp(double radius_px) const {
 SegmenterParams FollowedBall::SegmentParamsFor(double radius_px) const {
   // A close-up ball outgrows the configured box limit: the limit grows with the ball followed.
   SegmenterParams p = config_.segment;
+  // Lines on the ball are as wide as a share of its diameter.
+  if (radius_px > 0) p.join_gap_px = config_.max_line_share * 2 * radius_px;
   if (IsCloseUp(radius_px))
     p.max_box_px = std::max(p.max_box_px, std::max(expected_.max_extent_px, MaxBallExtentPx(radius_px, 0, 0)));
   return p;
