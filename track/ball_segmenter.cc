@@ -22,6 +22,9 @@ void JoinPieces(const cv::Mat& labels, const cv::Mat& stats, cv::Rect box, int n
       continue;
     Blob b;
     b.box = cv::Rect2f(ox + g.box.x * s, oy + g.box.y * s, g.box.width * s, g.box.height * s);
+    const cv::Rect2f in(params.join_inside);
+    if (!in.empty() && (b.box.x <= in.x || b.box.y <= in.y || b.box.br().x >= in.br().x || b.box.br().y >= in.br().y))
+      continue;
     b.centroid = cv::Point2f(ox + (static_cast<float>(g.centroid.x) + 0.5f) * s - 0.5f,
                              oy + (static_cast<float>(g.centroid.y) + 0.5f) * s - 0.5f);
     b.pixels = static_cast<int>(g.area * s * s);

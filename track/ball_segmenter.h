@@ -41,6 +41,9 @@ struct SegmenterParams {
   // which then stands for them; 0: pieces are never joined.
   double join_gap_px = 0;
   SplitBallShape joined;
+  // The picture's region (frame pixels; empty: none given): pieces its border cuts stay apart,
+  // the ball's shape not all there (a ball cut by the picture's edge is found as it was).
+  cv::Rect join_inside;
 };
 
 // Segments `planes` with `color`; fills *mask (CV_8U, 255 = match, and the lines bridged

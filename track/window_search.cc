@@ -56,7 +56,7 @@ bool WindowSearch::Find(const Frame& frame, cv::Point2f centre, double half, dou
   const double radius = ball_.radius();
   const double max_extent_px = ball_.expected().max_extent_px;
   const double followed_r = ball_.FollowedRadius();
-  std::vector<Blob> blobs = SegmentBlobs(planes_, lock_.color(), ball_.SegmentParamsFor(followed_r), &mask_);
+  std::vector<Blob> blobs = SegmentBlobs(planes_, lock_.color(), ball_.SegmentParamsFor(followed_r, roi_), &mask_);
   const Blob* best = nullptr;
   double best_d = 0;
   bool best_moved = false;
