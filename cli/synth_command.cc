@@ -20,7 +20,8 @@ struct SynthOptions {
   BallFlags ball;
   double restitution = -1, restitution_per_mps = -1;  // < 0: the preset's
   std::string size = "640x480";
-  std::string color, wall_color, floor_color;
+  std::string color, wall_color, floor_color, seam_color;
+  std::string seams = "none";
   std::string wall_pattern = "plain";
   std::string floor_pattern = "plain";
   bool no_drag = false;
@@ -72,6 +73,8 @@ void Run(SynthOptions o) {
   o.clip.wall_pattern = ParseWallPattern(o.wall_pattern);
   if (!o.floor_color.empty()) o.clip.floor_bgr = ParseColor(o.floor_color, "--floor-color");
   o.clip.floor_pattern = ParseFloorPattern(o.floor_pattern);
+  o.clip.seams = ParseSeamPattern(o.seams);
+  if (!o.seam_color.empty()) o.clip.seam_bgr = ParseColor(o.seam_color, "--seam-color");
   o.clip.drag = !o.no_drag;
   if (o.drops < 0 || o.drops > 20) throw std::invalid_argument("--drops must be in 0-20");
   if (o.drops > 0 && o.clip.drop_distances_m.empty()) o.clip.drop_distances_m = DefaultDropDistances(o.drops);
@@ -224,6 +227,16 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--distractor", c.distractor,
                 "Add a static sphere of similar hue resting on the floor");
+  cmd->add_option("--seams", o->seams,
+                  "Lines painted on the ball: none, basketball (two great circles and two rings) or tennis "
+                  "(one winding curve)")
+      ->capture_default_str();
+  cmd->add_option("--seam-width", c.seam_width, "A seam line's width, share of the ball's diameter")
+      ->capture_default_str();
+  cmd->add_option("--seam-color", o->seam_color,
+                  "Seam colour B,G,R, 0-255 each (default: 35,35,35 for basketball, 235,235,235 for tennis)");
+  cmd->add_option("--spin", c.spin_rps, "The ball's spin, turns per second (its seams turn with it)")
+      ->capture_default_str();
   cmd->add_option("--quality", c.quality, "MJPEG quality, 1-100")->capture_default_str();
   cmd->add_flag("--sound", o->sound,
                 "Add a sound track: a click at each impact (louder for faster ones) over room "

@@ -75,6 +75,9 @@ void ValidateSynthClipConfig(const SynthClipConfig& c) {
     Require(problem.empty(), problem);
   }
   if (c.ball_bgr) ValidateColor(*c.ball_bgr, "ball");
+  Require(c.seam_width > 0 && c.seam_width <= 0.2, "seam width must be in (0, 0.2] of the ball's diameter");
+  if (c.seam_bgr) ValidateColor(*c.seam_bgr, "seam");
+  Require(std::abs(c.spin_rps) <= 50, "spin must be within +-50 turns a second");
   ValidateColor(c.wall_bgr, "wall");
   ValidateColor(c.floor_bgr, "floor");
   Require(c.drop_heights_m.empty() || c.drop_heights_m.size() == c.drop_distances_m.size(),

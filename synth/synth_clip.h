@@ -60,6 +60,13 @@ struct SynthClipConfig {
   Bgr floor_bgr = {112, 118, 124};
   FloorPattern floor_pattern = FloorPattern::kPlain;  // pebbles are a ball's diameter across
   bool distractor = false;      // a static sphere of similar hue on the floor
+  // Lines painted on the ball (synth/synth_seams.h), seam_width of its diameter wide, of
+  // seam_bgr (default: near-black on a basketball, white on a tennis ball), turning with the
+  // ball at spin_rps turns a second.
+  SeamPattern seams = SeamPattern::kNone;
+  double seam_width = 0.04;
+  std::optional<Bgr> seam_bgr;
+  double spin_rps = 0;
   // A hand that tosses the ball: an arm reaching in from the frame's nearer side, its hand
   // beside the ball, carrying it at its launch speed for hand_windup_s before the release
   // (the hold is where that starts), then rising on and slowing to a stop over

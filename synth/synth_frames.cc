@@ -57,6 +57,9 @@ SynthSceneConfig SynthSceneConfigOf(const SynthClipConfig& c, double floor_px, d
   const Bgr preset_bgr = {c.ball.color_bgr[0], c.ball.color_bgr[1], c.ball.color_bgr[2]};
   sc.ball_bgr = c.ball_bgr.value_or(preset_bgr);
   sc.distractor = c.distractor;
+  sc.seams = c.seams;
+  sc.seam_width = c.seam_width;
+  sc.seam_bgr = c.seam_bgr.value_or(c.seams == SeamPattern::kTennis ? Bgr{235, 235, 235} : Bgr{35, 35, 35});
   sc.distractor_radius_px = std::max(3.0, 1.3 * ball_radius_px);
   // Opposite side of the image from the ball, resting on the floor.
   sc.distractor_x_px = (c.ball_x <= 0.5 ? 0.8 : 0.2) * (c.width - 1);
@@ -142,6 +145,8 @@ SynthRenderCost RenderSynthFrames(const SynthClipConfig& c, const SynthScene& sc
   SynthRenderCost times;
   cv::Mat frame, moved;
   std::vector<BallShape> subs;
+  double spin_rad = 0, spun_to_s = -1e301;  // the ball's turn, and the time it was last taken at
+  BallShape last_spun;
   truth->frames.reserve(frame_count);
   for (int i = 0; i < frame_count; ++i) {
     const double t = frame_times[static_cast<size_t>(i)].real_s;
@@ -168,7 +173,12 @@ SynthRenderCost RenderSynthFrames(const SynthClipConfig& c, const SynthScene& sc
     for (int k = 0; k < n; ++k) {
       const double ts = n == 1 ? t : t - c.exposure_s / 2 + c.exposure_s * (k + 0.5) / n;
       const SynthBallAt b = ball_at(ts);
+      // The ball spins while it moves (in flight, rolling), not while it is held or at rest.
+      if (spun_to_s > -1e300 && (b.shape.x != last_spun.x || b.shape.y != last_spun.y))
+        spin_rad += 2 * std::numbers::pi * c.spin_rps * (ts - spun_to_s);
+      spun_to_s = ts, last_spun = b.shape;
       subs.push_back(b.shape);
+      subs.back().spin_rad = spin_rad;
       const cv::Point2d p = scene.ToImage({b.shape.x, b.shape.y});
       f.cx += p.x / n;
       f.cy += p.y / n;

@@ -208,7 +208,7 @@ SynthScene::SynthScene(const SynthSceneConfig& config) : config_(config) {
                        std::clamp(b[1] * 0.85 - 10, 0.0, 255.0),
                        std::clamp(b[2] * 0.92, 0.0, 255.0)};
     RenderShadow(d, &background_);
-    RenderBall(d, color, &background_);
+    RenderBall(d, color, false, &background_);
   }
 }
 
@@ -235,7 +235,7 @@ void SynthScene::Render(const std::vector<BallShape>& subs, cv::Mat* out, const 
   if (hand) RenderHand(*hand, out);
   if (subs.empty()) return;
   RenderShadow(subs, out);
-  RenderBall(subs, config_.ball_bgr, out);
+  RenderBall(subs, config_.ball_bgr, true, out);
 }
 
 void SynthScene::RenderHand(const HandShape& h, cv::Mat* out) const {
@@ -304,12 +304,13 @@ void SynthScene::RenderShadow(const std::vector<BallShape>& subs, cv::Mat* out) 
   }
 }
 
-void SynthScene::RenderBall(const std::vector<BallShape>& subs, const Bgr& color,
+void SynthScene::RenderBall(const std::vector<BallShape>& subs, const Bgr& color, bool seamed,
                             cv::Mat* out) const {
   struct Sub {
     cv::Point2d c;  // image centre
     Box box;
     double a, b;
+    double spin_rad;
   };
   std::vector<Sub> s;
   Box box{0, 0, -1, -1};
@@ -319,7 +320,7 @@ void SynthScene::RenderBall(const std::vector<BallShape>& subs, const Bgr& color
     const double ey = std::sqrt(b.a * b.a * sin_ * sin_ + b.b * b.b * cos_ * cos_) + 1.5;
     s.push_back({c, ClipBox(c.x - ex, c.y - ey, c.x + ex, c.y + ey, config_.width,
                             config_.height),
-                 b.a, b.b});
+                 b.a, b.b, b.spin_rad});
     box = Union(box, s.back().box);
   }
   if (box.empty()) return;
@@ -328,6 +329,9 @@ void SynthScene::RenderBall(const std::vector<BallShape>& subs, const Bgr& color
   for (const Sub& b : s) {
     if (b.box.empty()) continue;
     const double ia = 1 / b.a, ib = 1 / b.b, ia2 = ia * ia, ib2 = ib * ib;
+    BallSeams seams(seamed ? config_.seams : SeamPattern::kNone, config_.seam_width);
+    seams.Turn(b.spin_rad);
+    const double radius_px = 0.5 * (b.a + b.b);
     for (int y = b.box.y0; y <= b.box.y1; ++y) {
       float* arow = &acc[static_cast<size_t>(y - box.y0) * box.w() * 4];
       const double dy = y - b.c.y;
@@ -350,6 +354,11 @@ void SynthScene::RenderBall(const std::vector<BallShape>& subs, const Bgr& color
         if (alpha <= 0) continue;
         float col[3];
         ShadeSphere(u, v, color, col);
+        if (const double seam = seams.Coverage(u, v, radius_px); seam > 0) {
+          float line[3];
+          ShadeSphere(u, v, config_.seam_bgr, line);
+          for (int c = 0; c < 3; ++c) col[c] += static_cast<float>(seam) * (line[c] - col[c]);
+        }
         float* p = arow + 4 * (x - box.x0);
         for (int c = 0; c < 3; ++c) p[c] += static_cast<float>(alpha) * col[c];
         p[3] += static_cast<float>(alpha);

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "synth/synth_seams.h"
+
 namespace bouncefit {
 
 using Bgr = std::array<double, 3>;  // colour, 0-255 per channel, B, G, R
@@ -44,6 +46,11 @@ struct SynthSceneConfig {
   bool distractor = false;         // a static sphere of similar hue resting on the floor
   double distractor_x_px = 0;      // its centre's scene x
   double distractor_radius_px = 10;
+  // Lines painted on the ball (synth/synth_seams.h), this wide (share of its diameter), of
+  // this colour, shaded as the ball is.
+  SeamPattern seams = SeamPattern::kNone;
+  double seam_width = 0.04;
+  Bgr seam_bgr = {40, 40, 40};
 };
 
 // A hand at one instant, in scene px: a fist of radius r at (x, y) on an arm of its width that
@@ -60,6 +67,7 @@ struct BallShape {
   // Scene y of the floor line under the ball, where its shadow falls (NaN: the scene's
   // floor_y_px; a ball nearer the camera than the wall stands on a lower line).
   double floor_y = std::numeric_limits<double>::quiet_NaN();
+  double spin_rad = 0;        // how far it has turned about its spin axis (its seams turn with it)
 };
 
 class SynthScene {
@@ -84,8 +92,9 @@ class SynthScene {
   void RenderHand(const HandShape& hand, cv::Mat* out) const;
   // Darkens *out by the exposure-averaged soft shadow of the shapes on the floor.
   void RenderShadow(const std::vector<BallShape>& subs, cv::Mat* out) const;
-  // Composites the exposure-averaged shaded ball of the given colour over *out.
-  void RenderBall(const std::vector<BallShape>& subs, const Bgr& color, cv::Mat* out) const;
+  // Composites the exposure-averaged shaded ball of the given colour over *out, the scene's
+  // seams painted on it when `seamed`.
+  void RenderBall(const std::vector<BallShape>& subs, const Bgr& color, bool seamed, cv::Mat* out) const;
 
   // The wall's colour at scene point q (before shading), per its pattern.
   Bgr WallColor(cv::Point2d q) const;

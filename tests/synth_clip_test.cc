@@ -483,6 +483,58 @@ TEST(Synth, DistractorIsAStaticBlobOfSimilarHue) {
   }
 }
 
+// Seams painted on the ball cut its colour into panels (a basketball's into four and more in
+// view, a tennis ball's into two), in their own colour over a share of it, and turn with it in
+// flight; without seams the ball is one coloured disc.
+TEST(Synth, SeamsCutTheBallIntoPanelsThatTurnWithIt) {
+  const auto dir = ScratchDir("synth_seams");
+  struct Case {
+    SeamPattern seams;
+    int min_panels;
+  };
+  for (const Case k : {Case{SeamPattern::kNone, 1}, Case{SeamPattern::kBasketball, 4}, Case{SeamPattern::kTennis, 2}}) {
+    auto c = CleanConfig(dir / (std::string(SeamPatternName(k.seams)) + ".avi"));
+    c.ball = *FindBallPreset("basketball");
+    c.px_per_m = 500;  // a ball 120 px across
+    c.drop_height_m = 0.15;
+    c.duration_s = 0.45;
+    c.seams = k.seams;
+    c.seam_width = 0.05;
+    c.seam_bgr = Bgr{235, 235, 235};
+    c.spin_rps = 2;
+    const auto r = RenderSynthClip(c);
+    const auto frames = Decode(r.clip_path);
+    std::vector<cv::Mat> discs;
+    for (int i : {30, 42}) {  // in flight, 0.1 s apart: the ball turned by a fifth of a turn
+      const SynthTruthFrame& t = r.truth.frames[static_cast<size_t>(i)];
+      // The ball's coloured pixels well inside its rim.
+      cv::Mat inside = cv::Mat::zeros(frames[static_cast<size_t>(i)].size(), CV_8U);
+      cv::circle(inside, cv::Point(static_cast<int>(std::lround(t.cx)), static_cast<int>(std::lround(t.cy))),
+                 static_cast<int>(0.9 * r.truth.radius_px), 255, cv::FILLED);
+      cv::Mat panels = ColouredMask(frames[static_cast<size_t>(i)], 60) & inside;
+      cv::Mat labels;
+      const int n = cv::connectedComponents(panels, labels) - 1;
+      const double line_share = 1 - cv::countNonZero(panels) / static_cast<double>(cv::countNonZero(inside));
+      if (k.seams == SeamPattern::kNone) {
+        EXPECT_EQ(n, 1) << "frame " << i;
+        EXPECT_LT(line_share, 0.01) << "frame " << i;
+      } else {
+        EXPECT_GE(n, k.min_panels) << SeamPatternName(k.seams) << " frame " << i;
+        EXPECT_GT(line_share, 0.03) << SeamPatternName(k.seams) << " frame " << i;
+      }
+      const int side = static_cast<int>(1.8 * r.truth.radius_px);
+      discs.push_back(panels(cv::Rect(static_cast<int>(std::lround(t.cx - 0.9 * r.truth.radius_px)),
+                                      static_cast<int>(std::lround(t.cy - 0.9 * r.truth.radius_px)), side, side))
+                          .clone());
+    }
+    cv::Mat changed;
+    cv::bitwise_xor(discs[0], discs[1], changed);
+    if (k.seams != SeamPattern::kNone) {
+      EXPECT_GT(cv::countNonZero(changed), 0.03 * changed.total()) << SeamPatternName(k.seams) << ": the seams turn";
+    }
+  }
+}
+
 TEST(Synth, Mp4WritesOrSaysWhyNot) {
   auto c = CleanConfig(ScratchDir("synth_mp4") / "clip.mp4");
   c.duration_s = 0.25;

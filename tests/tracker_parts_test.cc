@@ -1,5 +1,5 @@
 // The tracker's small parts on their own, a suite or two each (a test executable each would
-// cost more to build than they take to run): track/mask_components, circle_fit,
+// cost more to build than they take to run): track/mask_components, split_ball, circle_fit,
 // motion_predictor, color_model, ycc_planes, shrink, change_map, ball_finder, ball_extent.
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -19,6 +19,7 @@
 #include "track/mask_components.h"
 #include "track/motion_predictor.h"
 #include "track/shrink.h"
+#include "track/split_ball.h"
 #include "track/ycc_planes.h"
 
 namespace bouncefit {
@@ -70,6 +71,75 @@ TEST(ComponentsWithStats, WhatOpenCvsStatisticsGive) {
       ASSERT_EQ(c1.at<double>(k, 1), c2.at<double>(k, 1)) << k;
     }
   }
+}
+
+// The groups JoinSplitBall makes of `mask`'s components, with the gap bridged (px).
+std::vector<JoinedPieces> JoinedIn(const cv::Mat& mask, double gap_px, int* components = nullptr) {
+  cv::Mat labels, stats, centroids;
+  cv::Rect box;
+  const int n = MaskComponents(mask, &labels, &stats, &centroids, &box);
+  if (components) *components = n - 1;
+  return JoinSplitBall(labels, stats, box, mask.size(), n, gap_px, SplitBallShape{});
+}
+
+// A basketball's disc, radius r at (x, y), cut by two lines across it and a ring, each
+// `line` px wide: eight pieces and more.
+void DrawSeamedDisc(cv::Mat& mask, double x, double y, double r, int line) {
+  const cv::Point c(static_cast<int>(std::lround(x)), static_cast<int>(std::lround(y)));
+  cv::circle(mask, c, static_cast<int>(std::lround(r)), 255, cv::FILLED);
+  cv::line(mask, c - cv::Point(static_cast<int>(r) + 2, 5), c + cv::Point(static_cast<int>(r) + 2, 5), 0, line);
+  cv::line(mask, c - cv::Point(8, static_cast<int>(r) + 2), c + cv::Point(8, static_cast<int>(r) + 2), 0, line);
+  cv::circle(mask, c + cv::Point(static_cast<int>(0.9 * r), 0), static_cast<int>(0.6 * r), 0, line);
+}
+
+// Pieces that thin lines cut a disc into are one blob: the disc's box, centre and area.
+TEST(SplitBall, ThePiecesOfASeamedDiscAreOneBlob) {
+  cv::Mat mask = cv::Mat::zeros(300, 300, CV_8U);
+  DrawSeamedDisc(mask, 150.3, 140.6, 60, 6);
+  int components = 0;
+  const std::vector<JoinedPieces> g = JoinedIn(mask, 0.22 * 120, &components);
+  ASSERT_GE(components, 6);
+  ASSERT_EQ(g.size(), 1u);
+  EXPECT_EQ(static_cast<int>(g[0].labels.size()), components);
+  EXPECT_NEAR(g[0].box.x, 90, 1);
+  EXPECT_NEAR(g[0].box.width, 121, 1);
+  EXPECT_NEAR(g[0].centroid.x, 150.3, 1.5);
+  EXPECT_NEAR(g[0].centroid.y, 140.6, 1.5);
+  EXPECT_NEAR(std::sqrt(g[0].area / std::numbers::pi), 60, 3);
+  EXPECT_FALSE(g[0].touches_edge);
+  // Smeared along its motion (a stadium) it is still one ball.
+  cv::Mat smeared = cv::Mat::zeros(300, 300, CV_8U);
+  for (int dy = 0; dy <= 40; dy += 2) DrawSeamedDisc(smeared, 150, 110 + dy, 50, 6);
+  cv::line(smeared, {100, 145}, {200, 145}, 0, 6);
+  EXPECT_EQ(JoinedIn(smeared, 0.22 * 100).size(), 1u);
+}
+
+// A patch of the ball's colour beside it is not merged into it: beside a whole disc, beside a
+// seamed one (whose pieces then stay apart: the lines bridged would take in the patch too), and
+// the disc with specks of its colour round it; nor is a cloud of specks a ball.
+TEST(SplitBall, APatchBesideTheBallOrSpecksAreNotJoined) {
+  cv::Mat whole = cv::Mat::zeros(300, 300, CV_8U);
+  cv::circle(whole, {120, 150}, 50, 255, cv::FILLED);
+  cv::rectangle(whole, {176, 110}, {230, 190}, 255, cv::FILLED);  // 6 px from the disc
+  EXPECT_TRUE(JoinedIn(whole, 0.22 * 100).empty());
+
+  cv::Mat seamed = cv::Mat::zeros(300, 300, CV_8U);
+  DrawSeamedDisc(seamed, 120, 150, 50, 5);
+  cv::circle(seamed, {196, 150}, 20, 255, cv::FILLED);  // a smaller ball of its colour, 6 px away
+  for (const JoinedPieces& g : JoinedIn(seamed, 0.22 * 100)) EXPECT_LT(g.box.br().x, 172) << "the patch joined";
+
+  cv::Mat specks = cv::Mat::zeros(300, 300, CV_8U);
+  cv::circle(specks, {150, 150}, 50, 255, cv::FILLED);
+  for (int k = 0; k < 8; ++k)
+    cv::circle(specks, {150 + static_cast<int>(60 * std::cos(k)), 150 + static_cast<int>(60 * std::sin(k))}, 2, 255,
+               cv::FILLED);
+  EXPECT_TRUE(JoinedIn(specks, 0.22 * 100).empty());
+
+  cv::Mat cloud = cv::Mat::zeros(300, 300, CV_8U);
+  for (int y = 90; y <= 210; y += 12)
+    for (int x = 90; x <= 210; x += 12)
+      if (std::hypot(x - 150, y - 150) < 60) cv::circle(cloud, {x, y}, 2, 255, cv::FILLED);
+  EXPECT_TRUE(JoinedIn(cloud, 0.22 * 100).empty());
 }
 
 TEST(CircleFit, IgnoresAFlattenedArcOfTheRim) {

@@ -8,6 +8,37 @@
 
 namespace bouncefit {
 
+namespace {
+
+// The pieces that lines of another colour cut a ball into, as one blob each ball (within the
+// size limits; their shape is JoinSplitBall's): appended to *blobs, their labels' entries in
+// *keep set to it, the lines between them set in *mask.
+void JoinPieces(const cv::Mat& labels, const cv::Mat& stats, cv::Rect box, int n, const SegmenterParams& params,
+                float s, float ox, float oy, cv::Mat* mask, std::vector<int>* keep, std::vector<Blob>* blobs) {
+  const double gap = params.join_gap_px / s;  // work pixels
+  for (const JoinedPieces& g : JoinSplitBall(labels, stats, box, mask->size(), n, gap, params.joined)) {
+    const double side_min = std::min(g.box.width, g.box.height) * s, side_max = std::max(g.box.width, g.box.height) * s;
+    if (side_min < params.min_box_px || side_max > params.max_box_px || side_max / side_min > params.max_aspect)
+      continue;
+    Blob b;
+    b.box = cv::Rect2f(ox + g.box.x * s, oy + g.box.y * s, g.box.width * s, g.box.height * s);
+    const cv::Rect2f in(params.join_inside);
+    if (!in.empty() && (b.box.x <= in.x || b.box.y <= in.y || b.box.br().x >= in.br().x || b.box.br().y >= in.br().y))
+      continue;
+    b.centroid = cv::Point2f(ox + (static_cast<float>(g.centroid.x) + 0.5f) * s - 0.5f,
+                             oy + (static_cast<float>(g.centroid.y) + 0.5f) * s - 0.5f);
+    b.pixels = static_cast<int>(g.area * s * s);
+    b.fill = static_cast<float>(g.area / (static_cast<double>(g.box.width) * g.box.height));
+    b.touches_edge = g.touches_edge;
+    b.joined = true;
+    for (int l : g.labels) (*keep)[static_cast<size_t>(l)] = static_cast<int>(blobs->size());
+    (*mask)(g.box).setTo(255, g.region);
+    blobs->push_back(b);
+  }
+}
+
+}  // namespace
+
 std::vector<Blob> SegmentBlobs(const YccPlanes& planes, const ColorModel& color,
                                const SegmenterParams& params, cv::Mat* mask) {
   std::vector<Blob> blobs;
@@ -29,7 +60,9 @@ std::vector<Blob> SegmentBlobs(const YccPlanes& planes, const ColorModel& color,
   const float s = static_cast<float>(planes.step);
   const float ox = static_cast<float>(planes.rect.x), oy = static_cast<float>(planes.rect.y);
   std::vector<int> keep(n, -1);
+  if (params.join_gap_px > 0 && n > 2) JoinPieces(labels, stats, box, n, params, s, ox, oy, mask, &keep, &blobs);
   for (int k = 1; k < n; ++k) {
+    if (keep[k] >= 0) continue;  // a piece of a joined blob
     const int bx = stats.at<int>(k, cv::CC_STAT_LEFT), by = stats.at<int>(k, cv::CC_STAT_TOP);
     const int bw = stats.at<int>(k, cv::CC_STAT_WIDTH), bh = stats.at<int>(k, cv::CC_STAT_HEIGHT);
     const int area = stats.at<int>(k, cv::CC_STAT_AREA);

@@ -83,9 +83,12 @@ bool FollowedBall::IsCloseUp(double radius_px) const {
   return 2.6 * radius_px > config_.segment.max_box_px;
 }
 
-SegmenterParams FollowedBall::SegmentParamsFor(double radius_px) const {
+SegmenterParams FollowedBall::SegmentParamsFor(double radius_px, cv::Rect picture) const {
   // A close-up ball outgrows the configured box limit: the limit grows with the ball followed.
   SegmenterParams p = config_.segment;
+  // Lines on the ball are as wide as a share of its diameter.
+  if (radius_px > 0) p.join_gap_px = config_.max_line_share * 2 * radius_px;
+  p.join_inside = picture;
   if (IsCloseUp(radius_px))
     p.max_box_px = std::max(p.max_box_px, std::max(expected_.max_extent_px, MaxBallExtentPx(radius_px, 0, 0)));
   return p;

@@ -69,7 +69,9 @@ class FollowedBall {
   // and more with the default 220 px). Its box limit and, in brightness mode, the width of
   // the light changes removed grow with it.
   bool IsCloseUp(double radius_px) const;
-  SegmenterParams SegmentParamsFor(double radius_px) const;
+  // The segmenter's limits for a ball of radius_px in a picture whose region (its ROI) is
+  // `picture` (frame px; empty: not given).
+  SegmenterParams SegmentParamsFor(double radius_px, cv::Rect picture = {}) const;
 
  private:
   const TrackerConfig& config_;

@@ -17,6 +17,7 @@ bool TrackerConfig::IsValid(std::string* error) const {
   if (!(color.saturation_reach >= 1)) return fail("colour saturation reach must be >= 1");
   if (segment.min_box_px < 1 || segment.max_box_px <= segment.min_box_px)
     return fail("box limits must satisfy 1 <= min < max");
+  if (!(max_line_share >= 0 && max_line_share <= 0.25)) return fail("line share must be in [0, 0.25] of the diameter");
   if (centre.rays < 8 || centre.rays > 1024) return fail("rays must be 8-1024");
   if (adapt_rate < 0 || adapt_rate > 1) return fail("adapt rate must be 0-1");
   if (finder.max_work_pixels < 1000) return fail("finder work size must be >= 1000 pixels");

@@ -51,6 +51,11 @@ struct TrackerConfig {
   double window_margin_px = 8;      // search window beyond radius + expected motion, pixels
   double gate_px = 6;               // a blob may be this far beyond radius + motion from the prediction, pixels
   double radius_change = 0.4;       // a blob whose radius differs more (relative) is not the ball
+  // Lines of another colour painted on the ball (seams, panel lines) up to this share of its
+  // diameter wide are bridged: the pieces they cut its colour into are one blob when together
+  // they are round (track/split_ball.h). Motion blur widens them: a falling basketball's
+  // channels, a fortieth of its diameter, blur to a fifth of it at 30 fps. 0: never.
+  double max_line_share = 0.22;
   int lost_frames_keep = 30;        // frames the prediction still guides re-acquisition
   // Threshold adaptation: each good frame moves the colour this much towards the ball's
   // measured interior colour, never further than max_drift (relative to |colour|) from the

@@ -14,7 +14,7 @@ void WholeFrameSearch::Restart() {
 void WholeFrameSearch::RememberLookalikes(const Frame& frame, const BallCandidate& chosen) {
   lock_.Planes(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
   cv::Mat mask;
-  for (const Blob& b : SegmentBlobs(wide_, lock_.color(), ball_.SegmentParamsFor(chosen.r), &mask)) {
+  for (const Blob& b : SegmentBlobs(wide_, lock_.color(), ball_.SegmentParamsFor(chosen.r, roi_), &mask)) {
     const double r = EquivalentRadius(b);
     if (std::hypot(b.centroid.x - chosen.x, b.centroid.y - chosen.y) < 2 * (r + chosen.r)) continue;
     if (lookalikes_.size() < 32) lookalikes_.push_back({b.centroid, static_cast<float>(r), true});
@@ -26,7 +26,7 @@ bool WholeFrameSearch::Acquire(const Frame& frame, BallObservation* obs) {
   lock_.Planes(frame, roi_, 2, 0.5 * config_.blur_sigma_px, &wide_);
   cv::Mat wide_mask;
   std::vector<Blob> blobs =
-      SegmentBlobs(wide_, lock_.color(), ball_.SegmentParamsFor(ball_.FollowedRadius()), &wide_mask);
+      SegmentBlobs(wide_, lock_.color(), ball_.SegmentParamsFor(ball_.FollowedRadius(), roi_), &wide_mask);
   const double tol = lock_.color().tolerance();
   const double radius = ball_.radius();
   double px = 0, py = 0;

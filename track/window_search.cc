@@ -56,7 +56,7 @@ bool WindowSearch::Find(const Frame& frame, cv::Point2f centre, double half, dou
   const double radius = ball_.radius();
   const double max_extent_px = ball_.expected().max_extent_px;
   const double followed_r = ball_.FollowedRadius();
-  std::vector<Blob> blobs = SegmentBlobs(planes_, lock_.color(), ball_.SegmentParamsFor(followed_r), &mask_);
+  std::vector<Blob> blobs = SegmentBlobs(planes_, lock_.color(), ball_.SegmentParamsFor(followed_r, roi_), &mask_);
   const Blob* best = nullptr;
   double best_d = 0;
   bool best_moved = false;
@@ -143,6 +143,13 @@ bool WindowSearch::Refine(const Frame& frame, const Blob& blob, cv::Point2f expe
   };
   const cv::Rect mask_rect = planes_.rect;  // the window mask_ segmented
   BallCentre bc = rim_from(cx, cy, r0);
+  // Pieces joined across lines of another colour, their centroid far from the ball's centre
+  // (the window cut the ball): rays from there cross the lines where they looked for the rim,
+  // and the fit settles between the rim and the lines. Once more, from the circle found.
+  if (blob.joined && bc.ok && std::hypot(bc.cx - cx, bc.cy - cy) > 0.1 * bc.r) {
+    const BallCentre again = rim_from(bc.cx, bc.cy, bc.r);
+    if (again.ok) bc = again;
+  }
   bool from_expected = false;  // the rim found round another start: no colour adaptation
   // A blob the window cuts, its rim not found round its centroid: the ball run together with
   // something of its colour (its shadow on a floor of its hue). Where the ball was expected,
