@@ -232,10 +232,20 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
   for (const auto& a : heard_in)
     if (a.t_s >= -c.max_offset_s && a.t_s <= video_end_s + 1.0) heard.push_back(a);
   std::sort(heard.begin(), heard.end(), [](const auto& x, const auto& y) { return x.t_s < y.t_s; });
+  r.heard = static_cast<int>(heard.size());
+  // Echoes are the impacts they follow, heard again: paired with the picture they would move
+  // the offset by their delay, and count as clicks it does not explain.
+  const size_t before_echoes = heard.size();
+  for (size_t a = heard.size(); a-- > 0;)
+    for (size_t b = a; b-- > 0 && heard[a].t_s - heard[b].t_s < c.echo_s;)
+      if (heard[b].strength >= c.echo_loudness * heard[a].strength) {
+        heard.erase(heard.begin() + static_cast<long>(a));
+        break;
+      }
+  const int echoes = static_cast<int>(before_echoes - heard.size());
   std::vector<double> ht;
   for (const auto& a : heard) ht.push_back(a.t_s);
   r.seen = static_cast<int>(seen.size());
-  r.heard = static_cast<int>(heard.size());
 
   // The offset pairing the most impacts (ties: the smallest residuals). The offsets pairing a
   // set of impacts are those within the tolerance of every pair's difference: the most
@@ -385,7 +395,7 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
       r.verdict += "; no bounce train heard either";
     }
   }
-  r.rejected_sounds = static_cast<int>(std::count(used.begin(), used.end(), false));
+  r.rejected_sounds = echoes + static_cast<int>(std::count(used.begin(), used.end(), false));
   std::stable_sort(r.impacts.begin(), r.impacts.end(),
                    [](const FusedImpact& a, const FusedImpact& b) { return a.t_s < b.t_s; });
 
