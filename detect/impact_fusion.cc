@@ -325,7 +325,9 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
   }
 
   // Heard only: the bounce train going on after the last impact both heard and seen,
-  // flights shrinking.
+  // flights shrinking; after the last one the picture saw, when it saw one more unheard (up to
+  // there the picture watched the ball: a click between its impacts is no bounce, and the gaps
+  // it missed one in are filled above).
   int last_both = -1, first_both = -1;
   for (size_t i = 0; i < r.impacts.size(); ++i)
     if (r.impacts[i].source == ImpactSource::kBoth) {
@@ -333,8 +335,9 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
       if (first_both < 0) first_both = static_cast<int>(i);
     }
   if (r.sound_used && last_both >= 1) {
-    double last = r.impacts[last_both].t_s;
-    double flight = last - r.impacts[last_both - 1].t_s;
+    const size_t last_seen = r.impacts.size() - 1;
+    double last = r.impacts[last_seen].t_s;
+    double flight = last - r.impacts[last_seen - 1].t_s;
     for (size_t a = 0; a < heard.size(); ++a) {
       const double t = heard[a].t_s - r.offset_s;
       if (used[a] || t <= last) continue;

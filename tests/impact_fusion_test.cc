@@ -217,6 +217,21 @@ TEST(ImpactFusion, EchoesOffTheWallsAreTheImpactsHeardAgain) {
     EXPECT_NEAR(f.impacts[i].t_s, r.impact_times_s[i], 0.005) << "impact " << i;
 }
 
+// The picture's last impact unheard (quiet), a stray click in the flight before it: the picture
+// watched the ball up to that impact, so the click is no bounce of the train heard after it.
+TEST(ImpactFusion, AClickBetweenThePicturesLastImpactsIsNoBounce) {
+  const PointMassDropResult r = Drop("tennis", 1.2);
+  ASSERT_GE(r.impact_times_s.size(), 6u);
+  const std::vector<double> seen(r.impact_times_s.begin(), r.impact_times_s.begin() + 6);
+  auto heard = Heard(std::vector<double>(seen.begin(), seen.begin() + 5), 0.013);
+  heard.push_back({seen[4] + 0.5 * (seen[5] - seen[4]) + 0.013, 0.05, 20, 1});
+  const FusionResult f = FuseImpacts(heard, seen, seen.back() + 1, ConfigFor("tennis"));
+  ASSERT_TRUE(f.sound_used) << f.verdict;
+  ASSERT_EQ(f.impacts.size(), seen.size());
+  EXPECT_EQ(f.impacts.back().source, ImpactSource::kVideo);
+  EXPECT_EQ(f.rejected_sounds, 1);
+}
+
 TEST(ImpactFusion, SoundThatDisagreesWithThePictureIsNotUsed) {
   const PointMassDropResult r = Drop("tennis", 1.2);
   std::vector<double> seen(r.impact_times_s.begin(), r.impact_times_s.begin() + 5);
