@@ -70,7 +70,7 @@ std::vector<DetectorEvent> BounceDetector::Push(const BallObservation& o) {
   std::vector<DetectorEvent> ev;
   double t = 0;
   if (!scene_.Advance(o.utime, &t)) return ev;  // a duplicate frame
-  const bool usable = o.found && std::isfinite(o.cx) && std::isfinite(o.cy);
+  const bool usable = CentrePlaced(o);
   if (!usable) {
     if (phase_ == Phase::kFlight) {
       if (t - scene_.last_seen_t() > config_.lost_s)

@@ -332,25 +332,48 @@ bool DropStart::EnteredFallWasAnUnseenRelease(const DetectorArc& first) const {
 size_t DropStart::OnArcBefore(size_t first, const Eigen::Vector3d& cu,
                               const Eigen::Vector3d& cw, double t_ref, double tol) const {
   size_t seen = 0;
-  double next_t = first < hold_.size() ? hold_[first].t : 0;
   for (size_t i = std::min(first, hold_.size()); i > 0; --i) {
     const DetectorSample& q = hold_[i - 1];
     const double dt = q.t - t_ref;
-    if (next_t - q.t > 3 * scene_.frame_dt() || std::abs(Down(q) - ParabolaAt(cu, dt)) > tol ||
-        std::abs(Floor(q) - ParabolaAt(cw, dt)) > tol)
-      break;
+    // Across a gap the arc spent above the picture, its rise before it left: the fit reaches
+    // it over the gap, to within the start's gate.
+    double reach = tol;
+    if (i < hold_.size() && hold_[i].t - q.t > 3 * scene_.frame_dt()) {
+      if (!AboveTheTopBetween(q, hold_[i], cu, t_ref)) break;
+      reach = std::max(tol, scene_.StartGate());
+    }
+    if (std::abs(Down(q) - ParabolaAt(cu, dt)) > reach || std::abs(Floor(q) - ParabolaAt(cw, dt)) > reach) break;
     ++seen;
-    next_t = q.t;
   }
   return seen;
 }
 
+bool DropStart::AboveTheTopBetween(const DetectorSample& a, const DetectorSample& b, const Eigen::Vector3d& cu,
+                                   double t_ref) const {
+  // Image y from Down: the roll's share of Down, nearly the same at both ends of a gap in a
+  // flight that rose and fell on one line.
+  const double lean = 0.5 * (Down(a) - a.y + Down(b) - b.y);
+  const double y_mid = ParabolaAt(cu, 0.5 * (a.t + b.t) - t_ref) - lean;
+  return y_mid < std::max(a.r, b.r);
+}
+
 bool DropStart::SeenRisingIntoFall(size_t m, double* t_vertex) const {
-  // The samples before the fall, back to back, over half a second at most.
+  // The samples before the fall, back to back, over half a second at most; and across a gap
+  // the fall's parabola spent above the picture (a rise out of its top, the fall back in),
+  // half a second besides the gap.
+  const std::vector<DetectorSample> fall(hold_.end() - static_cast<long>(m), hold_.end());
+  const Eigen::Vector3d cu = scene_.DownParabola(fall);
   size_t from = hold_.size() - m;
-  while (from > 0 && hold_[from].t - hold_[from - 1].t <= 3 * scene_.frame_dt() &&
-         hold_.back().t - hold_[from - 1].t <= 0.5)
+  double gaps = 0;
+  while (from > 0) {
+    const double gap = hold_[from].t - hold_[from - 1].t;
+    if (gap > 3 * scene_.frame_dt()) {
+      if (gaps > 0 || !AboveTheTopBetween(hold_[from - 1], hold_[from], cu, fall.back().t)) break;
+      gaps = gap;
+    }
+    if (hold_.back().t - hold_[from - 1].t > 0.5 + gaps) break;
     --from;
+  }
   const double thr = std::max(config_.release_px, scene_.Gate());
   // The longest run of them that ends with the fall and is one free flight ...
   for (size_t f = from; f + m + 2 <= hold_.size(); ++f) {

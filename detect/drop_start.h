@@ -88,9 +88,14 @@ class DropStart {
   bool SeenRisingIntoFall(size_t m, double* t_vertex) const;
   // How many samples just before hold_[first] lie on the parabolas Down = cu0 + cu1 dt + cu2
   // dt^2 and Floor = cw0 + ... (dt from t_ref) within tol, back to back (gaps of 3 frames at
-  // most).
+  // most, or one the arc spent above the picture: the sample before it within the start gate).
   size_t OnArcBefore(size_t first, const Eigen::Vector3d& cu, const Eigen::Vector3d& cw,
                      double t_ref, double tol) const;
+  // Whether between samples a and b (a gap in them) the ball reached above the picture's top,
+  // out of it or cut by it (its centre not placed): on the parabola Down = cu (dt from t_ref)
+  // its top is above the picture halfway between them.
+  bool AboveTheTopBetween(const DetectorSample& a, const DetectorSample& b, const Eigen::Vector3d& cu,
+                          double t_ref) const;
   double Down(const DetectorSample& s) const { return scene_.Down(s); }
   double Floor(const DetectorSample& s) const { return scene_.Floor(s); }
 

@@ -49,7 +49,7 @@ std::vector<BallObservation> FrameRetimer::Push(const BallObservation& obs) {
     held_.push_back(obs);
     return Release();
   }
-  if (obs.found) {
+  if (CentrePlaced(obs)) {
     if (moving_) {
       arc_.push_back(obs);
       // An impact: the height (image y, down) turned from falling to rising at the sample

@@ -232,10 +232,20 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
   for (const auto& a : heard_in)
     if (a.t_s >= -c.max_offset_s && a.t_s <= video_end_s + 1.0) heard.push_back(a);
   std::sort(heard.begin(), heard.end(), [](const auto& x, const auto& y) { return x.t_s < y.t_s; });
+  r.heard = static_cast<int>(heard.size());
+  // Echoes are the impacts they follow, heard again: paired with the picture they would move
+  // the offset by their delay, and count as clicks it does not explain.
+  const size_t before_echoes = heard.size();
+  for (size_t a = heard.size(); a-- > 0;)
+    for (size_t b = a; b-- > 0 && heard[a].t_s - heard[b].t_s < c.echo_s;)
+      if (heard[b].strength >= c.echo_loudness * heard[a].strength) {
+        heard.erase(heard.begin() + static_cast<long>(a));
+        break;
+      }
+  const int echoes = static_cast<int>(before_echoes - heard.size());
   std::vector<double> ht;
   for (const auto& a : heard) ht.push_back(a.t_s);
   r.seen = static_cast<int>(seen.size());
-  r.heard = static_cast<int>(heard.size());
 
   // The offset pairing the most impacts (ties: the smallest residuals). The offsets pairing a
   // set of impacts are those within the tolerance of every pair's difference: the most
@@ -315,7 +325,9 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
   }
 
   // Heard only: the bounce train going on after the last impact both heard and seen,
-  // flights shrinking.
+  // flights shrinking; after the last one the picture saw, when it saw one more unheard (up to
+  // there the picture watched the ball: a click between its impacts is no bounce, and the gaps
+  // it missed one in are filled above).
   int last_both = -1, first_both = -1;
   for (size_t i = 0; i < r.impacts.size(); ++i)
     if (r.impacts[i].source == ImpactSource::kBoth) {
@@ -323,8 +335,9 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
       if (first_both < 0) first_both = static_cast<int>(i);
     }
   if (r.sound_used && last_both >= 1) {
-    double last = r.impacts[last_both].t_s;
-    double flight = last - r.impacts[last_both - 1].t_s;
+    const size_t last_seen = r.impacts.size() - 1;
+    double last = r.impacts[last_seen].t_s;
+    double flight = last - r.impacts[last_seen - 1].t_s;
     for (size_t a = 0; a < heard.size(); ++a) {
       const double t = heard[a].t_s - r.offset_s;
       if (used[a] || t <= last) continue;
@@ -385,7 +398,7 @@ FusionResult FuseImpacts(const std::vector<AudioImpact>& heard_in, const std::ve
       r.verdict += "; no bounce train heard either";
     }
   }
-  r.rejected_sounds = static_cast<int>(std::count(used.begin(), used.end(), false));
+  r.rejected_sounds = echoes + static_cast<int>(std::count(used.begin(), used.end(), false));
   std::stable_sort(r.impacts.begin(), r.impacts.end(),
                    [](const FusedImpact& a, const FusedImpact& b) { return a.t_s < b.t_s; });
 

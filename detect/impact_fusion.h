@@ -3,6 +3,7 @@
 //
 // - The audio-video offset: the shift that pairs the most heard impacts with seen ones
 //   (within a frame or so), refined to the median of the pairs' differences.
+// - Echoes go first: a click soon after a much louder one is that impact heard again.
 // - The sound is used only if it agrees with the picture: at least min_matches pairs, and
 //   min_match_fraction of the clicks heard during the seen impacts' span paired. Otherwise (a slow-motion file with
 //   real-time sound, a dubbed track, music) it is reported and ignored.
@@ -46,6 +47,11 @@ struct ImpactFusionConfig {
   int lone_train_min_impacts = 5;
   double lone_train_min_ratio = 0.45, lone_train_max_ratio = 1.0, lone_train_ratio_step = 0.03;
   double lone_train_echo_s = 0.02;  // a click this soon after an impact is its echo
+  // A click this soon after one at least echo_loudness times as loud is its echo off the
+  // room's walls (a gym's, 60 ms later), not another impact: sooner than the ball lands again
+  // and quieter than its next impact can be. s; ratio.
+  double echo_s = 0.1;
+  double echo_loudness = 4;
   double frame_period_s = 0;       // the picture's, when known (widens the merge above)
   double g_mps2 = 9.81;
   double drag_per_m = 0;           // k of the deceleration k v^2, 1/m (0: vacuum)
@@ -76,7 +82,7 @@ struct FusionResult {
   double offset_s = 0;        // heard time = seen time + offset
   int matched = 0;            // pairs
   int seen = 0, heard = 0;    // inputs (heard: within the video's span)
-  int rejected_sounds = 0;    // heard clicks that are not impacts of this ball
+  int rejected_sounds = 0;    // heard clicks that are not impacts of this ball (their echoes too)
   std::vector<double> merged_seen;  // seen impacts (video clock) found to be a heard impact seen twice
   std::vector<FusedImpact> impacts;  // in time order
   std::vector<HeardFlight> flights;

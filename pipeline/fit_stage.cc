@@ -267,6 +267,7 @@ RecordedTrack FitStage::Recorded(double start_t_s, double end_t_s, double run_s_
   for (const ball_box_t& b : boxes_) {
     const double t = SecondsSince(b.utime, t0_);
     if (t < start_t_s || t > end_t_s) continue;  // the animation starts at the start apex
+    if (!std::isfinite(b.cx) || !std::isfinite(b.cy)) continue;  // seen, its centre not placed
     const double x = b.cx - b.camera_dx, y = b.cy - b.camera_dy;  // in the scene
     const double bottom_px = x * down_x + y * down_y + b.radius_px;
     r.t_s.push_back((t - start_t_s) / run_s_per_real_s);

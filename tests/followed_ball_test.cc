@@ -27,6 +27,17 @@ struct Lob {
   static double Y(int i) { return 50 + 0.5 * kG * T(i) * T(i); }
 };
 
+// The lob's first six frames seen: the next frame's index.
+int FollowSixFrames(FollowedBall& ball) {
+  Prediction p;
+  int i = 0;
+  for (; i < 6; ++i) {
+    ball.Predict(Lob::T(i), &p);
+    ball.Found(Lob::T(i), SightingAt(Lob::X(i), Lob::Y(i), Lob::kR));
+  }
+  return i;
+}
+
 TEST(FollowedBall, PredictsTheNextFrameOfAnArcAndWhatItMayShow) {
   const TrackerConfig config;
   FollowedBall ball(config);
@@ -74,16 +85,35 @@ TEST(FollowedBall, FollowsTheBallInTheSceneWhileTheCameraShifts) {
   }
 }
 
+// A ball seen with its centre unknown (the frame's border cuts it, too little of it in view):
+// followed still, frame after frame, on the arc its placed sightings made; its size and last
+// centre as they were.
+TEST(FollowedBall, ASightingWithItsCentreUnknownKeepsItFollowedOnItsArc) {
+  const TrackerConfig config;
+  FollowedBall ball(config);
+  Prediction p;
+  int i = FollowSixFrames(ball);
+  const double last_x = ball.last_x(), last_y = ball.last_y();
+  for (const int end = i + 5; i < end; ++i) {
+    ASSERT_TRUE(ball.Predict(Lob::T(i), &p)) << "frame " << i;
+    EXPECT_NEAR(p.at.y, Lob::Y(i), 0.01) << "frame " << i;
+    BallObservation unplaced = SightingAt(NAN, NAN, 30);
+    EXPECT_FALSE(CentrePlaced(unplaced));
+    ball.Found(Lob::T(i), unplaced);
+    EXPECT_EQ(ball.lost(), 0);
+  }
+  EXPECT_EQ(ball.last_x(), last_x);
+  EXPECT_EQ(ball.last_y(), last_y);
+  EXPECT_NEAR(ball.radius(), Lob::kR, 1e-6);
+  EXPECT_NEAR(ball.last_radius(), Lob::kR, 1e-6);
+}
+
 TEST(FollowedBall, ALostBallIsPredictedForTwoFramesThenForgotten) {
   TrackerConfig config;
   config.lost_frames_keep = 5;
   FollowedBall ball(config);
   Prediction p;
-  int i = 0;
-  for (; i < 6; ++i) {
-    ball.Predict(Lob::T(i), &p);
-    ball.Found(Lob::T(i), SightingAt(Lob::X(i), Lob::Y(i), Lob::kR));
-  }
+  int i = FollowSixFrames(ball);
   for (int lost = 0; lost <= 3; ++lost, ++i) {
     EXPECT_EQ(ball.Predict(Lob::T(i), &p), lost <= 2) << lost << " frames lost";
     ball.Missed();

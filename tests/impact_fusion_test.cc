@@ -193,6 +193,45 @@ TEST(ImpactFusion, BouncesHeardBeforeThePictureFoundTheBallAreKeptWhenItMissesTh
   }
 }
 
+// A gym: every impact's click comes back off the walls 60 ms later, a tenth as loud. The echoes
+// are the impacts heard again: the picture pairs with the clicks (the sound 150 ms behind it),
+// not with their echoes, and the echoes count neither as impacts nor against the sound; the
+// bounces heard before the picture found the ball are read back from the clicks alone.
+TEST(ImpactFusion, EchoesOffTheWallsAreTheImpactsHeardAgain) {
+  const PointMassDropResult r = Drop("basketball", 1.2);
+  ASSERT_GE(r.impact_times_s.size(), 8u);
+  std::vector<double> seen;
+  for (int i = 2; i < 8; ++i) seen.push_back(r.impact_times_s[i] + 0.004);
+  std::vector<AudioImpact> heard;
+  for (double t : r.impact_times_s) {
+    heard.push_back({t + 0.15, 0.3, 40, 1});
+    heard.push_back({t + 0.21, 0.03, 20, 1});
+  }
+  const FusionResult f = FuseImpacts(heard, seen, r.impact_times_s.back() + 1, ConfigFor("basketball"));
+  ASSERT_TRUE(f.sound_used) << f.verdict;
+  EXPECT_NEAR(f.offset_s, 0.15, 0.015) << f.verdict;
+  EXPECT_EQ(f.matched, 6) << f.verdict;
+  EXPECT_EQ(f.rejected_sounds, static_cast<int>(r.impact_times_s.size())) << "the echoes";
+  ASSERT_EQ(f.impacts.size(), r.impact_times_s.size());
+  for (size_t i = 0; i < f.impacts.size(); ++i)
+    EXPECT_NEAR(f.impacts[i].t_s, r.impact_times_s[i], 0.005) << "impact " << i;
+}
+
+// The picture's last impact unheard (quiet), a stray click in the flight before it: the picture
+// watched the ball up to that impact, so the click is no bounce of the train heard after it.
+TEST(ImpactFusion, AClickBetweenThePicturesLastImpactsIsNoBounce) {
+  const PointMassDropResult r = Drop("tennis", 1.2);
+  ASSERT_GE(r.impact_times_s.size(), 6u);
+  const std::vector<double> seen(r.impact_times_s.begin(), r.impact_times_s.begin() + 6);
+  auto heard = Heard(std::vector<double>(seen.begin(), seen.begin() + 5), 0.013);
+  heard.push_back({seen[4] + 0.5 * (seen[5] - seen[4]) + 0.013, 0.05, 20, 1});
+  const FusionResult f = FuseImpacts(heard, seen, seen.back() + 1, ConfigFor("tennis"));
+  ASSERT_TRUE(f.sound_used) << f.verdict;
+  ASSERT_EQ(f.impacts.size(), seen.size());
+  EXPECT_EQ(f.impacts.back().source, ImpactSource::kVideo);
+  EXPECT_EQ(f.rejected_sounds, 1);
+}
+
 TEST(ImpactFusion, SoundThatDisagreesWithThePictureIsNotUsed) {
   const PointMassDropResult r = Drop("tennis", 1.2);
   std::vector<double> seen(r.impact_times_s.begin(), r.impact_times_s.begin() + 5);

@@ -1,7 +1,8 @@
 // The ball looked for in a window (track/window_search.h), on drawn frames with known centres
 // (an orange ball on a plain wall, sensor noise): its sub-pixel centre, the gate and the size
 // that keep other blobs out, the prediction's windows over a fall, a streak, a ball the
-// frame's border cuts, and the look back, which leaves the colour as it is.
+// frame's border cuts (placed by its rim in view, or its centre unknown; an arm reaching in is
+// shapeless), and the look back, which leaves the colour as it is.
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
@@ -125,6 +126,57 @@ TEST(WindowSearch, ABallTheFramesBorderCutsIsShapeless) {
   EXPECT_TRUE(s.window.shapeless());
   EXPECT_TRUE(s.window.CutByRoiBorder(cv::Rect2f(o.x, o.y, o.w, o.h)));
   EXPECT_FALSE(s.window.CutByRoiBorder(cv::Rect2f(100, 100, 20, 20)));
+}
+
+// The ball of radius r seen whole in the frame before: its size as the rim fit measures it.
+void SeeWhole(Search& s, double r, cv::RNG& rng) {
+  cv::Mat img = Wall();
+  testing::DrawBall(img, 300, 2 * r, r, kOrange);
+  BallObservation o;
+  ASSERT_TRUE(s.window.Find(Drawn(img, 0, rng), {300, static_cast<float>(2 * r)}, 2 * r, r, &o));
+  s.ball.Found(0, o);
+}
+
+// A ball above the frame's top, a third of its diameter in view, its size known from an earlier
+// sighting: placed by the rim in view (the frame's straight edge is no rim), a close-up and a
+// small ball alike, not at the centroid of the cap the frame shows.
+TEST(WindowSearch, ABallTheFramesTopCutsIsPlacedByItsRimInView) {
+  for (const double r : {100.0, 20.0}) {
+    Search s;
+    cv::RNG rng(7);
+    cv::Mat img = Wall();
+    const double x = 300.4, y = -0.3 * r;
+    testing::DrawBall(img, x, y, r, kOrange);
+    SeeWhole(s, r, rng);
+    BallObservation o;
+    ASSERT_TRUE(s.window.Find(Drawn(img, 1, rng), {300, 0}, 2 * r, 2 * r, &o)) << "radius " << r;
+    ASSERT_TRUE(CentrePlaced(o)) << "radius " << r;
+    EXPECT_NEAR(o.cx, x, 0.3) << "radius " << r;
+    EXPECT_NEAR(o.cy, y, 0.5) << "radius " << r;
+    EXPECT_NEAR(o.radius_px, r, 0.03 * r) << "radius " << r;
+    EXPECT_EQ(o.y, 0);
+    EXPECT_FALSE(s.window.shapeless());
+  }
+}
+
+// Too little of it in view to place: a close-up's cap whose rim spans 83 degrees (a pixel off
+// in the radius held to would move its centre a pixel), a small ball's sliver five pixels deep
+// (no rim to cast rays on). Found, its box what the frame shows, its centre unknown.
+TEST(WindowSearch, TooLittleOfABallTheFramesTopCutsLeavesItsCentreUnknown) {
+  for (const auto& [r, y] : {std::pair{100.0, -75.0}, std::pair{20.0, -15.0}}) {
+    Search s;
+    cv::RNG rng(8);
+    cv::Mat img = Wall();
+    testing::DrawBall(img, 300, y, r, kOrange);
+    SeeWhole(s, r, rng);
+    BallObservation o;
+    ASSERT_TRUE(s.window.Find(Drawn(img, 1, rng), {300, 0}, 2 * r, 2 * r, &o)) << "radius " << r;
+    EXPECT_TRUE(o.found);
+    EXPECT_FALSE(CentrePlaced(o)) << "radius " << r << ": centre " << o.cx << ", " << o.cy;
+    EXPECT_EQ(o.y, 0);
+    EXPECT_NEAR(o.h, r + y, 2) << "radius " << r;
+    EXPECT_EQ(o.radius_px, s.ball.last_radius());
+  }
 }
 
 // The same rims seen in later frames move the colour towards the ball's; seen in earlier

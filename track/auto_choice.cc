@@ -58,14 +58,16 @@ LockReview AutoChoice::Review(const Frame& frame, cv::Rect roi, const BallObserv
   const double t = static_cast<double>(frame.utime) * 1e-6;
   if (obs.found) last_found_t_ = t;
   const bool shapeless = obs.found && shapeless_lock;
-  if (obs.found && arc_.Add(t, obs.cx - ball.shift_x(), obs.cy - ball.shift_y(), obs.radius_px, !shapeless)) {
+  // A ball too little in view to place is where its box is, a sample no arc is made of.
+  if (obs.found && arc_.Add(t, SeenX(obs) - ball.shift_x(), SeenY(obs) - ball.shift_y(), obs.radius_px,
+                            !shapeless && CentrePlaced(obs))) {
     unconfirmed_ = false;
     review.verdict = LockReview::Verdict::kConfirmed;
     review.what = fmt::format("; confirmed at {:.2f} s: its track became a ballistic arc", t);
     if (choices_ > 1) review.what += fmt::format(" (choice {})", choices_);
     return review;
   }
-  const double here_x = obs.found ? obs.cx : ball.last_x(), here_y = obs.found ? obs.cy : ball.last_y();
+  const double here_x = obs.found ? SeenX(obs) : ball.last_x(), here_y = obs.found ? SeenY(obs) : ball.last_y();
   const double here_r = std::max(ball.radius(), chosen_.r);
   std::string drop;
   if (arc_.moving_s() > config_.auto_drop_moving_s)

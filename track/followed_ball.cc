@@ -34,8 +34,14 @@ bool FollowedBall::Predict(double t, Prediction* p) {
 }
 
 void FollowedBall::Found(double t, const BallObservation& obs) {
+  // Seen, too little of it in view to place: the prediction goes on from the last centre.
+  if (!CentrePlaced(obs)) {
+    lost_ = 0;
+    return;
+  }
   predictor_.Add(t, obs.cx - shift_x_, obs.cy - shift_y_);
   radius_ = radius_ > 0 ? 0.8 * radius_ + 0.2 * obs.radius_px : obs.radius_px;
+  last_radius_ = obs.radius_px;
   lost_ = 0;
   last_t_ = t;
   last_x_ = obs.cx, last_y_ = obs.cy;
@@ -54,7 +60,7 @@ void FollowedBall::Forget() {
 
 void FollowedBall::Restart(double chosen_r) {
   Forget();
-  radius_ = 0;
+  radius_ = last_radius_ = 0;
   chosen_r_ = chosen_r;
 }
 

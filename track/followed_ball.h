@@ -37,6 +37,7 @@ class FollowedBall {
   // Starts the frame at time t (s): sets its expectation; true with *p when the ball was seen
   // in one of the last two frames and the predictor has its arc.
   bool Predict(double t, Prediction* p);
+  // A sighting whose centre is unknown (CentrePlaced) keeps the ball followed and adds nothing.
   void Found(double t, const BallObservation& obs);
   void Missed();
   // The lock given up: no prediction, long lost.
@@ -45,6 +46,9 @@ class FollowedBall {
   void Restart(double chosen_r);
 
   double radius() const { return radius_; }  // tracked, pixels (0: unknown)
+  // The last sighting's radius, pixels (0: none): a ball moving towards the camera or away
+  // changes size faster than the tracked radius follows.
+  double last_radius() const { return last_radius_; }
   double FollowedRadius() const { return radius_ > 0 ? radius_ : chosen_r_; }
   int64_t lost() const { return lost_; }       // frames since last found
   double last_x() const { return last_x_; }    // the last centre found, pixels
@@ -78,6 +82,7 @@ class FollowedBall {
   MotionPredictor predictor_;
   double shift_x_ = 0, shift_y_ = 0;
   double radius_ = 0;
+  double last_radius_ = 0;
   double chosen_r_ = 0;      // the finder's radius of a ball just chosen, until it is seen
   int64_t lost_ = 1 << 20;
   double last_t_ = 0;        // s

@@ -56,7 +56,7 @@ std::vector<TrackedFrame> LookBackTracker::Flush() {
 
 size_t LookBackTracker::FirstFound() const {
   size_t first = 0;
-  while (first < waiting_.size() && (!waiting_[first].obs.found || waiting_[first].tentative)) ++first;
+  while (first < waiting_.size() && (!CentrePlaced(waiting_[first].obs) || waiting_[first].tentative)) ++first;
   return first;
 }
 
@@ -64,7 +64,7 @@ void LookBackTracker::LookBack(size_t first) {
   if (first == 0 || first >= waiting_.size()) return;
   const BallObservation* a = &waiting_[first].obs;  // the sighting just after the frame looked at
   const BallObservation* b =
-      first + 1 < waiting_.size() && waiting_[first + 1].obs.found ? &waiting_[first + 1].obs : nullptr;
+      first + 1 < waiting_.size() && CentrePlaced(waiting_[first + 1].obs) ? &waiting_[first + 1].obs : nullptr;
   for (size_t k = first; k-- > 0;) {
     TrackedFrame& w = waiting_[k];
     const double tk = Seconds(w.frame.utime), ta = Seconds(a->utime);
@@ -90,26 +90,32 @@ void LookBackTracker::LookBack(size_t first) {
     const cv::Point2f in_frame(static_cast<float>(centre.x + w.obs.camera_dx),
                                static_cast<float>(centre.y + w.obs.camera_dy));
     BallObservation found = w.obs;
-    if (!tracker_.FindInEarlierFrame(w.frame, in_frame, reach, speed * (ta - tk), &found, w.tentative)) return;
+    // A frame already counted (a tentative lock's, or the ball too little in view to place).
+    const bool counted = w.tentative || w.obs.found;
+    // A ball the border cuts there is placed with the radius of the sighting after it (a ball
+    // moving towards the camera or away changes size).
+    if (!tracker_.FindInEarlierFrame(w.frame, in_frame, reach, speed * (ta - tk), &found, counted, a->radius_px))
+      return;
+    const bool placed = CentrePlaced(found);
     // Across the picture a ball between two sightings keeps between them (its sideways speed
     // is steady in flight; an impact may slow it, not send it back): a thing of its colour
     // beside its path, where it vanished before a patch of its hue, is not it.
-    if (before_) {
+    if (before_ && placed) {
       const double x = InScene(found).x, margin = 0.5 * found.radius_px + 2;
       if (x < std::min(pa.x, InScene(*before_).x) - margin || x > std::max(pa.x, InScene(*before_).x) + margin)
         return;
     }
     w.obs = found;
     w.tentative = false;
-    b = a;
-    a = &w.obs;
+    // Too little of it in view to place: the look goes on from the last centre placed.
+    if (placed) b = a, a = &w.obs;
   }
 }
 
 void LookBackTracker::Settle(size_t n, std::vector<TrackedFrame>* out) {
   for (size_t i = 0; i < n && !waiting_.empty(); ++i) {
     TrackedFrame& f = waiting_.front();
-    before_ = f.obs.found && !f.tentative ? std::optional<BallObservation>(f.obs) : std::nullopt;
+    before_ = CentrePlaced(f.obs) && !f.tentative ? std::optional<BallObservation>(f.obs) : std::nullopt;
     out->push_back(std::move(f));
     waiting_.pop_front();
   }

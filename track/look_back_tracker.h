@@ -1,8 +1,10 @@
 #pragma once
-// The tracker with a look back. Frames in which it does not find the ball wait (a quarter of a
-// second at most), and so do those of a lock the tracker is not sure of (Tracker::tentative:
-// an arm reaching in, the ball beside it); once it finds the ball again it looks for it in
-// them, newest first, from where it found it. A finder that sees what moves finds a ball held still only once it falls
+// The tracker with a look back. Frames in which it does not find the ball, or does not place its
+// centre (a ball the border cuts, too little of it in view), wait (a quarter of a second at
+// most), and so do those of a lock the tracker is not sure of (Tracker::tentative: an arm
+// reaching in, the ball beside it); once it places the ball again it looks for it in them,
+// newest first, from where it placed it (its radius known now, a ball cut by the border is
+// placed by its rim). A finder that sees what moves finds a ball held still only once it falls
 // (at 30 fps a 10 cm drop is four frames), and a streak rising from an impact may slip past
 // the window for a frame: such frames are found this way. Every frame still comes out once,
 // in order, with its own time; only frames without the ball (or with a tentative lock) wait,

@@ -135,13 +135,13 @@ void Tracker::SetLumaFrame(const Frame& frame) {
 }
 
 bool Tracker::FindInEarlierFrame(const Frame& frame, cv::Point2f centre, double reach_px, double sweep_px,
-                                 BallObservation* obs, bool replaces) {
+                                 BallObservation* obs, bool replaces, double cut_radius_px) {
   if (!lock_.valid() || lock_.brightness() || ball_.radius() <= 0 || frame.image.size() != size_) return false;
   // What the search of the frame being tracked set for itself: no prediction here, no box
   // limit from its speed.
   const FrameExpectation now = ball_.expected();
   ball_.set_expected({});
-  const bool ok = window_.FindInEarlierFrame(frame, centre, reach_px, sweep_px, obs);
+  const bool ok = window_.FindInEarlierFrame(frame, centre, reach_px, sweep_px, obs, cut_radius_px);
   ball_.set_expected(now);
   if (ok && replaces) --found_;
   if (ok) ++found_earlier_;

@@ -53,9 +53,11 @@ class Tracker {
   // sweep more than half its radius over the frame (`sweep_px`). Changes nothing the tracker
   // follows. False when not found, or with nothing to look with: no colour chosen yet, or
   // brightness (its background model is of now, not of then).
-  // `replaces`: the frame had a sighting of its own (a tentative lock's), counted already.
+  // `replaces`: the frame had a sighting of its own (a tentative lock's, or a ball too little in
+  // view to place), counted already. cut_radius_px: the ball's radius in the sighting nearest
+  // that frame (WindowSearch::FindInEarlierFrame).
   bool FindInEarlierFrame(const Frame& frame, cv::Point2f centre, double reach_px, double sweep_px,
-                          BallObservation* obs, bool replaces = false);
+                          BallObservation* obs, bool replaces = false, double cut_radius_px = 0);
 
   // The last frame's sighting is of an automatic lock not yet confirmed, seen only as a blob
   // running on out of the frame (an arm reaching in from its edge): the ball may be beside it,

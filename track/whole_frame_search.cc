@@ -72,7 +72,7 @@ bool WholeFrameSearch::Acquire(const Frame& frame, BallObservation* obs) {
       // What it passed over that is not the ball: a lookalike, unless known already.
       for (const auto& [s, k] : order) {
         const Blob& o = blobs[k];
-        if (std::hypot(o.centroid.x - obs->cx, o.centroid.y - obs->cy) < 2 * obs->radius_px) continue;
+        if (std::hypot(o.centroid.x - SeenX(*obs), o.centroid.y - SeenY(*obs)) < 2 * obs->radius_px) continue;
         bool known = false;
         for (const Lookalike& m : lookalikes_)
           if (std::hypot(o.centroid.x - m.p.x, o.centroid.y - m.p.y) < 3) known = true;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -25,14 +26,16 @@ bool WindowSearch::FindNearPrediction(const Frame& frame, const Prediction& p, B
 }
 
 bool WindowSearch::FindInEarlierFrame(const Frame& frame, cv::Point2f centre, double reach_px, double sweep_px,
-                                      BallObservation* obs) {
+                                      BallObservation* obs, double cut_radius_px) {
   looking_back_ = true;
+  cut_radius_ = cut_radius_px;
   const double radius = ball_.radius();
   const double half = 1.6 * radius + config_.window_margin_px + reach_px;
   const double gate = 0.5 * radius + config_.gate_px + reach_px;
   bool ok = Find(frame, centre, half, gate, obs);
   if (!ok && sweep_px > 0.5 * radius) ok = FindStreak(frame, centre, half, gate, sweep_px, obs);
   looking_back_ = false;
+  cut_radius_ = 0;
   planes_.rect = cv::Rect();  // an earlier frame's pixels: never taken for this one's
   return ok;
 }
@@ -134,14 +137,11 @@ bool WindowSearch::Refine(const Frame& frame, const Blob& blob, cv::Point2f expe
   if (blob.touches_edge && radius > 0) r0 = radius;
   const double cx = blob.centroid.x, cy = blob.centroid.y;
   auto rim_from = [&](double x, double y, double r) {
-    const double reach = r + RimRayOvershootPx(r) + 3;
-    const cv::Rect need = cv::Rect(static_cast<int>(std::floor(x - reach)) - 1,
-                                   static_cast<int>(std::floor(y - reach)) - 1,
-                                   static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
-    if ((need & planes_.rect) != need) lock_.Planes(frame, need, 1, config_.blur_sigma_px, &planes_);
+    PlanesRound(frame, x, y, r, &planes_);
     return FindBallCentre(planes_, lock_.color(), x, y, r, radius, config_.centre);
   };
   const cv::Rect mask_rect = planes_.rect;  // the window mask_ segmented
+  if (RefineCut(frame, blob, obs)) return true;
   BallCentre bc = rim_from(cx, cy, r0);
   // Pieces joined across lines of another colour, their centroid far from the ball's centre
   // (the window cut the ball): rays from there cross the lines where they looked for the rim,
@@ -212,21 +212,56 @@ bool WindowSearch::Refine(const Frame& frame, const Blob& blob, cv::Point2f expe
     return false;
   }
   shapeless_ = shapeless;
+  Report(blob, bc.cx, bc.cy, bc.r, score, obs);
+  // Not from a rim found only at the prediction: its surroundings are the patch it ran into.
+  if (!looking_back_ && bc.ok && !bc.cut && !from_expected && bc.inlier_fraction > 0.8)
+    lock_.Adapt(planes_, bc.cx, bc.cy, bc.r);
+  return true;
+}
+
+void WindowSearch::PlanesRound(const Frame& frame, double x, double y, double r, YccPlanes* planes) const {
+  const double reach = r + RimRayOvershootPx(r) + 3;
+  const cv::Rect need = cv::Rect(static_cast<int>(std::floor(x - reach)) - 1,
+                                 static_cast<int>(std::floor(y - reach)) - 1,
+                                 static_cast<int>(2 * reach) + 4, static_cast<int>(2 * reach) + 4) & roi_;
+  if ((need & planes->rect) != need) lock_.Planes(frame, need, 1, config_.blur_sigma_px, planes);
+}
+
+bool WindowSearch::RefineCut(const Frame& frame, const Blob& blob, BallObservation* obs) {
+  // Its size is the nearest sighting's (a ball moving towards the camera or away changes size),
+  // or the finder's for a ball just chosen.
+  const double radius =
+      cut_radius_ > 0 ? cut_radius_ : ball_.last_radius() > 0 ? ball_.last_radius() : ball_.FollowedRadius();
+  if (radius <= 0 || !CutByRoiBorder(blob.box)) return false;
+  const cv::Point2d start = CutBallStart(blob.box, roi_, radius);
+  // Planes of its own, this frame's: a blob it does not place is refined as any other, on the
+  // window's.
+  cut_planes_.rect = cv::Rect();
+  PlanesRound(frame, start.x, start.y, radius, &cut_planes_);
+  const BallCentre bc =
+      FindCutBallCentre(cut_planes_, lock_.color(), start.x, start.y, radius, blob.box, roi_, config_.centre);
+  if (!bc.ok && !bc.too_little_rim) return false;
+  // A sliver, no rim fitted to it: only its box says it is a cap of the ball.
+  shapeless_ = !(bc.r > 0);
+  // Too little of its rim in view to place its centre: the ball is there, its centre unknown.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Report(blob, bc.ok ? bc.cx : nan, bc.ok ? bc.cy : nan, bc.ok ? bc.r : radius,
+         static_cast<float>(bc.ok ? bc.valid_rays * bc.inlier_fraction : 0.1), obs);
+  return true;
+}
+
+void WindowSearch::Report(const Blob& blob, double cx, double cy, double r, float score, BallObservation* obs) const {
   obs->found = true;
   obs->x = blob.box.x;
   obs->y = blob.box.y;
   obs->w = blob.box.width;
   obs->h = blob.box.height;
-  obs->cx = static_cast<float>(bc.cx);
-  obs->cy = static_cast<float>(bc.cy);
-  obs->radius_px = static_cast<float>(bc.r);
+  obs->cx = static_cast<float>(cx);
+  obs->cy = static_cast<float>(cy);
+  obs->radius_px = static_cast<float>(r);
   obs->pixel_count = blob.pixels;
   obs->aspect_ratio = blob.box.height > 0 ? blob.box.width / blob.box.height : 0;
   obs->score = std::clamp(score, 0.0f, 1.0f);
-  // Not from a rim found only at the prediction: its surroundings are the patch it ran into.
-  if (!looking_back_ && bc.ok && !bc.cut && !from_expected && bc.inlier_fraction > 0.8)
-    lock_.Adapt(planes_, bc.cx, bc.cy, bc.r);
-  return true;
 }
 
 }  // namespace bouncefit

@@ -39,8 +39,10 @@ class WindowSearch {
   // The ball followed, in an earlier frame: near `centre`, as far as `reach_px` beyond its
   // radius, as a streak too where it sweeps more than half its radius (`sweep_px`). The colour
   // does not adapt to it, and its pixels are not taken for the current frame's afterwards.
+  // cut_radius_px: the ball's radius in the sighting nearest that frame, which a ball the
+  // border cuts there is placed with (0: the radius followed now).
   bool FindInEarlierFrame(const Frame& frame, cv::Point2f centre, double reach_px, double sweep_px,
-                          BallObservation* obs);
+                          BallObservation* obs, double cut_radius_px = 0);
 
   bool CutByRoiBorder(const cv::Rect2f& box) const;
   // The last sighting was a blob the frame's (or ROI's) border cuts, with no rim found: all
@@ -52,15 +54,26 @@ class WindowSearch {
   cv::Rect WindowRect(cv::Point2f centre, double half) const;
   // expected: where the window looked for the ball (the prediction, or the blob itself).
   bool Refine(const Frame& frame, const Blob& blob, cv::Point2f expected, BallObservation* obs);
+  // A ball the frame's (or ROI's) border cuts, its radius known from its other sightings: placed
+  // by the rim in view (track/ball_centre.h, FindCutBallCentre), or found with its centre
+  // unknown (NaN) where too little of the rim is in view to place it. False when no round rim
+  // of its size shows (the blob is looked at as any other).
+  bool RefineCut(const Frame& frame, const Blob& blob, BallObservation* obs);
+  // *planes (full resolution) cover the rim rays of a ball of radius r at (x, y).
+  void PlanesRound(const Frame& frame, double x, double y, double r, YccPlanes* planes) const;
+  // *obs: the blob found as the ball centred at (cx, cy), of radius r.
+  void Report(const Blob& blob, double cx, double cy, double r, float score, BallObservation* obs) const;
 
   const TrackerConfig& config_;
   const cv::Rect& roi_;
   ColorLock& lock_;
   const FollowedBall& ball_;
   YccPlanes planes_;
+  YccPlanes cut_planes_;  // RefineCut's
   cv::Mat mask_;
   bool shapeless_ = false;
   bool looking_back_ = false;  // in FindInEarlierFrame: no colour adaptation
+  double cut_radius_ = 0;      // ... and the radius a ball the border cuts is placed with (0: followed)
 };
 
 }  // namespace bouncefit
