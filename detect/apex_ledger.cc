@@ -234,6 +234,17 @@ void ApexLedger::EmitPeak(size_t j, int64_t utime, std::vector<DetectorEvent>& e
       p.height_px = f.flight_m * cal.px_per_m;
     }
   }
+  // A bounced ball only loses height: a rebound far higher than the one before it (beyond
+  // the restitution any ball has, and beyond both heights' uncertainty) was lifted or thrown
+  // by a hand, and is no bounce.
+  if (j >= 2 && !peaks_.empty() && peaks_.back().bounce == p.bounce - 1) {
+    const BouncePeak& before = peaks_.back();
+    const double sigma = std::hypot(before.height_sigma_m, p.height_sigma_m);
+    if (p.height_m > config_.max_rebound_gain * before.height_m + 3 * sigma) {
+      arc.apex_emitted = true;
+      return;
+    }
+  }
   for (const auto& imp : impacts_)
     if (imp.index == p.bounce) p.impact_before_utime = imp.utime;
   p.emitted_utime = utime;

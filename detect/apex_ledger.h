@@ -38,6 +38,9 @@ struct ApexConfig {
   // withholds the apex (0 sigmas: no check).
   double impact_time_sigma_frames = 0.3;
   double flight_check_sigmas = 3;
+  // A rebound higher than this many times the rebound before it is no bounce (a hand's lift):
+  // 1.69, an apparent restitution of 1.3.
+  double max_rebound_gain = 1.69;
 };
 
 class ApexLedger {

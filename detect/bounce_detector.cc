@@ -48,6 +48,7 @@ bool BounceDetectorConfig::IsValid(std::string* error) const {
   if (!(impact_time_sigma_frames > 0)) return fail("impact time sigma must be > 0 frames");
   if (!(flight_check_sigmas >= 0)) return fail("flight check sigmas must be >= 0");
   if (bounce0_rising_samples < 1) return fail("bounce 0 needs >= 1 rising sample");
+  if (!(max_rebound_gain >= 1)) return fail("max rebound gain must be >= 1");
   return true;
 }
 

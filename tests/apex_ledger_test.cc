@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "detect/bounce_detector.h"
 #include "detect_sim.h"
@@ -87,6 +88,34 @@ TEST(ApexLedger, ARebound20PercentOffItsFlightGoesOutWithTheFlightsHeight) {
       EXPECT_GT(p.height_m, 1.2 * clip.truth.apex_heights_m[b]) << "bounce " << b;
     }
   }
+}
+
+// After the third rebound's impact a hand tosses the ball back up, three times as high as that
+// rebound rose: no ball bounces higher than it fell, so that arc is no bounce, and the three
+// before it stand.
+TEST(ApexLedger, ARiseFarHigherThanTheReboundBeforeIsAHandNotABounce) {
+  testing::SimOptions o;  // ping-pong, 1 m, 120 fps, 300 px/m
+  testing::SimClip clip = testing::MakeSimClip(o);
+  const double t_impact = clip.truth.impact_times_s[3];
+  const double h = 3 * clip.truth.apex_heights_m[3];
+  const double g = 9.81, v = std::sqrt(2 * g * h), t_land = t_impact + 2 * v / g;
+  std::vector<BallObservation> obs;
+  for (BallObservation b : clip.obs) {
+    const double t = b.utime * 1e-6;
+    if (t > t_land) break;
+    if (t > t_impact) {
+      const double tau = t - t_impact;
+      double x, y;
+      testing::SimImagePoint(o, v * tau - 0.5 * g * tau * tau, clip.radius_px / o.px_per_m, &x, &y);
+      b.cx = static_cast<float>(x), b.cy = static_cast<float>(y);
+    }
+    obs.push_back(b);
+  }
+  testing::PartsHost host;
+  std::vector<int> bounces;
+  for (const auto& e : host.Run(obs))
+    if (e.kind == DetectorEvent::Kind::kPeak) bounces.push_back(e.peak.bounce);
+  EXPECT_EQ(bounces, (std::vector<int>{0, 1, 2, 3}));
 }
 
 }  // namespace
