@@ -10,6 +10,14 @@ namespace bouncefit {
 
 namespace {
 
+// A box and a centroid in work pixels (a step of s from the planes' origin ox, oy) in frame pixels.
+cv::Rect2f ToFrame(const cv::Rect& box, float s, float ox, float oy) {
+  return cv::Rect2f(ox + box.x * s, oy + box.y * s, box.width * s, box.height * s);
+}
+cv::Point2f ToFrame(double cx, double cy, float s, float ox, float oy) {
+  return cv::Point2f(ox + (static_cast<float>(cx) + 0.5f) * s - 0.5f, oy + (static_cast<float>(cy) + 0.5f) * s - 0.5f);
+}
+
 // The pieces that lines of another colour cut a ball into, as one blob each ball (within the
 // size limits; their shape is JoinSplitBall's): appended to *blobs, their labels' entries in
 // *keep set to it, the lines between them set in *mask.
@@ -21,12 +29,11 @@ void JoinPieces(const cv::Mat& labels, const cv::Mat& stats, cv::Rect box, int n
     if (side_min < params.min_box_px || side_max > params.max_box_px || side_max / side_min > params.max_aspect)
       continue;
     Blob b;
-    b.box = cv::Rect2f(ox + g.box.x * s, oy + g.box.y * s, g.box.width * s, g.box.height * s);
+    b.box = ToFrame(g.box, s, ox, oy);
     const cv::Rect2f in(params.join_inside);
     if (!in.empty() && (b.box.x <= in.x || b.box.y <= in.y || b.box.br().x >= in.br().x || b.box.br().y >= in.br().y))
       continue;
-    b.centroid = cv::Point2f(ox + (static_cast<float>(g.centroid.x) + 0.5f) * s - 0.5f,
-                             oy + (static_cast<float>(g.centroid.y) + 0.5f) * s - 0.5f);
+    b.centroid = ToFrame(g.centroid.x, g.centroid.y, s, ox, oy);
     b.pixels = static_cast<int>(g.area * s * s);
     b.fill = static_cast<float>(g.area / (static_cast<double>(g.box.width) * g.box.height));
     b.touches_edge = g.touches_edge;
@@ -75,9 +82,8 @@ std::vector<Blob> SegmentBlobs(const YccPlanes& planes, const ColorModel& color,
                   fill < params.min_fill))
       continue;
     Blob b;
-    b.box = cv::Rect2f(ox + bx * s, oy + by * s, bw * s, bh * s);
-    b.centroid = cv::Point2f(ox + (static_cast<float>(centroids.at<double>(k, 0)) + 0.5f) * s - 0.5f,
-                             oy + (static_cast<float>(centroids.at<double>(k, 1)) + 0.5f) * s - 0.5f);
+    b.box = ToFrame(cv::Rect(bx, by, bw, bh), s, ox, oy);
+    b.centroid = ToFrame(centroids.at<double>(k, 0), centroids.at<double>(k, 1), s, ox, oy);
     b.pixels = static_cast<int>(area * s * s);
     b.touches_edge = edge;
     b.fill = static_cast<float>(fill);
